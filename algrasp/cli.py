@@ -1,0 +1,121 @@
+"""The ``algrasp`` command line: a thin shell over the pure core.
+
+Errors the user can cause end as one line on stderr and a non-zero exit; with
+``--json`` they are ``{"error": {"type": .., "message": ..}}`` on stdout.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from algrasp.analysis import Analysis, analyse_part
+from algrasp.errors import AlgraspError, LimitExceededError, PartDocumentError
+from algrasp.limits import DEFAULT_LIMITS
+from algrasp.part import load_part
+
+EXIT_USER_ERROR = 2
+
+
+def read_document(path: str) -> dict[str, Any]:
+    """Read a part document file (size-limited JSON)."""
+    p = Path(path)
+    if not p.is_file():
+        raise PartDocumentError("PART", f"no such file: {path}")
+    if p.stat().st_size > DEFAULT_LIMITS.max_document_bytes:
+        raise LimitExceededError("PART", f"file larger than {DEFAULT_LIMITS.max_document_bytes} bytes")
+    try:
+        doc = json.loads(p.read_text(encoding="utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise PartDocumentError("PART", f"not valid JSON: {exc}") from None
+    if not isinstance(doc, dict):
+        raise PartDocumentError("$", "a part document must be a JSON object")
+    return doc
+
+
+def _print_function(title: str, rows: list[dict[str, Any]], consts: list[list[float]]) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    table = Table(title=title)
+    for col in ("θ (deg)", "value", "kind", "equilibrium"):
+        table.add_column(col, justify="right")
+    for e in rows:
+        table.add_row(f"{e['theta_deg']:.4f}", f"{e['value']:.6g}", e["kind"], e["equilibrium"])
+    Console().print(table)
+    if consts:
+        print("  constant on: " + ", ".join(f"[{a:.4f}, {b:.4f})" for a, b in consts))
+
+
+def _print_transfer(title: str, F: dict[str, Any]) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    table = Table(title=f"{title}: period {F['period_deg']:g}°, symmetry period {F['symmetry_period_deg']:.6g}°")
+    for col in ("piece", "start (deg)", "end (deg)", "maps to (deg)"):
+        table.add_column(col, justify="right")
+    rows = [("step", s["start_deg"], s["end_deg"], f"{s['fixed_point_deg']:.4f}") for s in F["steps"]]
+    rows += [("ramp", r["start_deg"], r["end_deg"], "itself") for r in F["ramps"]]
+    for kind, a, b, img in sorted(rows, key=lambda r: r[1]):
+        table.add_row(kind, f"{a:.4f}", f"{b:.4f}", img)
+    Console().print(table)
+    if not F["orientable"]:
+        print(f"  {F['reason']}")
+
+
+def print_analysis(a: Analysis) -> None:
+    d = a.to_dict()
+    part = d["part"]
+    assert isinstance(part, dict)
+    print(f"part {part['name']!r}: area {part['area']:.6g} {a.part.units}², hull perimeter "
+          f"{part['hull_perimeter']:.6g} {a.part.units}, centre of mass "
+          f"({part['center_of_mass'][0]:.6g}, {part['center_of_mass'][1]:.6g})"
+          f"{'' if part['center_of_mass_given'] else ' (area centroid)'}")
+    for key, title in (("diameter", "Diameter function d(θ)"), ("radius", "Radius function r(θ)")):
+        f = d[key]
+        assert isinstance(f, dict)
+        _print_function(title, f["extrema"], f["constant_intervals_deg"])
+    for key, title in (("squeeze", "Squeeze-grasp Γ"), ("push", "Push p"), ("push_grasp", "Push-grasp Γ∘p")):
+        F = d[key]
+        assert isinstance(F, dict)
+        _print_transfer(title, F)
+
+
+def cmd_analyze(args: argparse.Namespace) -> int:
+    analysis = analyse_part(load_part(read_document(args.part)))
+    if args.json:
+        print(json.dumps(analysis.to_dict(), indent=2))
+    else:
+        print_analysis(analysis)
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="algrasp", description="Sensorless orienting of planar parts.")
+    sub = parser.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("analyze", help="diameter/radius functions and transfer functions of a part")
+    p.add_argument("part", metavar="PART.json")
+    p.add_argument("--json", action="store_true", help="print the analysis object as JSON")
+    p.set_defaults(func=cmd_analyze)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args.func(args))
+    except AlgraspError as exc:
+        if getattr(args, "json", False):
+            print(json.dumps({"error": exc.to_dict()}))
+        else:
+            print(f"algrasp: error: {exc.message}", file=sys.stderr)
+        return EXIT_USER_ERROR
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

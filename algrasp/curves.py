@@ -1,0 +1,224 @@
+"""Exact rational Bezier pieces: the one curve representation the geometry works on.
+
+Lines, circular arcs, elliptic arcs and (rational) Bezier segments all become
+:class:`Piece` objects without approximation: a conic arc of at most 90° is exactly a
+rational quadratic Bezier. A piece keeps homogeneous power-basis polynomials
+``X(t), Y(t), W(t)`` on ``t ∈ [0, 1]`` so that tangents, curvature sign and tangency
+conditions are polynomials whose roots we solve (no sampling stands in for a curve).
+
+Polynomial coefficient arrays are in increasing order (numpy.polynomial convention).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from math import comb
+
+import numpy as np
+import numpy.polynomial.polynomial as npoly
+from numpy.typing import NDArray
+
+FloatArray = NDArray[np.float64]
+
+
+def _readonly(a: FloatArray) -> FloatArray:
+    a = np.array(a, dtype=float)
+    a.setflags(write=False)
+    return a
+
+
+def bernstein_to_power(coeffs: FloatArray) -> FloatArray:
+    """Convert Bernstein coefficients (k+1,) or (k+1, m) to power basis on [0, 1].
+
+    O(k²). Exact in exact arithmetic; fine in floats for the degrees we allow (≤ 20).
+    """
+    k = coeffs.shape[0] - 1
+    out = np.zeros_like(coeffs, dtype=float)
+    for i in range(k + 1):
+        # B_{i,k}(t) = C(k,i) t^i (1-t)^(k-i) = sum_j C(k,i) C(k-i,j) (-1)^j t^(i+j)
+        for j in range(k - i + 1):
+            out[i + j] += comb(k, i) * comb(k - i, j) * (-1) ** j * coeffs[i]
+    return out
+
+
+def real_roots_in(poly: FloatArray, lo: float, hi: float, slack: float = 1e-12) -> list[float]:
+    """Real roots of a power-basis polynomial in ``[lo, hi]`` (sorted, polished).
+
+    Roots come from the companion matrix, then two Newton steps polish them; roots
+    within ``slack`` outside the interval are clamped in. O(k³) for degree k.
+    """
+    p = npoly.polytrim(np.asarray(poly, dtype=float), tol=0.0)
+    if p.size <= 1 or not np.any(p):
+        return []
+    scale = np.max(np.abs(p))
+    p = p / scale
+    p = _trim_tiny_leading(p)
+    if p.size <= 1:
+        return []
+    roots = npoly.polyroots(p)
+    dp = npoly.polyder(p)
+    out: list[float] = []
+    for r in roots:
+        if abs(r.imag) > 1e-7 * max(1.0, abs(r.real)):
+            continue
+        x = float(r.real)
+        for _ in range(2):
+            d = float(npoly.polyval(x, dp))
+            if d != 0.0:
+                x -= float(npoly.polyval(x, p)) / d
+        if lo - slack <= x <= hi + slack:
+            out.append(min(max(x, lo), hi))
+    out.sort()
+    return out
+
+
+def _trim_tiny_leading(p: FloatArray) -> FloatArray:
+    """Drop leading coefficients that are rounding noise (relative 1e-13)."""
+    n = p.size
+    while n > 1 and abs(p[n - 1]) < 1e-13:
+        n -= 1
+    return p[:n]
+
+
+@dataclass(frozen=True, eq=False)
+class Piece:
+    """A rational Bezier curve piece on ``t ∈ [0, 1]``.
+
+    Attributes:
+        points: (k+1, 2) control points.
+        weights: (k+1,) positive weights (all equal for a polynomial curve).
+        circle: ``(cx, cy, radius)`` when the piece is exactly a circular arc.
+        source: index of the boundary segment the piece came from.
+    """
+
+    points: FloatArray
+    weights: FloatArray
+    circle: tuple[float, float, float] | None = None
+    source: int = -1
+    X: FloatArray = field(init=False, repr=False)
+    Y: FloatArray = field(init=False, repr=False)
+    W: FloatArray = field(init=False, repr=False)
+    TX: FloatArray = field(init=False, repr=False)
+    TY: FloatArray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        pts = _readonly(self.points)
+        w = _readonly(self.weights)
+        object.__setattr__(self, "points", pts)
+        object.__setattr__(self, "weights", w)
+        hom = np.column_stack([pts[:, 0] * w, pts[:, 1] * w, w])
+        power = bernstein_to_power(hom)
+        X, Y, W = power[:, 0], power[:, 1], power[:, 2]
+        dX, dY, dW = npoly.polyder(X), npoly.polyder(Y), npoly.polyder(W)
+        # Direction of B'(t) is (X'W - XW', Y'W - YW') / W²: keep the numerator.
+        TX = npoly.polysub(npoly.polymul(dX, W), npoly.polymul(X, dW))
+        TY = npoly.polysub(npoly.polymul(dY, W), npoly.polymul(Y, dW))
+        for name, val in (("X", X), ("Y", Y), ("W", W), ("TX", TX), ("TY", TY)):
+            object.__setattr__(self, name, _readonly(val))
+
+    @property
+    def degree(self) -> int:
+        return int(self.points.shape[0] - 1)
+
+    @property
+    def is_rational(self) -> bool:
+        return bool(np.ptp(self.weights) > 0.0)
+
+    def point(self, t: FloatArray | float) -> FloatArray:
+        """Points at parameters ``t`` (shape (..., 2))."""
+        t = np.asarray(t, dtype=float)
+        w = npoly.polyval(t, self.W)
+        return np.stack([npoly.polyval(t, self.X) / w, npoly.polyval(t, self.Y) / w], axis=-1)
+
+    def tangent(self, t: FloatArray | float) -> FloatArray:
+        """Tangent directions (not normalised, same sense as B'(t)); shape (..., 2)."""
+        t = np.asarray(t, dtype=float)
+        return np.stack([npoly.polyval(t, self.TX), npoly.polyval(t, self.TY)], axis=-1)
+
+    def normal_angle(self, t: FloatArray | float) -> FloatArray:
+        """Angle of the right-hand normal (outward for a counter-clockwise loop)."""
+        tan = self.tangent(t)
+        return np.arctan2(-tan[..., 0], tan[..., 1])
+
+    def curvature_sign_poly(self) -> FloatArray:
+        """Polynomial with the sign of the curvature: det[P, P', P''] (P homogeneous)."""
+        P = [self.X, self.Y, self.W]
+        d1 = [npoly.polyder(c) for c in P]
+        d2 = [npoly.polyder(c, 2) for c in P]
+        det = np.zeros(1)
+        for i, j, k, s in ((0, 1, 2, 1), (1, 2, 0, 1), (2, 0, 1, 1), (0, 2, 1, -1), (1, 0, 2, -1), (2, 1, 0, -1)):
+            term = npoly.polymul(npoly.polymul(P[i], d1[j]), d2[k])
+            det = npoly.polyadd(det, s * term)
+        return np.asarray(det, dtype=float)
+
+    def tangent_dot_poly(self, direction: FloatArray) -> FloatArray:
+        """Polynomial ⟨T(t), v⟩: its roots are where the tangent is normal to ``v``."""
+        return np.asarray(npoly.polyadd(direction[0] * self.TX, direction[1] * self.TY), dtype=float)
+
+    def tangent_from_point_poly(self, a: FloatArray) -> FloatArray:
+        """Polynomial cross(T(t), B(t) − a)·W(t): zero where the line from ``a`` touches."""
+        ex = npoly.polysub(self.X, a[0] * self.W)
+        ey = npoly.polysub(self.Y, a[1] * self.W)
+        return np.asarray(npoly.polysub(npoly.polymul(self.TX, ey), npoly.polymul(self.TY, ex)), dtype=float)
+
+    def split(self, ts: list[float]) -> list[Piece]:
+        """Split at the sorted interior parameters ``ts`` (exact de Casteljau)."""
+        out: list[Piece] = []
+        hom = np.column_stack([self.points * self.weights[:, None], self.weights])
+        prev = 0.0
+        rest = hom
+        for t in ts:
+            local = (t - prev) / (1.0 - prev)
+            left, rest = _de_casteljau(rest, local)
+            out.append(self._from_hom(left))
+            prev = t
+        out.append(self._from_hom(rest))
+        return out
+
+    def _from_hom(self, hom: FloatArray) -> Piece:
+        w = hom[:, 2]
+        return Piece(hom[:, :2] / w[:, None], w / np.max(w), self.circle, self.source)
+
+    def reversed(self) -> Piece:
+        return Piece(self.points[::-1], self.weights[::-1], self.circle, self.source)
+
+    def support_param(self, direction: FloatArray) -> float:
+        """Parameter of the point of the piece extreme in ``direction`` (ends included)."""
+        cands = [0.0, 1.0, *real_roots_in(self.tangent_dot_poly(direction), 0.0, 1.0)]
+        vals = self.point(np.array(cands)) @ direction
+        return float(cands[int(np.argmax(vals))])
+
+
+def _de_casteljau(hom: FloatArray, t: float) -> tuple[FloatArray, FloatArray]:
+    """Split homogeneous control points at ``t``; returns (left, right)."""
+    pts = hom.copy()
+    n = pts.shape[0]
+    left = [pts[0].copy()]
+    right = [pts[-1].copy()]
+    for r in range(1, n):
+        pts = (1.0 - t) * pts[:-1] + t * pts[1:]
+        left.append(pts[0].copy())
+        right.append(pts[-1].copy())
+    return np.array(left), np.array(right[::-1])
+
+
+def conic_arc_pieces(
+    center: FloatArray, axes: FloatArray, t0: float, t1: float, circle: tuple[float, float, float] | None, source: int
+) -> list[Piece]:
+    """Exact rational quadratic pieces of ``center + axes @ (cos t, sin t)``, t0 → t1.
+
+    ``axes`` is the 2×2 matrix mapping the unit circle to the ellipse. Each piece spans
+    at most 90° of parameter so its weight cos(Δ/2) stays ≥ cos 45°.
+    """
+    sweep = t1 - t0
+    n = max(1, int(np.ceil(abs(sweep) / (np.pi / 2) - 1e-12)))
+    out = []
+    for i in range(n):
+        a = t0 + sweep * i / n
+        b = t0 + sweep * (i + 1) / n
+        half = (b - a) / 2.0
+        mid = (a + b) / 2.0
+        unit = np.array([[np.cos(a), np.sin(a)], [np.cos(mid) / np.cos(half), np.sin(mid) / np.cos(half)], [np.cos(b), np.sin(b)]])
+        pts = center + unit @ axes.T
+        out.append(Piece(pts, np.array([1.0, np.cos(half), 1.0]), circle, source))
+    return out

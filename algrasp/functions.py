@@ -1,0 +1,206 @@
+"""Diameter d(θ) and radius r(θ) functions (conventions §3) and their exact extrema.
+
+Both are sums of two support terms. With u(ψ) = (cos ψ, sin ψ) and ψ = π/2 − θ:
+
+    d(θ) = h(ψ) + h(ψ + π),        r(θ) = ⟨c, u(ψ)⟩ + h(ψ + π),
+
+h being the hull's support function. S¹ is split into *cells* at the Gauss-map
+breakpoints of both terms; in a cell the two contact features F (at ψ) and G (at
+ψ + π) are fixed and f(ψ) = ⟨c_F(ψ) − c_G(ψ + π), u⟩, f′(ψ) = ⟨c_F − c_G, u′⟩.
+
+* Both features point-like (vertices, circular arcs, the centre of mass):
+  f = ⟨Δ, u⟩ + R_F + R_G with Δ the difference of centres — f′ has the closed-form
+  zeros ψ = atan2(Δ) + kπ, and the cell is a region of constant value exactly when
+  the centres coincide (concentric arcs, an arc centred on the opposite vertex or on
+  the centre of mass). This is decided from the geometry, not from samples.
+* Otherwise (a curve piece is involved) f′ = 0 is Lemma 1's system: the chord is
+  normal to both curves. Roots are isolated by sign changes of f′ on a grid no
+  coarser than ``root_grid_rad`` and refined by Brent's method to machine precision.
+
+The result is a cyclic list of monotone *runs* (sign of dd/dθ: +1, −1 or 0) whose
+boundaries are the extrema, classified as in Appendix A.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from scipy.optimize import brentq
+
+from algrasp.curves import FloatArray
+from algrasp.hull import TWO_PI, ConvexHull, HullFeature, unit
+from algrasp.tolerances import Tolerances
+
+Kind = Literal["diameter", "radius"]
+Equilibrium = Literal["stable", "unstable", "semistable", "semiunstable"]
+
+_CLASSIFY: dict[tuple[int, int], tuple[str, Equilibrium]] = {
+    (1, -1): ("max", "unstable"),
+    (-1, 1): ("min", "stable"),
+    (-1, 0): ("min", "semistable"),
+    (0, 1): ("min", "semistable"),
+    (1, 0): ("max", "semiunstable"),
+    (0, -1): ("max", "semiunstable"),
+}
+
+
+@dataclass(frozen=True)
+class Run:
+    """θ-interval [start, end) (radians, lifted) on which the function has ``sign``."""
+
+    start: float
+    end: float
+    sign: int
+
+
+@dataclass(frozen=True)
+class Extremum:
+    theta: float  # radians, wrapped to [0, period)
+    value: float
+    kind: str  # "min" | "max"
+    equilibrium: Equilibrium
+
+
+@dataclass(frozen=True, eq=False)
+class SupportPairFunction:
+    """d or r of one part: evaluation at any θ plus the exact monotone runs.
+
+    Attributes:
+        kind: "diameter" (period π) or "radius" (period 2π).
+        hull: the part's exact hull.
+        com: centre of mass (radius function only).
+        runs: cyclic θ-runs over one full turn, sorted, covering [runs[0].start, +2π).
+        extrema: extrema over one period, sorted by θ.
+        constant_intervals: [start, end) θ-intervals of constant value over one period
+            (end may exceed the period when the interval wraps).
+    """
+
+    kind: Kind
+    hull: ConvexHull
+    com: tuple[float, float]
+    runs: tuple[Run, ...]
+    extrema: tuple[Extremum, ...]
+    constant_intervals: tuple[tuple[float, float], ...]
+
+    @property
+    def period(self) -> float:
+        return np.pi if self.kind == "diameter" else TWO_PI
+
+    def __call__(self, theta: float) -> float:
+        """Value at θ (radians): exact support-function evaluation, O(log n)."""
+        psi = np.pi / 2 - theta
+        u = unit(psi)
+        far = self.hull.support(psi + np.pi)
+        near = self.hull.support(psi) if self.kind == "diameter" else float(np.asarray(self.com) @ u)
+        return float(near + far)
+
+
+def wrap(theta: float, period: float, tol: float) -> float:
+    """θ mod period in [0, period), with values within ``tol`` of the period sent to 0."""
+    x = theta % period
+    return 0.0 if period - x <= tol else float(x)
+
+
+def _near_feature(kind: Kind, hull: ConvexHull, com: tuple[float, float], psi: float) -> HullFeature:
+    if kind == "radius":
+        return HullFeature("point", -np.inf, np.inf, center=com)
+    return hull.features[hull.index_at(psi)]
+
+
+def _cells(kind: Kind, hull: ConvexHull, tol: Tolerances) -> list[tuple[float, float]]:
+    """Cells [a, b] in ψ over one turn: breakpoints of both terms merged."""
+    far = hull.breakpoints - np.pi
+    cuts = far if kind == "radius" else np.concatenate([hull.breakpoints, far])
+    base = float(cuts.min())
+    cuts = np.sort(base + (cuts - base) % TWO_PI)
+    keep = np.concatenate([[True], np.diff(cuts) > tol.angle_rad])
+    cuts = cuts[keep]
+    edges = np.append(cuts, cuts[0] + TWO_PI)
+    return [(float(a), float(b)) for a, b in zip(edges[:-1], edges[1:]) if b - a > tol.angle_rad]
+
+
+def _derivative(F: HullFeature, G: HullFeature, psi: FloatArray) -> FloatArray:
+    """f′(ψ) = ⟨c_F(ψ) − c_G(ψ + π), u′(ψ)⟩, vectorised."""
+    chord = F.support_point(psi) - G.support_point(psi + np.pi)
+    return -chord[..., 0] * np.sin(psi) + chord[..., 1] * np.cos(psi)
+
+
+def _cell_roots(F: HullFeature, G: HullFeature, a: float, b: float, tol: Tolerances) -> list[float]:
+    """Zeros of f′ in (a, b) for a cell with a curve piece (grid + Brent)."""
+    n = max(8, int(np.ceil((b - a) / tol.root_grid_rad))) + 1
+    grid = np.linspace(a, b, n)
+    vals = _derivative(F, G, grid)
+    roots = []
+    for i in range(n - 1):
+        if vals[i] * vals[i + 1] < 0.0:
+            def fprime(x: float) -> float:
+                return float(_derivative(F, G, np.array([x]))[0])
+            roots.append(float(brentq(fprime, grid[i], grid[i + 1], xtol=1e-15, rtol=4.5e-16)))
+    return roots
+
+
+def _cell_runs(F: HullFeature, G: HullFeature, a: float, b: float, size: float, tol: Tolerances) -> list[Run]:
+    """Monotone ψ-runs of one cell (sign of df/dψ)."""
+    if F.point_like and G.point_like:
+        delta = np.asarray(F.center) - np.asarray(G.center)
+        if np.hypot(*delta) <= tol.concentric_rel * size:
+            return [Run(a, b, 0)]
+        phi = float(np.arctan2(delta[1], delta[0]))
+        k0 = np.ceil((a - phi) / np.pi)
+        roots = [phi + k * np.pi for k in np.arange(k0, k0 + 3) if a < phi + k * np.pi < b]
+    else:
+        roots = _cell_roots(F, G, a, b, tol)
+    edges = [a, *roots, b]
+    mids = np.array([(x + y) / 2 for x, y in zip(edges[:-1], edges[1:])])
+    signs = np.sign(_derivative(F, G, mids)).astype(int)
+    return [Run(x, y, int(s)) for x, y, s in zip(edges[:-1], edges[1:], signs) if y - x > tol.angle_rad]
+
+
+def _merge(runs: list[Run]) -> list[Run]:
+    out: list[Run] = []
+    for r in runs:
+        if out and out[-1].sign == r.sign:
+            out[-1] = Run(out[-1].start, r.end, r.sign)
+        else:
+            out.append(r)
+    if len(out) > 1 and out[0].sign == out[-1].sign:
+        first = out.pop(0)
+        out[-1] = Run(out[-1].start, first.end + TWO_PI, first.sign)
+    return out
+
+
+def theta_runs(kind: Kind, hull: ConvexHull, com: tuple[float, float], size: float, tol: Tolerances) -> list[Run]:
+    """Cyclic θ-runs of d or r over one turn. O(c · g) for c cells, g grid points/cell."""
+    psi_runs: list[Run] = []
+    for a, b in _cells(kind, hull, tol):
+        mid = (a + b) / 2
+        F = _near_feature(kind, hull, com, mid)
+        G = hull.features[hull.index_at(mid + np.pi)]
+        psi_runs.extend(_cell_runs(F, G, a, b, size, tol))
+    merged = _merge(psi_runs)
+    # θ = π/2 − ψ reverses the order and the sign of the derivative.
+    return [Run(np.pi / 2 - r.end, np.pi / 2 - r.start, -r.sign) for r in reversed(merged)]
+
+
+def analyse(kind: Kind, hull: ConvexHull, com: tuple[float, float], size: float, tol: Tolerances) -> SupportPairFunction:
+    """Exact runs, extrema and constant regions of the diameter or radius function."""
+    runs = theta_runs(kind, hull, com, size, tol)
+    shell = SupportPairFunction(kind, hull, com, tuple(runs), (), ())
+    period = shell.period
+    extrema: dict[float, Extremum] = {}
+    for prev, nxt in zip([runs[-1], *runs[:-1]], runs):
+        label = _CLASSIFY.get((prev.sign, nxt.sign))
+        if label is None:
+            continue
+        key = wrap(nxt.start, period, tol.angle_rad)
+        extrema.setdefault(round(key, 9), Extremum(key, shell(nxt.start), label[0], label[1]))
+    const = {round(wrap(r.start, period, tol.angle_rad), 9): (wrap(r.start, period, tol.angle_rad),
+                                                             wrap(r.start, period, tol.angle_rad) + r.end - r.start)
+             for r in runs if r.sign == 0}
+    if len(runs) == 1 and runs[0].sign == 0:
+        const = {0.0: (0.0, period)}
+    return SupportPairFunction(kind, hull, com, tuple(runs),
+                               tuple(sorted(extrema.values(), key=lambda e: e.theta)),
+                               tuple(sorted(const.values())))

@@ -1,0 +1,473 @@
+"""Exact convex hull of a curved loop, as features ordered by outward-normal angle ψ.
+
+The hull boundary is made of pieces of the original curves, vertices (corners) and
+straight edges (segments of the boundary or bitangents). It is stored as the Gauss
+map: a cyclic list of :class:`HullFeature` whose normal ranges ``[psi0, psi1]`` tile
+S¹; straight edges are the breakpoints between consecutive features.
+
+Method (n pieces, m hull features): the curves are split at inflections and at
+quadrant changes of the tangent into convex pieces; points *on* the exact curves
+(vertices and samples) locate the combinatorial hull (qhull, O(N log N)); every
+straight edge is then solved exactly — vertex–curve tangents as polynomial roots,
+curve–curve bitangents by Newton on the curve equations — and verified against every
+piece (control-polygon bound, then the exact extreme point from a polynomial root).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+import numpy.polynomial.polynomial as npoly
+from scipy.optimize import root as solve_root
+from scipy.spatial import ConvexHull as Qhull
+
+from algrasp.curves import FloatArray, Piece, real_roots_in
+from algrasp.errors import GeometryError
+from algrasp.segments import Segment
+from algrasp.tolerances import Tolerances
+
+TWO_PI = 2.0 * np.pi
+_BISECTION_STEPS = 54  # halves [0, 1] to below double precision
+
+
+def unit(psi: FloatArray | float) -> FloatArray:
+    """Unit vectors (cos ψ, sin ψ), shape (..., 2)."""
+    psi = np.asarray(psi, dtype=float)
+    return np.stack([np.cos(psi), np.sin(psi)], axis=-1)
+
+
+@dataclass(frozen=True, eq=False)
+class HullFeature:
+    """One feature of the hull over the normal range ``[psi0, psi1]`` (radians).
+
+    ``kind`` is "point" (a vertex: ``center``), "circle" (an arc: ``center``,
+    ``radius``, ``piece`` between ``s0`` and ``s1``) or "curve" (``piece`` between
+    ``s0`` and ``s1``).
+    """
+
+    kind: Literal["point", "circle", "curve"]
+    psi0: float
+    psi1: float
+    center: tuple[float, float] = (0.0, 0.0)
+    radius: float = 0.0
+    piece: Piece | None = None
+    s0: float = 0.0
+    s1: float = 1.0
+
+    @property
+    def point_like(self) -> bool:
+        """Whether the support point is ``center + radius·u(ψ)`` (closed forms apply)."""
+        return self.kind != "curve"
+
+    def param_at(self, psi: FloatArray) -> FloatArray:
+        """Curve parameter whose outward normal is ψ (vectorised bisection, O(54 k))."""
+        assert self.piece is not None
+        u = unit(psi)
+        lo = np.full(u.shape[:-1], self.s0)
+        hi = np.full(u.shape[:-1], self.s1)
+        for _ in range(_BISECTION_STEPS):
+            mid = 0.5 * (lo + hi)
+            q = npoly.polyval(mid, self.piece.TX) * u[..., 0] + npoly.polyval(mid, self.piece.TY) * u[..., 1]
+            before = q > 0.0  # the tangent has not yet turned past ψ + 90°
+            lo = np.where(before, mid, lo)
+            hi = np.where(before, hi, mid)
+        return 0.5 * (lo + hi)
+
+    def support_point(self, psi: FloatArray | float) -> FloatArray:
+        """Point of the feature touched by the support line of normal ψ; shape (..., 2)."""
+        psi = np.asarray(psi, dtype=float)
+        if self.kind == "curve":
+            assert self.piece is not None
+            return self.piece.point(self.param_at(psi))
+        return np.asarray(self.center) + self.radius * unit(psi)
+
+    def length(self) -> float:
+        """Arc length of the feature (0 for a point)."""
+        if self.kind == "point":
+            return 0.0
+        if self.kind == "circle":
+            return self.radius * (self.psi1 - self.psi0)
+        assert self.piece is not None
+        nodes, wts = np.polynomial.legendre.leggauss(24)
+        edges = np.linspace(self.s0, self.s1, 9)
+        total = 0.0
+        for a, b in zip(edges[:-1], edges[1:]):
+            t = (a + b) / 2 + (b - a) / 2 * nodes
+            W = npoly.polyval(t, self.piece.W)
+            speed = np.hypot(*self.piece.tangent(t).T) / (W * W)
+            total += float((b - a) / 2 * wts @ speed)
+        return total
+
+
+@dataclass(frozen=True, eq=False)
+class ConvexHull:
+    """The exact hull: features sorted by ``psi0``, covering ``[psi0_first, +2π)``.
+
+    Attributes:
+        features: the Gauss-map features (read-only tuple).
+        edges: straight edges as ((ax, ay), (bx, by)), counter-clockwise.
+        perimeter: exact perimeter (edges + arc lengths; unit).
+    """
+
+    features: tuple[HullFeature, ...]
+    edges: tuple[tuple[tuple[float, float], tuple[float, float]], ...]
+    perimeter: float
+
+    @property
+    def breakpoints(self) -> FloatArray:
+        """Normal angles where the feature changes (the psi0 of each feature)."""
+        return np.array([f.psi0 for f in self.features])
+
+    def index_at(self, psi: float) -> int:
+        """Index of the feature whose normal range holds ψ (right-open ranges)."""
+        base = self.features[0].psi0
+        x = base + (psi - base) % TWO_PI
+        i = int(np.searchsorted(self.breakpoints, x, side="right")) - 1
+        return max(i, 0)
+
+    def support(self, psi: float) -> float:
+        """Support function h(ψ) = max over the part of ⟨p, u(ψ)⟩ (unit)."""
+        f = self.features[self.index_at(psi)]
+        return float(f.support_point(psi) @ unit(psi))
+
+    def inside_margin(self, p: FloatArray) -> float:
+        """min over ψ of h(ψ) − ⟨p, u(ψ)⟩ at every feature end and 2,048 normals.
+
+        Positive when ``p`` is inside the hull (a validity check; the radius function
+        later finds the exact minimum).
+        """
+        psis = np.concatenate([self.breakpoints, np.linspace(0.0, TWO_PI, 2048, endpoint=False)])
+        return float(min(self.support(s) - float(p @ unit(s)) for s in psis))
+
+    def outline(self, step_rad: float = 0.02) -> FloatArray:
+        """A closed polyline of the hull boundary for drawings only; shape (N, 2)."""
+        pts = []
+        for f in self.features:
+            n = 1 if f.kind == "point" else max(2, int(np.ceil((f.psi1 - f.psi0) / step_rad)) + 1)
+            pts.append(f.support_point(np.linspace(f.psi0, f.psi1, n)).reshape(-1, 2))
+        out = np.concatenate(pts)
+        return np.vstack([out, out[:1]])
+
+
+# --------------------------------------------------------------------------- pieces
+
+
+@dataclass(frozen=True, eq=False)
+class _Loop:
+    """Convex pieces of a counter-clockwise loop and the vertices between them."""
+
+    vertices: FloatArray  # (V, 2)
+    pieces: tuple[Piece, ...]
+    start_vertex: tuple[int, ...]
+    end_vertex: tuple[int, ...]
+
+
+def _convex_split(piece: Piece, size: float) -> list[Piece]:
+    """Sub-pieces of ``piece`` that turn left, each with a tangent turn < 90°."""
+    cuts = real_roots_in(piece.curvature_sign_poly(), 0.0, 1.0)
+    cuts += real_roots_in(np.asarray(piece.TX), 0.0, 1.0) + real_roots_in(np.asarray(piece.TY), 0.0, 1.0)
+    cuts = sorted({round(c, 14) for c in cuts if 1e-9 < c < 1.0 - 1e-9})
+    kept = []
+    for sub in piece.split(cuts) if cuts else [piece]:
+        t = np.array([0.5])
+        W = npoly.polyval(t, sub.W)[0]
+        T = sub.tangent(t)[0]
+        speed = float(np.hypot(*T))
+        if speed == 0.0:
+            continue
+        kappa = float(npoly.polyval(0.5, sub.curvature_sign_poly())) * W**3 / speed**3
+        if kappa * size > 1e-9:  # left turn; straight or right-turning pieces never touch the hull
+            kept.append(sub)
+    return kept
+
+
+def _build_loop(boundary: list[Segment], size: float) -> _Loop:
+    verts: list[tuple[float, float]] = []
+    pieces: list[Piece] = []
+    starts: list[int] = []
+    ends: list[int] = []
+    close = 1e-12 * size
+
+    def vertex(p: FloatArray | tuple[float, float]) -> int:
+        # Consecutive copies of one point are one vertex, so pieces link up.
+        if verts and np.hypot(verts[-1][0] - p[0], verts[-1][1] - p[1]) <= close:
+            return len(verts) - 1
+        if verts and np.hypot(verts[0][0] - p[0], verts[0][1] - p[1]) <= close:
+            return 0
+        verts.append((float(p[0]), float(p[1])))
+        return len(verts) - 1
+
+    for i, seg in enumerate(boundary):
+        vertex(seg.start)
+        for raw in seg.pieces(i):
+            for p in _convex_split(raw, size):
+                starts.append(vertex(p.point(0.0)))
+                ends.append(vertex(p.point(1.0)))
+                pieces.append(p)
+    return _Loop(np.array(verts), tuple(pieces), tuple(starts), tuple(ends))
+
+
+def _samples(p: Piece, max_turn: float) -> FloatArray:
+    """Parameters (interior, sorted) on ``p`` with tangent turn ≤ max_turn between them."""
+    ts = np.linspace(0.0, 1.0, 9)
+    for _ in range(12):
+        psi = np.unwrap(p.normal_angle(ts))
+        big = np.nonzero(np.diff(psi) > max_turn)[0]
+        if big.size == 0:
+            break
+        ts = np.sort(np.concatenate([ts, 0.5 * (ts[big] + ts[big + 1])]))
+    return ts[1:-1]
+
+
+# --------------------------------------------------------------------------- contacts
+
+_Contact = tuple[int, int, float]  # (vertex id or -1, piece id or -1, parameter)
+
+
+def _contact_point(loop: _Loop, c: _Contact) -> FloatArray:
+    if c[0] >= 0:
+        return np.asarray(loop.vertices[c[0]])
+    return np.asarray(loop.pieces[c[1]].point(c[2]))
+
+
+def _vertex_tangent(loop: _Loop, a: FloatArray, pid: int, t_guess: float, size: float) -> float | None:
+    p = loop.pieces[pid]
+    roots = [t for t in real_roots_in(p.tangent_from_point_poly(a), 0.0, 1.0)
+             if np.hypot(*(p.point(t) - a)) > 1e-9 * size]
+    if not roots:
+        return None
+    return min(roots, key=lambda t: abs(t - t_guess))
+
+
+def _bitangent(loop: _Loop, fa: int, sa: float, fb: int, sb: float) -> tuple[float, float] | None:
+    pa, pb = loop.pieces[fa], loop.pieces[fb]
+
+    def eqs(x: FloatArray) -> list[float]:
+        e = pb.point(x[1]) - pa.point(x[0])
+        ta, tb = pa.tangent(x[0]), pb.tangent(x[1])
+        ta, tb = ta / np.hypot(*ta), tb / np.hypot(*tb)
+        return [float(ta[0] * e[1] - ta[1] * e[0]), float(tb[0] * e[1] - tb[1] * e[0])]
+
+    sol = solve_root(eqs, [sa, sb], method="hybr", tol=1e-15)
+    if not sol.success:
+        return None
+    return float(sol.x[0]), float(sol.x[1])
+
+
+def _snap(loop: _Loop, c: _Contact) -> _Contact:
+    """A contact at a piece end becomes the vertex there."""
+    if c[0] >= 0:
+        return c
+    if c[2] <= 1e-12:
+        return (loop.start_vertex[c[1]], -1, 0.0)
+    if c[2] >= 1.0 - 1e-12:
+        return (loop.end_vertex[c[1]], -1, 0.0)
+    return c
+
+
+def _solve_edge(loop: _Loop, a: _Contact, b: _Contact, size: float) -> tuple[_Contact, _Contact]:
+    """Exact tangent contacts of the straight edge from near ``a`` to near ``b``."""
+    if a[0] < 0 and b[0] < 0:
+        st = _bitangent(loop, a[1], a[2], b[1], b[2])
+        if st is not None and -1e-9 <= st[0] <= 1 + 1e-9 and -1e-9 <= st[1] <= 1 + 1e-9:
+            return _snap(loop, (-1, a[1], min(max(st[0], 0.0), 1.0))), _snap(loop, (-1, b[1], min(max(st[1], 0.0), 1.0)))
+        a = _snap(loop, (-1, a[1], float(np.clip(round(a[2]), 0, 1))))
+    if a[0] >= 0 and b[0] < 0:
+        t = _vertex_tangent(loop, loop.vertices[a[0]], b[1], b[2], size)
+        return a, _snap(loop, (-1, b[1], t)) if t is not None else _snap(loop, (-1, b[1], float(round(b[2]))))
+    if a[0] < 0 and b[0] >= 0:
+        t = _vertex_tangent(loop, loop.vertices[b[0]], a[1], a[2], size)
+        return (_snap(loop, (-1, a[1], t)) if t is not None else _snap(loop, (-1, a[1], float(round(a[2]))))), b
+    return a, b
+
+
+def _worst_outside(loop: _Loop, a: FloatArray, b: FloatArray) -> tuple[float, _Contact]:
+    """Largest distance of any vertex or piece beyond the line a→b, and where."""
+    e = b - a
+    n = np.array([e[1], -e[0]]) / np.hypot(*e)
+    dv = (loop.vertices - a) @ n
+    iv = int(np.argmax(dv))
+    worst, where = float(dv[iv]), (iv, -1, 0.0)
+    for k, p in enumerate(loop.pieces):
+        if float(np.max((p.points - a) @ n)) <= worst:
+            continue  # the control polygon bounds the curve (positive weights)
+        t = p.support_param(n)
+        val = float((p.point(t) - a) @ n)
+        if val > worst:
+            worst, where = val, (-1, k, t)
+    return worst, where
+
+
+def _verified_edge(loop: _Loop, a: _Contact, b: _Contact, size: float) -> tuple[_Contact, _Contact]:
+    for _ in range(12):
+        a, b = _solve_edge(loop, a, b, size)
+        pa, pb = _contact_point(loop, a), _contact_point(loop, b)
+        worst, where = _worst_outside(loop, pa, pb)
+        if worst <= 1e-10 * size:
+            return a, b
+        x = _contact_point(loop, where)
+        along = float((x - pa) @ (pb - pa)) / float((pb - pa) @ (pb - pa))
+        if along < 0.5:
+            a = where
+        else:
+            b = where
+    raise GeometryError(f"could not resolve a hull edge near ({pa[0]:.6g}, {pa[1]:.6g})")
+
+
+# --------------------------------------------------------------------------- the walk
+
+_Element = tuple  # ("edge", a, b) | ("curve", pid, s, e) | ("point", (x, y))
+
+
+def _candidates(loop: _Loop, tol: Tolerances) -> tuple[FloatArray, list[list[tuple[int, int]]], list[_Contact]]:
+    """Exact curve points to locate the hull: vertices, then samples of every piece.
+
+    Returns the points (N, 2), for each the (piece, sample index) memberships that
+    link consecutive hull points along a piece, and the initial contact of each.
+    """
+    n_v = len(loop.vertices)
+    members: list[list[tuple[int, int]]] = [[] for _ in range(n_v)]
+    contacts: list[_Contact] = [(v, -1, 0.0) for v in range(n_v)]
+    pts = [loop.vertices]
+    for k, p in enumerate(loop.pieces):
+        ts = _samples(p, tol.hull_sample_turn_rad)
+        members[loop.start_vertex[k]].append((k, 0))
+        members[loop.end_vertex[k]].append((k, len(ts) + 1))
+        for j, t in enumerate(ts):
+            members.append([(k, j + 1)])
+            contacts.append((-1, k, float(t)))
+        pts.append(p.point(ts).reshape(-1, 2))
+    return np.concatenate(pts), members, contacts
+
+
+def _link(ma: list[tuple[int, int]], mb: list[tuple[int, int]]) -> int:
+    """Piece joining consecutive hull points along the curve, or -1 for a straight edge."""
+    for pa, ja in ma:
+        for pb, jb in mb:
+            if pa == pb and jb > ja:
+                return pa
+    return -1
+
+
+def _dedupe(path: list[int]) -> list[int]:
+    out: list[int] = []
+    for p in path:
+        if not out or out[-1] != p:
+            out.append(p)
+    return out
+
+
+def _stretch(loop: _Loop, path: list[int], cin: _Contact, cout: _Contact) -> list[_Element]:
+    """Elements from the end contact of one edge to the start contact of the next."""
+    path = _dedupe(path)
+    if cin[1] >= 0 and (not path or path[0] != cin[1]):
+        path.insert(0, cin[1])
+    if cout[1] >= 0 and (not path or path[-1] != cout[1]):
+        path.append(cout[1])
+    if not path:
+        return [("point", tuple(loop.vertices[cin[0]]))]
+    elems: list[_Element] = []
+    if cin[0] >= 0:
+        elems.append(("point", tuple(loop.vertices[cin[0]])))
+    for idx, pid in enumerate(path):
+        if idx > 0:
+            elems.append(("point", tuple(loop.vertices[loop.start_vertex[pid]])))
+        s = cin[2] if idx == 0 and cin[1] == pid else 0.0
+        e = cout[2] if idx == len(path) - 1 and cout[1] == pid else 1.0
+        elems.append(("curve", pid, s, e))
+    if cout[0] >= 0:
+        elems.append(("point", tuple(loop.vertices[cout[0]])))
+    return elems
+
+
+def _elements(loop: _Loop, order: FloatArray, links: list[int], contacts: list[_Contact], size: float) -> list[_Element]:
+    h = len(order)
+    edge_at = [i for i in range(h) if links[i] < 0]
+    if not edge_at:
+        path = _dedupe([links[i] for i in range(h)])
+        if len(path) > 1 and path[0] == path[-1]:
+            path.pop()
+        return _stretch(loop, path, (loop.start_vertex[path[0]], -1, 0.0), (loop.start_vertex[path[0]], -1, 0.0))[1:]
+    solved = []
+    for i in edge_at:
+        a, b = contacts[order[i]], contacts[order[(i + 1) % h]]
+        solved.append(_verified_edge(loop, a, b, size) if loop.pieces else (a, b))
+    elems: list[_Element] = []
+    for k, i in enumerate(edge_at):
+        nxt = edge_at[(k + 1) % len(edge_at)]
+        span = range(i + 1, nxt if nxt > i else nxt + h)
+        path = [links[j % h] for j in span]
+        cout = solved[(k + 1) % len(edge_at)][0]
+        elems.extend(_stretch(loop, path, solved[k][1], cout))
+        elems.append(("edge", _contact_point(loop, cout), _contact_point(loop, solved[(k + 1) % len(edge_at)][1])))
+    return elems
+
+
+def _element_normals(loop: _Loop, elems: list[_Element]) -> list[tuple[float, float]]:
+    raw: list[tuple[float, float] | None] = []
+    for el in elems:
+        if el[0] == "edge":
+            d = np.asarray(el[2]) - np.asarray(el[1])
+            psi = float(np.arctan2(-d[0], d[1]))
+            raw.append((psi, psi))
+        elif el[0] == "curve":
+            p = loop.pieces[el[1]]
+            raw.append((float(p.normal_angle(el[2])), float(p.normal_angle(el[3]))))
+        else:
+            raw.append(None)
+    n = len(elems)
+    out = []
+    for i, r in enumerate(raw):
+        if r is None:
+            prev = next(raw[(i - k) % n] for k in range(1, n + 1) if raw[(i - k) % n] is not None)
+            nxt = next(raw[(i + k) % n] for k in range(1, n + 1) if raw[(i + k) % n] is not None)
+            r = (prev[1], nxt[0])  # type: ignore[index]
+        out.append(r)
+    return out
+
+
+def _features(loop: _Loop, elems: list[_Element], tol: Tolerances) -> list[HullFeature]:
+    normals = _element_normals(loop, elems)
+    feats: list[HullFeature] = []
+    level = normals[0][0]
+    for el, (a, b) in zip(elems, normals):
+        a = level + (a - level + tol.angle_rad) % TWO_PI - tol.angle_rad
+        b = a + (b - a + tol.angle_rad) % TWO_PI - tol.angle_rad
+        level = b
+        if el[0] == "edge" or b - a <= tol.angle_rad:
+            continue
+        if el[0] == "point":
+            feats.append(HullFeature("point", a, b, center=(float(el[1][0]), float(el[1][1]))))
+            continue
+        p = loop.pieces[el[1]]
+        if p.circle is not None:
+            feats.append(HullFeature("circle", a, b, (p.circle[0], p.circle[1]), p.circle[2], p, el[2], el[3]))
+        else:
+            feats.append(HullFeature("curve", a, b, piece=p, s0=el[2], s1=el[3]))
+    total = feats[-1].psi1 - feats[0].psi0
+    if abs(total - TWO_PI) > 1e-6:
+        raise GeometryError(f"hull normals cover {np.degrees(total):.6f}° instead of 360°")
+    # Tile S¹ exactly: each range ends where the next begins.
+    return [HullFeature(f.kind, f.psi0, feats[i + 1].psi0 if i + 1 < len(feats) else feats[0].psi0 + TWO_PI,
+                        f.center, f.radius, f.piece, f.s0, f.s1) for i, f in enumerate(feats)]
+
+
+def exact_hull(boundary: list[Segment], size: float, tol: Tolerances) -> ConvexHull:
+    """Exact convex hull of a counter-clockwise loop of segments.
+
+    Complexity: O(N log N) for N located points (vertices plus ~10 samples per convex
+    piece), plus O(E·n) for verifying E straight edges against n pieces.
+    """
+    loop = _build_loop(boundary, size)
+    pts, members, contacts = _candidates(loop, tol)
+    order = Qhull(pts).vertices
+    h = len(order)
+    links = [_link(members[order[i]], members[order[(i + 1) % h]]) for i in range(h)]
+    elems = _elements(loop, order, links, contacts, size)
+    feats = _features(loop, elems, tol)
+    edges = tuple((tuple(map(float, e[1])), tuple(map(float, e[2]))) for e in elems if e[0] == "edge")
+    perimeter = sum(float(np.hypot(*(np.asarray(b) - np.asarray(a)))) for a, b in edges)
+    perimeter += sum(f.length() for f in feats)
+    return ConvexHull(tuple(feats), edges, perimeter)  # type: ignore[arg-type]

@@ -1,0 +1,165 @@
+"""The validated part: immutable, counter-clockwise, with exact area, centre of mass and hull.
+
+``load_part(document)`` is the one entry point: it parses (``algrasp.document``),
+checks closure, degeneracy and simplicity, orients the loop counter-clockwise and
+computes the exact convex hull (``algrasp.hull``).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import shapely
+from shapely.geometry import LineString, Point, Polygon
+
+from algrasp.curves import FloatArray
+from algrasp.document import number, parse_loops
+from algrasp.errors import PartDocumentError
+from algrasp.hull import ConvexHull, exact_hull
+from algrasp.limits import DEFAULT_LIMITS, Limits
+from algrasp.segments import Segment
+from algrasp.tolerances import DEFAULT_TOLERANCES, Tolerances
+
+_TESSELLATION_TURN_RAD = np.radians(2.0)  # only for the simplicity check, never for analysis
+
+
+@dataclass(frozen=True)
+class Part:
+    """A validated planar part.
+
+    Attributes:
+        name, units: from the document (units default "mm").
+        boundary: segments of the outer loop, counter-clockwise.
+        holes: segment loops of the holes, each clockwise.
+        area: area of boundary minus holes (unit²).
+        center_of_mass: given, or the area centroid (unit).
+        com_given: whether the document gave the centre of mass.
+        size: diagonal of the bounding box of all control points (unit).
+        hull: the exact convex hull of the boundary.
+        source_document: the document as given (for records and replay).
+    """
+
+    name: str
+    units: str
+    boundary: tuple[Segment, ...]
+    holes: tuple[tuple[Segment, ...], ...]
+    area: float
+    center_of_mass: tuple[float, float]
+    com_given: bool
+    size: float
+    hull: ConvexHull
+    source_document: Mapping[str, Any]
+
+
+def load_part(doc: Mapping[str, Any], tol: Tolerances = DEFAULT_TOLERANCES, limits: Limits = DEFAULT_LIMITS) -> Part:
+    """Validate a part document and build the :class:`Part`. Raises PartDocumentError."""
+    boundary, holes = parse_loops(doc, limits)
+    size = _size([boundary, *holes])
+    field = "polygon" if "polygon" in doc else "boundary"
+    _check_loop(boundary, field, size, tol)
+    for i, hole in enumerate(holes):
+        _check_loop(hole, f"holes[{i}]", size, tol)
+    _check_simple(boundary, holes, field)
+    moments = _moments(boundary)
+    if abs(moments[0]) <= tol.zero_area_rel * size * size:
+        raise PartDocumentError(field, f"the boundary encloses zero area ({moments[0]:.3g})")
+    if moments[0] < 0.0:
+        boundary = [s.reversed() for s in reversed(boundary)]
+        moments = tuple(-m for m in moments)  # type: ignore[assignment]
+    area, sx, sy = moments
+    oriented_holes = []
+    for hole in holes:
+        hm = _moments(hole)
+        if hm[0] > 0.0:
+            hole = [s.reversed() for s in reversed(hole)]
+            hm = tuple(-m for m in hm)  # type: ignore[assignment]
+        area, sx, sy = area + hm[0], sx + hm[1], sy + hm[2]
+        oriented_holes.append(tuple(hole))
+    if area <= tol.zero_area_rel * size * size:
+        raise PartDocumentError("holes", "the holes leave the part with zero area")
+    hull = exact_hull(boundary, size, tol)
+    com, given = _center_of_mass(doc, (sx / area, sy / area), hull, limits_field="center_of_mass")
+    return Part(str(doc.get("name", "part")), str(doc.get("units", "mm")), tuple(boundary), tuple(oriented_holes),
+                float(area), com, given, size, hull, doc)
+
+
+def _center_of_mass(doc: Mapping[str, Any], centroid: tuple[float, float], hull: ConvexHull,
+                    limits_field: str) -> tuple[tuple[float, float], bool]:
+    if "center_of_mass" not in doc:
+        return (float(centroid[0]), float(centroid[1])), False
+    raw = doc["center_of_mass"]
+    if not isinstance(raw, (list, tuple)) or len(raw) != 2:
+        raise PartDocumentError(limits_field, "expected a point [x, y]")
+    com = (number(raw[0], f"{limits_field}[0]"), number(raw[1], f"{limits_field}[1]"))
+    margin = hull.inside_margin(np.array(com))
+    if margin <= 0.0:
+        raise PartDocumentError(limits_field, f"({com[0]:g}, {com[1]:g}) lies outside the convex hull (by {-margin:.3g})")
+    return com, True
+
+
+def _size(loops: list[list[Segment]]) -> float:
+    pts = np.concatenate([s.polyline(np.pi / 2) for loop in loops for s in loop])
+    return float(np.hypot(*np.ptp(pts, axis=0)))
+
+
+def _check_loop(loop: list[Segment], field: str, size: float, tol: Tolerances) -> None:
+    """Zero-length segments and gaps between consecutive segments."""
+    for i, seg in enumerate(loop):
+        pts = seg.polyline(np.pi / 8)
+        length = float(np.sum(np.hypot(*np.diff(pts, axis=0).T)))
+        if length <= tol.zero_length_rel * size:
+            raise PartDocumentError(f"{field}[{i}]", f"zero-length segment (length {length:.3g})", i)
+    for i, seg in enumerate(loop):
+        nxt = loop[(i + 1) % len(loop)]
+        gap = float(np.hypot(seg.end[0] - nxt.start[0], seg.end[1] - nxt.start[1]))
+        if gap > tol.closure_rel * size:
+            j = (i + 1) % len(loop)
+            raise PartDocumentError(f"{field}[{i}].end",
+                                    f"open loop: gap of {gap:.6g} between the end of segment {i} and the start of segment {j}", i)
+
+
+def _moments(loop: list[Segment]) -> tuple[float, float, float]:
+    m = np.sum([s.moments() for s in loop], axis=0)
+    return float(m[0]), float(m[1]), float(m[2])
+
+
+def _polyline(loop: list[Segment]) -> tuple[FloatArray, list[FloatArray]]:
+    parts = [s.polyline(_TESSELLATION_TURN_RAD)[:-1] for s in loop]
+    return np.concatenate(parts), parts
+
+
+def _check_simple(boundary: list[Segment], holes: list[list[Segment]], field: str) -> None:
+    """Self-intersection of the boundary and holes (tessellated only for this test)."""
+    shell, parts = _polyline(boundary)
+    reason = shapely.is_valid_reason(Polygon(shell))
+    if reason != "Valid Geometry":
+        raise PartDocumentError(field, _explain(reason, parts, field))
+    rings = []
+    for i, hole in enumerate(holes):
+        ring, hparts = _polyline(hole)
+        r = shapely.is_valid_reason(Polygon(ring))
+        if r != "Valid Geometry":
+            raise PartDocumentError(f"holes[{i}]", _explain(r, hparts, f"holes[{i}]"))
+        rings.append(ring)
+    if rings:
+        reason = shapely.is_valid_reason(Polygon(shell, rings))
+        if reason != "Valid Geometry":
+            raise PartDocumentError("holes", f"holes must lie inside the boundary without touching: {reason}")
+
+
+def _explain(reason: str, parts: list[FloatArray], field: str) -> str:
+    m = re.search(r"\[([-\d.eE+]+) ([-\d.eE+]+)\]", reason)
+    if not m:
+        return f"invalid loop: {reason}"
+    p = Point(float(m.group(1)), float(m.group(2)))
+    dists = []
+    for i, seg_pts in enumerate(parts):
+        nxt = parts[(i + 1) % len(parts)][:1]
+        dists.append((LineString(np.vstack([seg_pts, nxt])).distance(p), i))
+    near = sorted(i for d, i in sorted(dists)[:2])
+    kind = "self-intersecting" if "Self-intersection" in reason or "Ring" in reason else "invalid"
+    return f"{kind} boundary near ({p.x:.6g}, {p.y:.6g}): segments {near[0]} and {near[1]} of {field}"

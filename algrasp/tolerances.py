@@ -1,0 +1,43 @@
+"""Named numerical tolerances: the one documented place for them.
+
+Every tolerance is passed explicitly (``tol: Tolerances = DEFAULT_TOLERANCES``);
+no bare epsilon appears elsewhere in the package. Lengths are relative to the
+part's size (the diagonal of its bounding box) unless the name says otherwise.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Tolerances:
+    """Tolerances used by parsing, geometry and the transfer functions.
+
+    Attributes:
+        closure_rel: largest gap between consecutive segments, relative to part size
+            (conventions §5: 1e-6).
+        zero_length_rel: a segment shorter than this (relative) is zero-length.
+        zero_area_rel: a region whose area is below this times size² has zero area.
+        concentric_rel: two centres closer than this (relative) coincide; decides
+            regions of constant diameter/radius between circular arcs and vertices.
+        angle_rad: two orientations closer than this are the same (breakpoints,
+            merging steps, symmetry checks of structure).
+        value_rel: relative tolerance on function values (symmetry of values).
+        root_grid_rad: largest spacing of the sign-change grid used to isolate
+            critical points on curved pieces (two extrema closer than this could merge).
+        hull_sample_turn_rad: largest turn of the tangent between hull samples of a
+            curve piece before exact refinement.
+    """
+
+    closure_rel: float = 1e-6
+    zero_length_rel: float = 1e-9
+    zero_area_rel: float = 1e-9
+    concentric_rel: float = 1e-9
+    angle_rad: float = 1e-9
+    value_rel: float = 1e-9
+    root_grid_rad: float = 0.004
+    hull_sample_turn_rad: float = 0.05
+
+
+DEFAULT_TOLERANCES = Tolerances()
