@@ -12,6 +12,7 @@ Polynomial coefficient arrays are in increasing order (numpy.polynomial conventi
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 from math import comb
 
 import numpy as np
@@ -21,24 +22,83 @@ from numpy.typing import NDArray
 FloatArray = NDArray[np.float64]
 
 
+def horner(c: FloatArray, t: FloatArray | float) -> FloatArray:
+    """Evaluate a power-basis polynomial (increasing order) at ``t``; O(k) per point.
+
+    Plain Horner: numpy.polynomial.polyval's argument checking costs more than the
+    arithmetic for the small degrees here.
+    """
+    t = np.asarray(t, dtype=float)
+    y = np.full(t.shape, c[-1], dtype=float)
+    for a in c[-2::-1]:
+        y = y * t + a
+    return y
+
+
+def horner_rows(C: FloatArray, t: FloatArray | float) -> FloatArray:
+    """Evaluate the rows of C (m, k+1), each a power-basis polynomial, at ``t``.
+
+    Returns shape (m, *t.shape): one pass for several polynomials of one piece.
+    """
+    t = np.asarray(t, dtype=float)
+    y = np.multiply.outer(C[:, -1], np.ones_like(t))
+    for j in range(C.shape[1] - 2, -1, -1):
+        y = y * t + C[:, j].reshape((-1,) + (1,) * t.ndim)
+    return y
+
+
+def stack_polys(*polys: FloatArray) -> FloatArray:
+    """Rows of equal length (zero-padded) for :func:`horner_rows`; read-only."""
+    n = max(len(p) for p in polys)
+    out = np.zeros((len(polys), n))
+    for i, p in enumerate(polys):
+        out[i, : len(p)] = p
+    out.setflags(write=False)
+    return out
+
+
+def pmul(a: FloatArray, b: FloatArray) -> FloatArray:
+    """Product of power-basis polynomials."""
+    return np.convolve(a, b)
+
+
+def pder(c: FloatArray) -> FloatArray:
+    """Derivative of a power-basis polynomial (the zero polynomial stays [0])."""
+    if len(c) <= 1:
+        return np.zeros(1)
+    return np.asarray(c[1:] * np.arange(1, len(c)), dtype=float)
+
+
+def padd(a: FloatArray, b: FloatArray) -> FloatArray:
+    """Sum of power-basis polynomials of any lengths."""
+    n = max(len(a), len(b))
+    out = np.zeros(n)
+    out[: len(a)] += a
+    out[: len(b)] += b
+    return out
+
+
 def _readonly(a: FloatArray) -> FloatArray:
     a = np.array(a, dtype=float)
     a.setflags(write=False)
     return a
 
 
-def bernstein_to_power(coeffs: FloatArray) -> FloatArray:
-    """Convert Bernstein coefficients (k+1,) or (k+1, m) to power basis on [0, 1].
-
-    O(k²). Exact in exact arithmetic; fine in floats for the degrees we allow (≤ 20).
-    """
-    k = coeffs.shape[0] - 1
-    out = np.zeros_like(coeffs, dtype=float)
+@lru_cache(maxsize=64)
+def _bernstein_matrix(k: int) -> FloatArray:
+    """M with power = M @ bernstein for degree k (integer entries, exact in floats)."""
+    M = np.zeros((k + 1, k + 1))
     for i in range(k + 1):
         # B_{i,k}(t) = C(k,i) t^i (1-t)^(k-i) = sum_j C(k,i) C(k-i,j) (-1)^j t^(i+j)
         for j in range(k - i + 1):
-            out[i + j] += comb(k, i) * comb(k - i, j) * (-1) ** j * coeffs[i]
-    return out
+            M[i + j, i] += comb(k, i) * comb(k - i, j) * (-1) ** j
+    M.setflags(write=False)
+    return M
+
+
+def bernstein_to_power(coeffs: FloatArray) -> FloatArray:
+    """Convert Bernstein coefficients (k+1,) or (k+1, m) to power basis on [0, 1]. O(k²)."""
+    return np.asarray(_bernstein_matrix(coeffs.shape[0] - 1) @ coeffs, dtype=float)
 
 
 def real_roots_in(poly: FloatArray, lo: float, hi: float, slack: float = 1e-12) -> list[float]:
@@ -100,6 +160,8 @@ class Piece:
     W: FloatArray = field(init=False, repr=False)
     TX: FloatArray = field(init=False, repr=False)
     TY: FloatArray = field(init=False, repr=False)
+    XYW: FloatArray = field(init=False, repr=False)
+    TANGENTS: FloatArray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         pts = _readonly(self.points)
@@ -109,12 +171,17 @@ class Piece:
         hom = np.column_stack([pts[:, 0] * w, pts[:, 1] * w, w])
         power = bernstein_to_power(hom)
         X, Y, W = power[:, 0], power[:, 1], power[:, 2]
-        dX, dY, dW = npoly.polyder(X), npoly.polyder(Y), npoly.polyder(W)
+        if not np.ptp(w) > 0.0:
+            W = w[:1].copy()  # a polynomial curve: keep W an exact constant (no rounding tail)
+        dX, dY, dW = pder(X), pder(Y), pder(W)
         # Direction of B'(t) is (X'W - XW', Y'W - YW') / W²: keep the numerator.
-        TX = npoly.polysub(npoly.polymul(dX, W), npoly.polymul(X, dW))
-        TY = npoly.polysub(npoly.polymul(dY, W), npoly.polymul(Y, dW))
+        TX = padd(pmul(dX, W), -pmul(X, dW))
+        TY = padd(pmul(dY, W), -pmul(Y, dW))
         for name, val in (("X", X), ("Y", Y), ("W", W), ("TX", TX), ("TY", TY)):
             object.__setattr__(self, name, _readonly(val))
+        object.__setattr__(self, "XYW", stack_polys(X, Y, W))
+        # Rows TX, TY, TX′, TY′: Newton on the tangent condition needs all four.
+        object.__setattr__(self, "TANGENTS", stack_polys(TX, TY, pder(TX), pder(TY)))
 
     @property
     def degree(self) -> int:
@@ -126,14 +193,13 @@ class Piece:
 
     def point(self, t: FloatArray | float) -> FloatArray:
         """Points at parameters ``t`` (shape (..., 2))."""
-        t = np.asarray(t, dtype=float)
-        w = npoly.polyval(t, self.W)
-        return np.stack([npoly.polyval(t, self.X) / w, npoly.polyval(t, self.Y) / w], axis=-1)
+        x, y, w = horner_rows(self.XYW, t)
+        return np.stack([x / w, y / w], axis=-1)
 
     def tangent(self, t: FloatArray | float) -> FloatArray:
         """Tangent directions (not normalised, same sense as B'(t)); shape (..., 2)."""
-        t = np.asarray(t, dtype=float)
-        return np.stack([npoly.polyval(t, self.TX), npoly.polyval(t, self.TY)], axis=-1)
+        tx, ty = horner_rows(self.TANGENTS[:2], t)
+        return np.stack([tx, ty], axis=-1)
 
     def normal_angle(self, t: FloatArray | float) -> FloatArray:
         """Angle of the right-hand normal (outward for a counter-clockwise loop)."""
@@ -143,23 +209,22 @@ class Piece:
     def curvature_sign_poly(self) -> FloatArray:
         """Polynomial with the sign of the curvature: det[P, P', P''] (P homogeneous)."""
         P = [self.X, self.Y, self.W]
-        d1 = [npoly.polyder(c) for c in P]
-        d2 = [npoly.polyder(c, 2) for c in P]
+        d1 = [pder(c) for c in P]
+        d2 = [pder(c) for c in d1]
         det = np.zeros(1)
         for i, j, k, s in ((0, 1, 2, 1), (1, 2, 0, 1), (2, 0, 1, 1), (0, 2, 1, -1), (1, 0, 2, -1), (2, 1, 0, -1)):
-            term = npoly.polymul(npoly.polymul(P[i], d1[j]), d2[k])
-            det = npoly.polyadd(det, s * term)
-        return np.asarray(det, dtype=float)
+            det = padd(det, s * pmul(pmul(P[i], d1[j]), d2[k]))
+        return det
 
     def tangent_dot_poly(self, direction: FloatArray) -> FloatArray:
         """Polynomial ⟨T(t), v⟩: its roots are where the tangent is normal to ``v``."""
-        return np.asarray(npoly.polyadd(direction[0] * self.TX, direction[1] * self.TY), dtype=float)
+        return padd(direction[0] * self.TX, direction[1] * self.TY)
 
     def tangent_from_point_poly(self, a: FloatArray) -> FloatArray:
         """Polynomial cross(T(t), B(t) − a)·W(t): zero where the line from ``a`` touches."""
-        ex = npoly.polysub(self.X, a[0] * self.W)
-        ey = npoly.polysub(self.Y, a[1] * self.W)
-        return np.asarray(npoly.polysub(npoly.polymul(self.TX, ey), npoly.polymul(self.TY, ex)), dtype=float)
+        ex = padd(self.X, -a[0] * self.W)
+        ey = padd(self.Y, -a[1] * self.W)
+        return padd(pmul(self.TX, ey), -pmul(self.TY, ex))
 
     def split(self, ts: list[float]) -> list[Piece]:
         """Split at the sorted interior parameters ``ts`` (exact de Casteljau)."""

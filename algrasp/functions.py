@@ -136,8 +136,8 @@ def _cell_roots(F: HullFeature, G: HullFeature, a: float, b: float, tol: Toleran
     for i in range(n - 1):
         if vals[i] * vals[i + 1] < 0.0:
             def fprime(x: float) -> float:
-                return float(_derivative(F, G, np.array([x]))[0])
-            roots.append(float(brentq(fprime, grid[i], grid[i + 1], xtol=1e-15, rtol=4.5e-16)))
+                return float(_derivative(F, G, np.float64(x)))
+            roots.append(float(brentq(fprime, grid[i], grid[i + 1], xtol=1e-15, rtol=1e-15)))
     return roots
 
 

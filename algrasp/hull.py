@@ -15,25 +15,35 @@ piece (control-polygon bound, then the exact extreme point from a polynomial roo
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Literal
 
 import numpy as np
-import numpy.polynomial.polynomial as npoly
 from scipy.optimize import root as solve_root
 from scipy.spatial import ConvexHull as Qhull
 
-from algrasp.curves import FloatArray, Piece, real_roots_in
+from algrasp.curves import FloatArray, Piece, horner, horner_rows, pder, real_roots_in
 from algrasp.errors import GeometryError
 from algrasp.segments import Segment
 from algrasp.tolerances import Tolerances
 
 TWO_PI = 2.0 * np.pi
-_BISECTION_STEPS = 54  # halves [0, 1] to below double precision
+_NEWTON_STEPS = 6  # from an interpolated start: quadratic convergence reaches rounding in 3–4
+
+
+def _horner_f(c: list[float], t: float) -> float:
+    y = c[-1]
+    for a in c[-2::-1]:
+        y = y * t + a
+    return y
 
 
 def unit(psi: FloatArray | float) -> FloatArray:
     """Unit vectors (cos ψ, sin ψ), shape (..., 2)."""
+    if np.ndim(psi) == 0:
+        return np.array([np.cos(psi), np.sin(psi)])
     psi = np.asarray(psi, dtype=float)
     return np.stack([np.cos(psi), np.sin(psi)], axis=-1)
 
@@ -61,19 +71,54 @@ class HullFeature:
         """Whether the support point is ``center + radius·u(ψ)`` (closed forms apply)."""
         return self.kind != "curve"
 
-    def param_at(self, psi: FloatArray) -> FloatArray:
-        """Curve parameter whose outward normal is ψ (vectorised bisection, O(54 k))."""
+    @cached_property
+    def _normal_table(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """(ψ samples, t samples, TX′, TY′) for starting and running Newton in param_at."""
         assert self.piece is not None
-        u = unit(psi)
-        lo = np.full(u.shape[:-1], self.s0)
-        hi = np.full(u.shape[:-1], self.s1)
-        for _ in range(_BISECTION_STEPS):
-            mid = 0.5 * (lo + hi)
-            q = npoly.polyval(mid, self.piece.TX) * u[..., 0] + npoly.polyval(mid, self.piece.TY) * u[..., 1]
-            before = q > 0.0  # the tangent has not yet turned past ψ + 90°
-            lo = np.where(before, mid, lo)
-            hi = np.where(before, hi, mid)
-        return 0.5 * (lo + hi)
+        ts = np.linspace(self.s0, self.s1, 33)
+        psis = self.psi0 + (self.piece.normal_angle(ts) - self.psi0 + np.pi) % TWO_PI - np.pi
+        return np.maximum.accumulate(psis), ts, pder(self.piece.TX), pder(self.piece.TY)
+
+    def param_at(self, psi: FloatArray) -> FloatArray:
+        """Curve parameter whose outward normal is ψ: Newton on ⟨T(t), u(ψ)⟩ = 0 from an
+        interpolated start, kept inside [s0, s1] (the normal is monotone on a piece)."""
+        assert self.piece is not None
+        psis, ts, dTX, dTY = self._normal_table
+        if np.ndim(psi) == 0:
+            return np.asarray(self._param_at_scalar(float(psi)))
+        psi = np.asarray(psi, dtype=float)
+        local = self.psi0 + (psi - self.psi0 + np.pi) % TWO_PI - np.pi
+        t = np.interp(local, psis, ts)
+        c, s = np.cos(psi), np.sin(psi)
+        for _ in range(_NEWTON_STEPS):
+            tx, ty, dtx, dty = horner_rows(self.piece.TANGENTS, t)
+            q = tx * c + ty * s
+            dq = dtx * c + dty * s
+            step = np.divide(q, dq, out=np.zeros_like(q), where=dq != 0.0)
+            t = np.clip(t - step, self.s0, self.s1)
+            if float(np.max(np.abs(step), initial=0.0)) < 1e-15:
+                break
+        return t
+
+    def _param_at_scalar(self, psi: float) -> float:
+        """Scalar twin of :meth:`param_at` in plain floats (root refinement calls it often)."""
+        assert self.piece is not None
+        psis, ts, dTX, dTY = self._normal_table
+        local = self.psi0 + (psi - self.psi0 + np.pi) % TWO_PI - np.pi
+        t = float(np.interp(local, psis, ts))
+        c, s = np.cos(psi), np.sin(psi)
+        TX, TY = self.piece.TX.tolist(), self.piece.TY.tolist()
+        dx, dy = dTX.tolist(), dTY.tolist()
+        for _ in range(_NEWTON_STEPS):
+            q = _horner_f(TX, t) * c + _horner_f(TY, t) * s
+            dq = _horner_f(dx, t) * c + _horner_f(dy, t) * s
+            if dq == 0.0:
+                break
+            step = q / dq
+            t = min(max(t - step, self.s0), self.s1)
+            if abs(step) < 1e-15:
+                break
+        return t
 
     def support_point(self, psi: FloatArray | float) -> FloatArray:
         """Point of the feature touched by the support line of normal ψ; shape (..., 2)."""
@@ -95,7 +140,7 @@ class HullFeature:
         total = 0.0
         for a, b in zip(edges[:-1], edges[1:]):
             t = (a + b) / 2 + (b - a) / 2 * nodes
-            W = npoly.polyval(t, self.piece.W)
+            W = horner(self.piece.W, t)
             speed = np.hypot(*self.piece.tangent(t).T) / (W * W)
             total += float((b - a) / 2 * wts @ speed)
         return total
@@ -171,13 +216,12 @@ def _convex_split(piece: Piece, size: float) -> list[Piece]:
     cuts = sorted({round(c, 14) for c in cuts if 1e-9 < c < 1.0 - 1e-9})
     kept = []
     for sub in piece.split(cuts) if cuts else [piece]:
-        t = np.array([0.5])
-        W = npoly.polyval(t, sub.W)[0]
-        T = sub.tangent(t)[0]
+        W = float(horner(sub.W, 0.5))
+        T = sub.tangent(0.5)
         speed = float(np.hypot(*T))
         if speed == 0.0:
             continue
-        kappa = float(npoly.polyval(0.5, sub.curvature_sign_poly())) * W**3 / speed**3
+        kappa = float(horner(sub.curvature_sign_poly(), 0.5)) * W**3 / speed**3
         if kappa * size > 1e-9:  # left turn; straight or right-turning pieces never touch the hull
             kept.append(sub)
     return kept
@@ -192,9 +236,9 @@ def _build_loop(boundary: list[Segment], size: float) -> _Loop:
 
     def vertex(p: FloatArray | tuple[float, float]) -> int:
         # Consecutive copies of one point are one vertex, so pieces link up.
-        if verts and np.hypot(verts[-1][0] - p[0], verts[-1][1] - p[1]) <= close:
+        if verts and math.hypot(verts[-1][0] - p[0], verts[-1][1] - p[1]) <= close:
             return len(verts) - 1
-        if verts and np.hypot(verts[0][0] - p[0], verts[0][1] - p[1]) <= close:
+        if verts and math.hypot(verts[0][0] - p[0], verts[0][1] - p[1]) <= close:
             return 0
         verts.append((float(p[0]), float(p[1])))
         return len(verts) - 1
@@ -250,8 +294,9 @@ def _bitangent(loop: _Loop, fa: int, sa: float, fb: int, sb: float) -> tuple[flo
         ta, tb = ta / np.hypot(*ta), tb / np.hypot(*tb)
         return [float(ta[0] * e[1] - ta[1] * e[0]), float(tb[0] * e[1] - tb[1] * e[0])]
 
-    sol = solve_root(eqs, [sa, sb], method="hybr", tol=1e-15)
-    if not sol.success:
+    sol = solve_root(eqs, [sa, sb], method="hybr", tol=1e-14)
+    # hybr may report "no further improvement" at machine precision: judge the residual.
+    if not np.all(np.isfinite(sol.x)) or float(np.max(np.abs(sol.fun))) > 1e-12:
         return None
     return float(sol.x[0]), float(sol.x[1])
 

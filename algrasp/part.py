@@ -7,6 +7,7 @@ computes the exact convex hull (``algrasp.hull``).
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -21,7 +22,7 @@ from algrasp.document import number, parse_loops
 from algrasp.errors import PartDocumentError
 from algrasp.hull import ConvexHull, exact_hull
 from algrasp.limits import DEFAULT_LIMITS, Limits
-from algrasp.segments import Segment
+from algrasp.segments import Line, Segment
 from algrasp.tolerances import DEFAULT_TOLERANCES, Tolerances
 
 _TESSELLATION_TURN_RAD = np.radians(2.0)  # only for the simplicity check, never for analysis
@@ -63,10 +64,10 @@ def load_part(doc: Mapping[str, Any], tol: Tolerances = DEFAULT_TOLERANCES, limi
     _check_loop(boundary, field, size, tol)
     for i, hole in enumerate(holes):
         _check_loop(hole, f"holes[{i}]", size, tol)
-    _check_simple(boundary, holes, field)
     moments = _moments(boundary)
     if abs(moments[0]) <= tol.zero_area_rel * size * size:
         raise PartDocumentError(field, f"the boundary encloses zero area ({moments[0]:.3g})")
+    _check_simple(boundary, holes, field)
     if moments[0] < 0.0:
         boundary = [s.reversed() for s in reversed(boundary)]
         moments = tuple(-m for m in moments)  # type: ignore[assignment]
@@ -102,20 +103,32 @@ def _center_of_mass(doc: Mapping[str, Any], centroid: tuple[float, float], hull:
 
 
 def _size(loops: list[list[Segment]]) -> float:
-    pts = np.concatenate([s.polyline(np.pi / 2) for loop in loops for s in loop])
+    pts = np.array([p for loop in loops for s in loop for p in _points(s)])
     return float(np.hypot(*np.ptp(pts, axis=0)))
+
+
+def _points(seg: Segment) -> list[tuple[float, float]]:
+    if isinstance(seg, Line):
+        return [seg.start]
+    return [tuple(p) for p in seg.polyline(np.pi / 8)]
+
+
+def _length(seg: Segment) -> float:
+    if isinstance(seg, Line):
+        return math.hypot(seg.end[0] - seg.start[0], seg.end[1] - seg.start[1])
+    pts = seg.polyline(np.pi / 8)
+    return float(np.sum(np.hypot(*np.diff(pts, axis=0).T)))
 
 
 def _check_loop(loop: list[Segment], field: str, size: float, tol: Tolerances) -> None:
     """Zero-length segments and gaps between consecutive segments."""
     for i, seg in enumerate(loop):
-        pts = seg.polyline(np.pi / 8)
-        length = float(np.sum(np.hypot(*np.diff(pts, axis=0).T)))
+        length = _length(seg)
         if length <= tol.zero_length_rel * size:
             raise PartDocumentError(f"{field}[{i}]", f"zero-length segment (length {length:.3g})", i)
     for i, seg in enumerate(loop):
         nxt = loop[(i + 1) % len(loop)]
-        gap = float(np.hypot(seg.end[0] - nxt.start[0], seg.end[1] - nxt.start[1]))
+        gap = math.hypot(seg.end[0] - nxt.start[0], seg.end[1] - nxt.start[1])
         if gap > tol.closure_rel * size:
             j = (i + 1) % len(loop)
             raise PartDocumentError(f"{field}[{i}].end",

@@ -98,8 +98,8 @@ class TransferFunction:
         n = len(self.pieces)
         for i, p in enumerate(self.pieces):
             q = self.pieces[(i + step) % n]
-            lift = self.period if i + step >= n else 0.0
-            q = q.shifted(-lift)
+            if i + step >= n:
+                q = q.shifted(self.period)  # wrapped past the end: lift back up
             if p.is_ramp != q.is_ramp or abs(p.start + T - q.start) > tol or abs(p.end + T - q.end) > tol:
                 return False
             if p.value is not None and q.value is not None and abs(p.value + T - q.value) > tol:

@@ -1,0 +1,63 @@
+"""Area, centre of mass and hull perimeter against closed forms; Cauchy's formula."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from algrasp import shapes
+from algrasp.analysis import analyse_part
+from algrasp.part import load_part
+
+
+def test_pie_area_centroid_perimeter() -> None:
+    r, half = 5.0, math.radians(20)
+    part = load_part(shapes.pie(r, 20))
+    assert part.area == pytest.approx(r * r * half, rel=1e-9)
+    assert part.center_of_mass[0] == pytest.approx(0.0, abs=1e-9)
+    assert part.center_of_mass[1] == pytest.approx(2 * r * math.sin(half) / (3 * half), rel=1e-9)
+    assert part.hull.perimeter == pytest.approx(2 * r + r * 2 * half, rel=1e-9)
+
+
+def test_ellipse_area_and_perimeter() -> None:
+    rx, ry = 3.0, 1.0
+    doc = {"boundary": [{"type": "ellipse_arc", "center": [1, 2], "rx": rx, "ry": ry, "rotation_deg": 30,
+                         "start_deg": 0, "end_deg": 360}]}
+    part = load_part(doc)
+    assert part.area == pytest.approx(math.pi * rx * ry, rel=1e-12)
+    assert part.center_of_mass == pytest.approx((1, 2), abs=1e-12)
+    # Complete elliptic integral: perimeter = 4 a E(e²).
+    from scipy.special import ellipe
+    assert part.hull.perimeter == pytest.approx(4 * rx * ellipe(1 - (ry / rx) ** 2), rel=1e-9)
+
+
+def test_rectangle_with_hole_centre_of_mass() -> None:
+    doc = {"polygon": [[0, 0], [4, 0], [4, 2], [0, 2]], "holes": [[[2.5, 0.5], [3.5, 0.5], [3.5, 1.5], [2.5, 1.5]]]}
+    part = load_part(doc)
+    assert part.area == pytest.approx(7.0)
+    assert part.center_of_mass == pytest.approx(((8 * 2 - 1 * 3) / 7, 1.0))
+
+
+def test_cubic_bezier_area_is_exact() -> None:
+    # x(t) = 3t, y(t) = 9t(1 − t): the region over the chord has area ∫ y dx = 27/6 = 4.5,
+    # centroid x = 1.5 and y = (∫ y²/2 dx)/A = (81·3/2 · 1/30)/4.5 = 0.9.
+    pts = [[0, 0], [1, 3], [2, 3], [3, 0]]
+    part = load_part({"boundary": [{"type": "bezier", "points": pts}, {"type": "line", "start": [3, 0], "end": [0, 0]}]})
+    assert part.area == pytest.approx(4.5, rel=1e-13)
+    assert part.center_of_mass == pytest.approx((1.5, 0.9), rel=1e-13)
+
+
+@pytest.mark.parametrize("doc", [shapes.pie(), shapes.disk_with_flats(1.0, 15), shapes.bezier_blob(7, 3),
+                                 shapes.reuleaux(), shapes.random_polygon(30, 4),
+                                 {"boundary": [{"type": "ellipse_arc", "center": [0, 0], "rx": 2, "ry": 1,
+                                                "rotation_deg": 10, "start_deg": -90, "end_deg": 90},
+                                               {"type": "line", "start": [-0.17364817766693, 0.98480775301221],
+                                                "end": [0.17364817766693, -0.98480775301221]}]}])
+def test_cauchy_formula(doc: dict) -> None:
+    """∫₀^π d(θ) dθ equals the hull perimeter (paper §2.1.1)."""
+    a = analyse_part(load_part(doc))
+    theta = np.linspace(0.0, np.pi, 40001)
+    d = np.array([a.diameter(t) for t in theta])
+    assert float(np.trapezoid(d, theta)) == pytest.approx(a.part.hull.perimeter, rel=2e-7)
