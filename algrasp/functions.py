@@ -97,6 +97,15 @@ class SupportPairFunction:
         return float(near + far)
 
 
+    def values(self, theta: FloatArray) -> FloatArray:
+        """Values at an array of θ (radians), vectorised; O(m log n)."""
+        psi = np.pi / 2 - np.asarray(theta, dtype=float)
+        far = self.hull.support_many(psi + np.pi)
+        if self.kind == "diameter":
+            return self.hull.support_many(psi) + far
+        return np.asarray(unit(psi) @ np.asarray(self.com)) + far
+
+
 def wrap(theta: float, period: float, tol: float) -> float:
     """θ mod period in [0, period), with values within ``tol`` of the period sent to 0."""
     x = theta % period
