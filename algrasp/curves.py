@@ -260,7 +260,7 @@ def _de_casteljau(hom: FloatArray, t: float) -> tuple[FloatArray, FloatArray]:
     n = pts.shape[0]
     left = [pts[0].copy()]
     right = [pts[-1].copy()]
-    for r in range(1, n):
+    for _ in range(1, n):
         pts = (1.0 - t) * pts[:-1] + t * pts[1:]
         left.append(pts[0].copy())
         right.append(pts[-1].copy())

@@ -156,10 +156,8 @@ def check_document_shape(doc: Any, limits: Limits) -> None:
 def parse_loops(doc: Mapping[str, Any], limits: Limits = DEFAULT_LIMITS) -> tuple[list[Segment], list[list[Segment]]]:
     """Boundary and hole segment lists of a document (structure checked)."""
     check_document_shape(doc, limits)
-    if "polygon" in doc:
-        boundary = parse_loop(doc["polygon"], "polygon", limits)
-    else:
-        boundary = parse_loop(doc["boundary"], "boundary", limits)
+    key = "polygon" if "polygon" in doc else "boundary"
+    boundary = parse_loop(doc[key], key, limits)
     holes = [parse_loop(h, f"holes[{i}]", limits) for i, h in enumerate(doc.get("holes", []))]
     total = len(boundary) + sum(len(h) for h in holes)
     if total > limits.max_total_segments:

@@ -130,7 +130,7 @@ def _cells(kind: Kind, hull: ConvexHull, tol: Tolerances) -> list[tuple[float, f
     return [(float(a), float(b)) for a, b in zip(edges[:-1], edges[1:]) if b - a > tol.angle_rad]
 
 
-def _derivative(F: HullFeature, G: HullFeature, psi: FloatArray) -> FloatArray:
+def _derivative(F: HullFeature, G: HullFeature, psi: FloatArray | np.float64) -> FloatArray:
     """f′(ψ) = ⟨c_F(ψ) − c_G(ψ + π), u′(ψ)⟩, vectorised."""
     chord = F.support_point(psi) - G.support_point(psi + np.pi)
     return -chord[..., 0] * np.sin(psi) + chord[..., 1] * np.cos(psi)

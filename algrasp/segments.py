@@ -8,7 +8,6 @@ validity checks and drawings — never for the analysis.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Union
 
 import numpy as np
 import numpy.polynomial.polynomial as npoly
@@ -206,4 +205,4 @@ class Bezier:
         return out
 
 
-Segment = Union[Line, EllipseArc, Bezier]
+Segment = Line | EllipseArc | Bezier
