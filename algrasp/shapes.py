@@ -66,11 +66,14 @@ def reuleaux(width: float = 1.0) -> Doc:
 
 
 def random_polygon(n: int, seed: int = 0) -> Doc:
-    """A simple star-shaped polygon with n vertices (random angles and radii)."""
+    """A simple polygon with n vertices, star-shaped about the origin.
+
+    Angles are jittered around a uniform grid so every angular gap is below π (which
+    keeps the polygon simple); radii are uniform in [0.5, 1].
+    """
     rng = np.random.default_rng(seed)
-    ang = np.sort(rng.uniform(0.0, 2 * np.pi, n))
-    ang = ang[np.concatenate([[True], np.diff(ang) > 1e-6])]
-    rad = rng.uniform(0.5, 1.0, ang.size)
+    ang = 2 * np.pi * (np.arange(n) + rng.uniform(0.0, 0.8, n)) / n
+    rad = rng.uniform(0.5, 1.0, n)
     return {"name": f"random-{n}-{seed}", "polygon": np.column_stack([rad * np.cos(ang), rad * np.sin(ang)]).tolist()}
 
 
