@@ -23,6 +23,7 @@ boundaries are the extrema, classified as in Appendix A.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Literal
 
@@ -112,12 +113,6 @@ def wrap(theta: float, period: float, tol: float) -> float:
     return 0.0 if period - x <= tol else float(x)
 
 
-def _near_feature(kind: Kind, hull: ConvexHull, com: tuple[float, float], psi: float) -> HullFeature:
-    if kind == "radius":
-        return HullFeature("point", -np.inf, np.inf, center=com)
-    return hull.features[hull.index_at(psi)]
-
-
 def _cells(kind: Kind, hull: ConvexHull, tol: Tolerances) -> list[tuple[float, float]]:
     """Cells [a, b] in ψ over one turn: breakpoints of both terms merged."""
     far = hull.breakpoints - np.pi
@@ -150,17 +145,29 @@ def _cell_roots(F: HullFeature, G: HullFeature, a: float, b: float, tol: Toleran
     return roots
 
 
+def _point_like_runs(F: HullFeature, G: HullFeature, a: float, b: float, size: float, tol: Tolerances) -> list[Run]:
+    """Closed form: f′ = ⟨Δ, u′(ψ)⟩ = |Δ| sin(atan2 Δ − ψ); constant iff Δ = 0."""
+    dx, dy = F.center[0] - G.center[0], F.center[1] - G.center[1]
+    if math.hypot(dx, dy) <= tol.concentric_rel * size:
+        return [Run(a, b, 0)]
+    phi = math.atan2(dy, dx)
+    k0 = math.ceil((a - phi) / math.pi)
+    roots = [phi + k * math.pi for k in range(k0, k0 + 3) if a < phi + k * math.pi < b]
+    edges = [a, *roots, b]
+    runs = []
+    for x, y in zip(edges[:-1], edges[1:]):
+        m = 0.5 * (x + y)
+        sign = -dx * math.sin(m) + dy * math.cos(m)
+        if y - x > tol.angle_rad:
+            runs.append(Run(x, y, (sign > 0) - (sign < 0)))
+    return runs
+
+
 def _cell_runs(F: HullFeature, G: HullFeature, a: float, b: float, size: float, tol: Tolerances) -> list[Run]:
     """Monotone ψ-runs of one cell (sign of df/dψ)."""
     if F.point_like and G.point_like:
-        delta = np.asarray(F.center) - np.asarray(G.center)
-        if np.hypot(*delta) <= tol.concentric_rel * size:
-            return [Run(a, b, 0)]
-        phi = float(np.arctan2(delta[1], delta[0]))
-        k0 = np.ceil((a - phi) / np.pi)
-        roots = [phi + k * np.pi for k in np.arange(k0, k0 + 3) if a < phi + k * np.pi < b]
-    else:
-        roots = _cell_roots(F, G, a, b, tol)
+        return _point_like_runs(F, G, a, b, size, tol)
+    roots = _cell_roots(F, G, a, b, tol)
     edges = [a, *roots, b]
     mids = np.array([(x + y) / 2 for x, y in zip(edges[:-1], edges[1:])])
     signs = np.sign(_derivative(F, G, mids)).astype(int)
@@ -183,11 +190,15 @@ def _merge(runs: list[Run]) -> list[Run]:
 def theta_runs(kind: Kind, hull: ConvexHull, com: tuple[float, float], size: float, tol: Tolerances) -> list[Run]:
     """Cyclic θ-runs of d or r over one turn. O(c · g) for c cells, g grid points/cell."""
     psi_runs: list[Run] = []
-    for a, b in _cells(kind, hull, tol):
-        mid = (a + b) / 2
-        F = _near_feature(kind, hull, com, mid)
-        G = hull.features[hull.index_at(mid + np.pi)]
-        psi_runs.extend(_cell_runs(F, G, a, b, size, tol))
+    cells = _cells(kind, hull, tol)
+    mids = np.array([(a + b) / 2 for a, b in cells])
+    base = hull.features[0].psi0
+    near = np.searchsorted(hull.breakpoints, base + (mids - base) % TWO_PI, side="right") - 1
+    far = np.searchsorted(hull.breakpoints, base + (mids + np.pi - base) % TWO_PI, side="right") - 1
+    com_feature = HullFeature("point", -np.inf, np.inf, center=com)
+    for (a, b), i, j in zip(cells, near.tolist(), far.tolist()):
+        F = com_feature if kind == "radius" else hull.features[max(i, 0)]
+        psi_runs.extend(_cell_runs(F, hull.features[max(j, 0)], a, b, size, tol))
     merged = _merge(psi_runs)
     # θ = π/2 − ψ reverses the order and the sign of the derivative.
     return [Run(np.pi / 2 - r.end, np.pi / 2 - r.start, -r.sign) for r in reversed(merged)]

@@ -196,7 +196,7 @@ class ConvexHull:
         later finds the exact minimum).
         """
         psis = np.concatenate([self.breakpoints, np.linspace(0.0, TWO_PI, 2048, endpoint=False)])
-        return float(min(self.support(s) - float(p @ unit(s)) for s in psis))
+        return float(np.min(self.support_many(psis) - unit(psis) @ p))
 
     def outline(self, step_rad: float = 0.02) -> FloatArray:
         """A closed polyline of the hull boundary for drawings only; shape (N, 2)."""
@@ -220,22 +220,35 @@ class _Loop:
     start_vertex: tuple[int, ...]
     end_vertex: tuple[int, ...]
 
+    @cached_property
+    def control_points(self) -> tuple[FloatArray, FloatArray]:
+        """All pieces' control points stacked (M, 2) and the offset of each piece's first."""
+        if not self.pieces:
+            return np.zeros((0, 2)), np.zeros(0, dtype=int)
+        sizes = [len(p.points) for p in self.pieces]
+        return np.concatenate([p.points for p in self.pieces]), np.concatenate([[0], np.cumsum(sizes)[:-1]])
+
 
 def _convex_split(piece: Piece, size: float) -> list[Piece]:
-    """Sub-pieces of ``piece`` that turn left, each with a tangent turn < 90°."""
-    cuts = real_roots_in(piece.curvature_sign_poly(), 0.0, 1.0)
-    cuts += real_roots_in(np.asarray(piece.TX), 0.0, 1.0) + real_roots_in(np.asarray(piece.TY), 0.0, 1.0)
-    cuts = sorted({round(c, 14) for c in cuts if 1e-9 < c < 1.0 - 1e-9})
+    """Sub-pieces of ``piece`` that turn left, each with a tangent turn < 90°.
+
+    Cuts at the roots of the curvature polynomial (inflections) and of the tangent's
+    coordinates (quadrant changes); the curvature sign of each part is read from the
+    parent's polynomial at the part's middle, so only kept parts are built.
+    """
+    K = piece.curvature_poly
+    cuts = real_roots_in(K, 0.0, 1.0) + real_roots_in(piece.TX, 0.0, 1.0) + real_roots_in(piece.TY, 0.0, 1.0)
+    edges = [0.0, *sorted({round(c, 14) for c in cuts if 1e-9 < c < 1.0 - 1e-9}), 1.0]
     kept = []
-    for sub in piece.split(cuts) if cuts else [piece]:
-        W = float(horner(sub.W, 0.5))
-        T = sub.tangent(0.5)
-        speed = float(np.hypot(*T))
+    for a, b in zip(edges[:-1], edges[1:]):
+        m = 0.5 * (a + b)
+        W = float(horner(piece.W, m)) if len(piece.W) > 1 else float(piece.W[0])
+        speed = float(np.hypot(*piece.tangent(m)))
         if speed == 0.0:
             continue
-        kappa = float(horner(sub.curvature_sign_poly(), 0.5)) * W**3 / speed**3
-        if kappa * size > 1e-9:  # left turn; straight or right-turning pieces never touch the hull
-            kept.append(sub)
+        kappa = float(horner(K, m)) * W**3 / speed**3
+        if kappa * size > 1e-9:  # left turn; straight or right-turning parts never touch the hull
+            kept.append(piece.restrict(a, b))
     return kept
 
 
@@ -347,13 +360,18 @@ def _worst_outside(loop: _Loop, a: FloatArray, b: FloatArray) -> tuple[float, _C
     dv = (loop.vertices - a) @ n
     iv = int(np.argmax(dv))
     worst, where = float(dv[iv]), (iv, -1, 0.0)
-    for k, p in enumerate(loop.pieces):
-        if float(np.max((p.points - a) @ n)) <= worst:
-            continue  # the control polygon bounds the curve (positive weights)
+    cps, offsets = loop.control_points
+    if not len(cps):
+        return worst, where
+    bound = np.maximum.reduceat((cps - a) @ n, offsets)
+    for k in np.nonzero(bound > worst)[0]:
+        # Only pieces whose control polygon (which bounds the curve: positive weights)
+        # reaches past the current worst need their exact extreme point.
+        p = loop.pieces[int(k)]
         t = p.support_param(n)
         val = float((p.point(t) - a) @ n)
         if val > worst:
-            worst, where = val, (-1, k, t)
+            worst, where = val, (-1, int(k), t)
     return worst, where
 
 

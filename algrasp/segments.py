@@ -8,13 +8,25 @@ validity checks and drawings — never for the analysis.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property, lru_cache
 
 import numpy as np
-import numpy.polynomial.polynomial as npoly
 
-from algrasp.curves import FloatArray, Piece, _readonly, conic_arc_pieces
+from algrasp.curves import FloatArray, Piece, _readonly, conic_arc_pieces, horner_rows
 
 Moments = tuple[float, float, float]
+
+
+@lru_cache(maxsize=32)
+def gauss_legendre_01(n: int, panels: int) -> tuple[FloatArray, FloatArray]:
+    """Nodes and weights of composite n-point Gauss-Legendre on [0, 1] (``panels`` panels)."""
+    nodes, wts = np.polynomial.legendre.leggauss(n)
+    edges = np.linspace(0.0, 1.0, panels + 1)
+    t = np.concatenate([(a + b) / 2 + (b - a) / 2 * nodes for a, b in zip(edges[:-1], edges[1:])])
+    w = np.concatenate([(b - a) / 2 * wts for a, b in zip(edges[:-1], edges[1:])])
+    t.setflags(write=False)
+    w.setflags(write=False)
+    return t, w
 """(∮ x dy, ½ ∮ x² dy, −½ ∮ y² dx): area and first moments of the enclosed region."""
 
 
@@ -164,7 +176,14 @@ class Bezier:
     def is_rational(self) -> bool:
         return bool(np.ptp(self.weights) > 0.0)
 
+    @cached_property
+    def _piece(self) -> Piece:
+        return Piece(self.points, self.weights, None, -1)
+
     def piece(self, source: int = -1) -> Piece:
+        """The exact piece (built once per segment)."""
+        if source == -1:
+            return self._piece
         return Piece(self.points, self.weights, None, source)
 
     def pieces(self, source: int) -> list[Piece]:
@@ -174,29 +193,20 @@ class Bezier:
         return Bezier(self.points[::-1], self.weights[::-1])
 
     def moments(self) -> Moments:
-        p = self.piece()
+        p = self._piece
         k = p.degree
-        if self.is_rational:
-            # Rational integrands: composite Gauss-Legendre, converged to rounding for
-            # the smooth low-degree curves documents hold.
-            nodes, wts = np.polynomial.legendre.leggauss(24)
-            edges = np.linspace(0.0, 1.0, 17)
-            t = np.concatenate([(a + b) / 2 + (b - a) / 2 * nodes for a, b in zip(edges[:-1], edges[1:])])
-            w = np.concatenate([(b - a) / 2 * wts for a, b in zip(edges[:-1], edges[1:])])
-        else:
-            # x² y' has degree 3k − 1: n Gauss points integrate degree 2n − 1 exactly.
-            n = (3 * k) // 2 + 1
-            nodes, wts = np.polynomial.legendre.leggauss(n)
-            t, w = (nodes + 1.0) / 2.0, wts / 2.0
-        pt = p.point(t)
-        W = npoly.polyval(t, p.W)
-        dx = npoly.polyval(t, p.TX) / (W * W)
-        dy = npoly.polyval(t, p.TY) / (W * W)
-        x, y = pt[:, 0], pt[:, 1]
+        # Rational integrands: composite Gauss-Legendre (16 × 24 nodes), converged to
+        # rounding for smooth low-degree curves. Polynomial: x² y′ has degree 3k − 1 and
+        # n Gauss points integrate degree 2n − 1 exactly.
+        t, w = gauss_legendre_01(24, 16) if self.is_rational else gauss_legendre_01((3 * k) // 2 + 1, 1)
+        x, y, W = horner_rows(p.XYW, t)
+        x, y = x / W, y / W
+        tx, ty = horner_rows(p.TANGENTS[:2], t)
+        dx, dy = tx / (W * W), ty / (W * W)
         return float(w @ (x * dy)), float(w @ (0.5 * x * x * dy)), float(w @ (-0.5 * y * y * dx))
 
     def polyline(self, max_turn_rad: float) -> FloatArray:
-        return self.piece().point(np.linspace(0.0, 1.0, 8 * self.points.shape[0] + 1))
+        return self._piece.point(np.linspace(0.0, 1.0, 8 * self.points.shape[0] + 1))
 
     def to_dict(self) -> dict[str, object]:
         out: dict[str, object] = {"type": "bezier", "points": self.points.tolist()}

@@ -115,7 +115,7 @@ class TransferFunction:
                 continue
             cuts = [p.start] + [c for c in self._lifted_starts(p.start, p.end) if p.start < c < p.end] + [p.end]
             for a, b in zip(cuts[:-1], cuts[1:]):
-                q, off = self.piece_at(a)
+                q, off = self.piece_at(0.5 * (a + b))  # the middle: no rounding at boundaries
                 out.append(TransferPiece(a, b, None if q.value is None else q.value + off))
         return TransferFunction(inner.period, tuple(canonical(out, inner.period, tol_rad)))
 
