@@ -11,9 +11,9 @@ Polynomial coefficient arrays are in increasing order (numpy.polynomial conventi
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
-import math
 from math import comb
 
 import numpy as np

@@ -174,9 +174,13 @@ def _cell_runs(F: HullFeature, G: HullFeature, a: float, b: float, size: float, 
     return [Run(x, y, int(s)) for x, y, s in zip(edges[:-1], edges[1:], signs) if y - x > tol.angle_rad]
 
 
-def _merge(runs: list[Run]) -> list[Run]:
+def _merge(runs: list[Run], sliver: float) -> list[Run]:
+    """Join neighbours of equal sign; rounding slivers join their left neighbour."""
     out: list[Run] = []
     for r in runs:
+        if out and r.end - r.start <= sliver:
+            out[-1] = Run(out[-1].start, r.end, out[-1].sign)
+            continue
         if out and out[-1].sign == r.sign:
             out[-1] = Run(out[-1].start, r.end, r.sign)
         else:
@@ -199,7 +203,7 @@ def theta_runs(kind: Kind, hull: ConvexHull, com: tuple[float, float], size: flo
     for (a, b), i, j in zip(cells, near.tolist(), far.tolist()):
         F = com_feature if kind == "radius" else hull.features[max(i, 0)]
         psi_runs.extend(_cell_runs(F, hull.features[max(j, 0)], a, b, size, tol))
-    merged = _merge(psi_runs)
+    merged = _merge(psi_runs, tol.sliver_rad)
     # θ = π/2 − ψ reverses the order and the sign of the derivative.
     return [Run(np.pi / 2 - r.end, np.pi / 2 - r.start, -r.sign) for r in reversed(merged)]
 

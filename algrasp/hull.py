@@ -122,11 +122,12 @@ class HullFeature:
 
     def support_point(self, psi: FloatArray | float) -> FloatArray:
         """Point of the feature touched by the support line of normal ψ; shape (..., 2)."""
-        psi = np.asarray(psi, dtype=float)
         if self.kind == "curve":
             assert self.piece is not None
-            return self.piece.point(self.param_at(psi))
-        return np.asarray(self.center) + self.radius * unit(psi)
+            if np.ndim(psi) == 0:  # scalar hot path of root refinement: plain floats
+                return self.piece.point(self._param_at_scalar(float(psi)))
+            return self.piece.point(self.param_at(np.asarray(psi, dtype=float)))
+        return np.asarray(self.center) + self.radius * unit(np.asarray(psi, dtype=float))
 
     def length(self) -> float:
         """Arc length of the feature (0 for a point)."""
@@ -237,8 +238,13 @@ def _convex_split(piece: Piece, size: float) -> list[Piece]:
     parent's polynomial at the part's middle, so only kept parts are built.
     """
     K = piece.curvature_poly
-    cuts = real_roots_in(K, 0.0, 1.0) + real_roots_in(piece.TX, 0.0, 1.0) + real_roots_in(piece.TY, 0.0, 1.0)
-    edges = [0.0, *sorted({round(c, 14) for c in cuts if 1e-9 < c < 1.0 - 1e-9}), 1.0]
+    inflections = [c for c in real_roots_in(K, 0.0, 1.0) if 1e-9 < c < 1.0 - 1e-9]
+    # Quadrant cuts only bound the turn of a piece; one a hair from another cut would
+    # leave a sliver whose tangent is lost to cancellation, so those are skipped.
+    edges = sorted({0.0, 1.0, *inflections})
+    for c in sorted(real_roots_in(piece.TX, 0.0, 1.0) + real_roots_in(piece.TY, 0.0, 1.0)):
+        if min(abs(c - e) for e in edges) > 1e-4:
+            edges = sorted([*edges, c])
     kept = []
     for a, b in zip(edges[:-1], edges[1:]):
         m = 0.5 * (a + b)
@@ -279,15 +285,17 @@ def _build_loop(boundary: list[Segment], size: float) -> _Loop:
 
 
 def _samples(p: Piece, max_turn: float) -> FloatArray:
-    """Parameters (interior, sorted) on ``p`` with tangent turn ≤ max_turn between them."""
-    ts = np.linspace(0.0, 1.0, 9)
-    for _ in range(12):
-        psi = np.unwrap(p.normal_angle(ts))
-        big = np.nonzero(np.diff(psi) > max_turn)[0]
-        if big.size == 0:
-            break
-        ts = np.sort(np.concatenate([ts, 0.5 * (ts[big] + ts[big + 1])]))
-    return ts[1:-1]
+    """Interior parameters of ``p`` with a tangent turn of about ≤ max_turn between them.
+
+    One pass: 33 uniform parameters, then each cell that turns more is subdivided
+    evenly (the normal is monotone on a piece, so the turn per cell is known).
+    """
+    ts = np.linspace(0.0, 1.0, 33)
+    turn = np.diff(np.unwrap(p.normal_angle(ts)))
+    k = np.maximum(np.ceil(np.abs(turn) / max_turn).astype(int), 1)
+    cell = np.repeat(np.arange(k.size), k)
+    j = np.arange(cell.size) - np.repeat(np.cumsum(k) - k, k)
+    return (ts[cell] + (ts[cell + 1] - ts[cell]) * j / k[cell])[1:]
 
 
 # --------------------------------------------------------------------------- contacts
@@ -363,7 +371,7 @@ def _worst_outside(loop: _Loop, a: FloatArray, b: FloatArray) -> tuple[float, _C
     cps, offsets = loop.control_points
     if not len(cps):
         return worst, where
-    bound = np.maximum.reduceat((cps - a) @ n, offsets)
+    bound = np.maximum.reduceat((cps - a) @ n, offsets.astype(np.intp))
     for k in np.nonzero(bound > worst)[0]:
         # Only pieces whose control polygon (which bounds the curve: positive weights)
         # reaches past the current worst need their exact extreme point.
@@ -375,13 +383,37 @@ def _worst_outside(loop: _Loop, a: FloatArray, b: FloatArray) -> tuple[float, _C
     return worst, where
 
 
+def _slide(loop: _Loop, a: _Contact, b: _Contact, psi_edge: float) -> tuple[_Contact, _Contact] | None:
+    """Move a vertex contact onto the curve ending (starting) there when the edge would
+    turn back against that curve's end tangent — the true tangency is just inside it."""
+    if a[0] >= 0:
+        for k, v in enumerate(loop.end_vertex):
+            if v == a[0] and _ahead(float(loop.pieces[k].normal_angle(1.0)), psi_edge):
+                return (-1, k, 1.0 - 1e-6), b
+    if b[0] >= 0:
+        for k, v in enumerate(loop.start_vertex):
+            if v == b[0] and _ahead(psi_edge, float(loop.pieces[k].normal_angle(0.0))):
+                return a, (-1, k, 1e-6)
+    return None
+
+
+def _ahead(psi: float, other: float) -> bool:
+    """Whether normal ψ lies strictly past ``other`` (counter-clockwise, within π)."""
+    return (psi - other + np.pi) % TWO_PI - np.pi > 1e-12
+
+
 def _verified_edge(loop: _Loop, a: _Contact, b: _Contact, size: float) -> tuple[_Contact, _Contact]:
     for _ in range(12):
         a, b = _solve_edge(loop, a, b, size)
         pa, pb = _contact_point(loop, a), _contact_point(loop, b)
         worst, where = _worst_outside(loop, pa, pb)
         if worst <= 1e-10 * size:
-            return a, b
+            d = pb - pa
+            slid = _slide(loop, a, b, float(np.arctan2(-d[0], d[1])))
+            if slid is None:
+                return a, b
+            a, b = slid
+            continue
         x = _contact_point(loop, where)
         along = float((x - pa) @ (pb - pa)) / float((pb - pa) @ (pb - pa))
         if along < 0.5:
@@ -401,20 +433,42 @@ def _candidates(loop: _Loop, tol: Tolerances) -> tuple[FloatArray, list[list[tup
 
     Returns the points (N, 2), for each the (piece, sample index) memberships that
     link consecutive hull points along a piece, and the initial contact of each.
+    Memberships and contacts are lazy sequences: only hull points are ever asked.
     """
     n_v = len(loop.vertices)
-    members: list[list[tuple[int, int]]] = [[] for _ in range(n_v)]
-    contacts: list[_Contact] = [(v, -1, 0.0) for v in range(n_v)]
+    vmembers: list[list[tuple[int, int]]] = [[] for _ in range(n_v)]
     pts = [loop.vertices]
+    owners, params, index = [np.full(n_v, -1)], [np.zeros(n_v)], [np.zeros(n_v, dtype=int)]
     for k, p in enumerate(loop.pieces):
         ts = _samples(p, tol.hull_sample_turn_rad)
-        members[loop.start_vertex[k]].append((k, 0))
-        members[loop.end_vertex[k]].append((k, len(ts) + 1))
-        for j, t in enumerate(ts):
-            members.append([(k, j + 1)])
-            contacts.append((-1, k, float(t)))
+        vmembers[loop.start_vertex[k]].append((k, 0))
+        vmembers[loop.end_vertex[k]].append((k, len(ts) + 1))
         pts.append(p.point(ts).reshape(-1, 2))
-    return np.concatenate(pts), members, contacts
+        owners.append(np.full(len(ts), k))
+        params.append(ts)
+        index.append(np.arange(1, len(ts) + 1))
+    owner, param, j = np.concatenate(owners), np.concatenate(params), np.concatenate(index)
+    return np.concatenate(pts), _Members(n_v, vmembers, owner, j), _Contacts(n_v, owner, param)  # type: ignore[return-value]
+
+
+class _Members:
+    """members[k]: (piece, sample index) pairs of candidate point k."""
+
+    def __init__(self, n_v: int, vmembers: list[list[tuple[int, int]]], owner: FloatArray, j: FloatArray) -> None:
+        self.n_v, self.vmembers, self.owner, self.j = n_v, vmembers, owner, j
+
+    def __getitem__(self, k: int) -> list[tuple[int, int]]:
+        return self.vmembers[k] if k < self.n_v else [(int(self.owner[k]), int(self.j[k]))]
+
+
+class _Contacts:
+    """contacts[k]: the initial contact of candidate point k."""
+
+    def __init__(self, n_v: int, owner: FloatArray, param: FloatArray) -> None:
+        self.n_v, self.owner, self.param = n_v, owner, param
+
+    def __getitem__(self, k: int) -> _Contact:
+        return (int(k), -1, 0.0) if k < self.n_v else (-1, int(self.owner[k]), float(self.param[k]))
 
 
 def _link(ma: list[tuple[int, int]], mb: list[tuple[int, int]]) -> int:
@@ -508,10 +562,13 @@ def _features(loop: _Loop, elems: list[_Element], tol: Tolerances) -> list[HullF
     feats: list[HullFeature] = []
     level = normals[0][0]
     for el, (a, b) in zip(elems, normals):
-        a = level + (a - level + tol.angle_rad) % TWO_PI - tol.angle_rad
-        b = a + (b - a + tol.angle_rad) % TWO_PI - tol.angle_rad
+        # Around a convex loop the normal only advances, by less than π at a corner; a
+        # small apparent step back is a contact resolved within the length tolerance
+        # on the wrong side of a curve's end, and is clamped.
+        a = level + max((a - level + np.pi) % TWO_PI - np.pi, 0.0)
+        b = a + max((b - a + np.pi) % TWO_PI - np.pi, 0.0)
         level = b
-        if el[0] == "edge" or b - a <= tol.angle_rad:
+        if el[0] == "edge" or b - a <= tol.sliver_rad:
             continue
         if el[0] == "point":
             feats.append(HullFeature("point", a, b, center=(float(el[1][0]), float(el[1][1]))))
@@ -522,7 +579,7 @@ def _features(loop: _Loop, elems: list[_Element], tol: Tolerances) -> list[HullF
         else:
             feats.append(HullFeature("curve", a, b, piece=p, s0=el[2], s1=el[3]))
     total = feats[-1].psi1 - feats[0].psi0
-    if abs(total - TWO_PI) > 1e-6:
+    if abs(total - TWO_PI) > 1e-7:
         raise GeometryError(f"hull normals cover {np.degrees(total):.6f}° instead of 360°")
     # Tile S¹ exactly: each range ends where the next begins.
     return [HullFeature(f.kind, f.psi0, feats[i + 1].psi0 if i + 1 < len(feats) else feats[0].psi0 + TWO_PI,

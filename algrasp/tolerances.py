@@ -28,6 +28,9 @@ class Tolerances:
             critical points on curved pieces (two extrema closer than this could merge).
         hull_sample_turn_rad: largest turn of the tangent between hull samples of a
             curve piece before exact refinement.
+        sliver_rad: hull features and monotone runs narrower than this are rounding
+            slivers (e.g. a curve cut a hair from its end) and are absorbed by their
+            neighbours; far below any mechanically meaningful angle.
     """
 
     closure_rel: float = 1e-6
@@ -38,6 +41,7 @@ class Tolerances:
     value_rel: float = 1e-9
     root_grid_rad: float = 0.004
     hull_sample_turn_rad: float = 0.05
+    sliver_rad: float = 1e-7
 
 
 DEFAULT_TOLERANCES = Tolerances()

@@ -16,7 +16,7 @@ from algrasp.analysis import Analysis, analyse_part
 from algrasp.part import load_part
 from tests.algrasp.helpers import match_angles
 
-SETTINGS = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+SETTINGS = settings(max_examples=int(__import__("os").environ.get("ALGRASP_HYPOTHESIS_EXAMPLES", "25")), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
 def _xf(p: list[float], phi: float, dx: float, dy: float) -> list[float]:
