@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import copy
 import math
+import os
 from typing import Any
 
 import numpy as np
@@ -16,7 +17,9 @@ from algrasp.analysis import Analysis, analyse_part
 from algrasp.part import load_part
 from tests.algrasp.helpers import match_angles
 
-SETTINGS = settings(max_examples=int(__import__("os").environ.get("ALGRASP_HYPOTHESIS_EXAMPLES", "25")), deadline=None, suppress_health_check=[HealthCheck.too_slow])
+# ALGRASP_HYPOTHESIS_EXAMPLES raises the example count for a deeper local run.
+SETTINGS = settings(max_examples=int(os.environ.get("ALGRASP_HYPOTHESIS_EXAMPLES", "25")), deadline=None,
+                    suppress_health_check=[HealthCheck.too_slow])
 
 
 def _xf(p: list[float], phi: float, dx: float, dy: float) -> list[float]:
