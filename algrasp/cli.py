@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import time
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -17,6 +18,7 @@ from algrasp.analysis import Analysis, analyse_part
 from algrasp.errors import AlgraspError, LimitExceededError, PartDocumentError
 from algrasp.limits import DEFAULT_LIMITS
 from algrasp.part import load_part
+from algrasp.plan import Plan, make_plan
 
 EXIT_USER_ERROR = 2
 
@@ -94,6 +96,45 @@ def cmd_analyze(args: argparse.Namespace) -> int:
     return 0
 
 
+def print_plan(plan: Plan) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    d: dict[str, Any] = plan.to_dict()
+    table = Table(title=f"{len(plan.steps)}-step {d['action']} plan (execution order)")
+    for col in ("step", "gripper angle (deg)", "margin (deg)", "interval Θ (deg)"):
+        table.add_column(col, justify="right")
+    intervals = d["intervals_deg"][::-1]
+    for i, s in enumerate(d["steps"]):
+        margin = "—" if s["margin_deg"] is None else f"{s['margin_deg']:.4f}"
+        a, b = intervals[i]
+        table.add_row(str(i + 1), f"{s['gripper_angle_deg']:.4f}", margin, f"[{a:.4f}, {b:.4f})")
+    Console().print(table)
+    finals = ", ".join(f"{f:.4f}" for f in d["final_orientations_deg"])
+    print(f"symmetry period {d['symmetry_period_deg']:.6g}°; final orientations (deg): {finals}")
+    times = ", ".join(f"{k} {1000 * v:.2f} ms" for k, v in d["timings_s"].items())
+    print(f"verified: {d['verified']}; {times}")
+
+
+def cmd_plan(args: argparse.Namespace) -> int:
+    t0 = time.perf_counter()
+    analysis = analyse_part(load_part(read_document(args.part)))
+    t1 = time.perf_counter()
+    plan = make_plan(analysis, args.action.replace("-", "_"), args.min_margin_deg)
+    plan.timings_s["analysis"] = t1 - t0
+    if args.figure:
+        from algrasp.plots import plan_figure
+
+        plan_figure(analysis, plan, args.figure)
+    if args.json:
+        print(json.dumps(plan.to_dict(), indent=2))
+    else:
+        print_plan(plan)
+        if args.figure:
+            print(f"figure written to {args.figure}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="algrasp", description="Sensorless orienting of planar parts.")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -101,7 +142,25 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("part", metavar="PART.json")
     p.add_argument("--json", action="store_true", help="print the analysis object as JSON")
     p.set_defaults(func=cmd_analyze)
+    p = sub.add_parser("plan", help="shortest sensorless plan (Algorithm A′) for a part")
+    p.add_argument("part", metavar="PART.json")
+    p.add_argument("--action", choices=["squeeze", "push-grasp"], default="squeeze")
+    p.add_argument("--min-margin-deg", type=_non_negative, default=0.0, metavar="M",
+                   help="every transition must tolerate M degrees of gripper error")
+    p.add_argument("--json", action="store_true", help="print the plan document as JSON")
+    p.add_argument("--figure", metavar="OUT.svg|png", help="draw functions, intervals and plan traces")
+    p.set_defaults(func=cmd_plan)
     return parser
+
+
+def _non_negative(text: str) -> float:
+    try:
+        x = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not (x >= 0.0 and x < 180.0):
+        raise argparse.ArgumentTypeError(f"must be in [0, 180), got {text}")
+    return x
 
 
 def main(argv: Sequence[str] | None = None) -> int:

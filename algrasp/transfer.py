@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import bisect
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -54,9 +55,15 @@ class TransferFunction:
     def ramps(self) -> tuple[TransferPiece, ...]:
         return tuple(p for p in self.pieces if p.is_ramp)
 
-    @property
+    @cached_property
     def starts(self) -> list[float]:
         return [p.start for p in self.pieces]
+
+    @cached_property
+    def _arrays(self) -> tuple[FloatArray, FloatArray]:
+        """Starts and step values (NaN for ramps) as arrays for :meth:`apply`."""
+        return (np.array(self.starts),
+                np.array([np.nan if p.value is None else p.value for p in self.pieces]))
 
     def piece_at(self, theta: float) -> tuple[TransferPiece, float]:
         """The piece holding θ and the lift offset (a multiple of the period) to add."""
@@ -77,8 +84,9 @@ class TransferFunction:
         base = self.pieces[0].start
         k = np.floor((thetas - base) / self.period)
         x = thetas - k * self.period
-        idx = np.clip(np.searchsorted(np.array(self.starts), x, side="right") - 1, 0, len(self.pieces) - 1)
-        vals = np.array([np.nan if p.value is None else p.value for p in self.pieces])[idx]
+        starts, values = self._arrays
+        idx = np.clip(np.searchsorted(starts, x, side="right") - 1, 0, len(self.pieces) - 1)
+        vals = values[idx]
         return np.where(np.isnan(vals), thetas, vals + k * self.period)
 
     def breakpoints(self) -> list[float]:

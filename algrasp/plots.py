@@ -1,0 +1,117 @@
+"""Figures of an analysis and a plan (matplotlib adapter; the core never imports it).
+
+``plan_figure`` draws what an engineer wants to see: the diameter (or radius)
+function with its extrema, the transfer function with the intervals Θᵢ as bars
+(paper Figs. 7, 16), and traces of the plan for four initial orientations (Figs. 2, 17).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only: no display needed
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.axes import Axes  # noqa: E402
+
+from algrasp.analysis import Analysis  # noqa: E402
+from algrasp.curves import FloatArray  # noqa: E402
+from algrasp.errors import AlgraspError  # noqa: E402
+from algrasp.plan import Plan  # noqa: E402
+
+MAX_TRACE_ROWS = 8
+
+
+def _outline(analysis: Analysis) -> FloatArray:
+    pts = np.concatenate([s.polyline(np.radians(3.0))[:-1] for s in analysis.part.boundary])
+    return np.vstack([pts, pts[:1]]) - np.asarray(analysis.part.center_of_mass)
+
+
+def _function_panel(ax: Axes, analysis: Analysis, plan: Plan) -> None:
+    f = analysis.diameter if plan.action == "squeeze" else analysis.radius
+    theta = np.linspace(0.0, f.period, 1441)
+    ax.plot(np.degrees(theta), f.values(theta), color="black", lw=1.2)
+    for e in f.extrema:
+        ax.plot(np.degrees(e.theta), e.value, "v" if e.kind == "min" else "^",
+                color="tab:green" if e.kind == "min" else "tab:red", ms=5)
+    for a, b in f.constant_intervals:
+        ax.axvspan(np.degrees(a), np.degrees(min(b, f.period)), color="tab:orange", alpha=0.15)
+    ax.set_title(f"{'diameter d' if plan.action == 'squeeze' else 'radius r'}(θ) with extrema "
+                 "(▲ max, ▼ min; shaded: constant)", fontsize=9)
+    ax.set_xlabel("θ (deg)")
+    ax.set_xlim(0, np.degrees(f.period))
+
+
+def _transfer_panel(ax: Axes, plan: Plan) -> None:
+    F = plan.transfer
+    base = F.pieces[0].start
+    for p in F.pieces:
+        x = np.degrees([p.start - base, p.end - base])
+        y = np.degrees([p.start, p.end]) if p.value is None else np.degrees([p.value, p.value])
+        ax.plot(x, y - np.degrees(base), color="tab:blue" if p.value is not None else "tab:orange", lw=1.5)
+    span = np.degrees(F.period)
+    rows = plan.intervals if len(plan.intervals) <= 12 else plan.intervals[:6] + plan.intervals[-6:]
+    for i, (a, b) in enumerate(rows):
+        lo = np.degrees((a - base) % F.period)
+        y = -span * (0.06 + 0.05 * i)
+        ax.plot([lo, lo + np.degrees(b - a)], [y, y], color="tab:purple", lw=3, solid_capstyle="butt")
+    ax.set_title(f"transfer function ({plan.action}) and intervals Θ₁… (bars, top = Θ₁)", fontsize=9)
+    ax.set_xlabel(f"θ − {np.degrees(base):.1f}° (deg)")
+
+
+def _trace_panel(fig: plt.Figure, grid: object, analysis: Analysis, plan: Plan) -> None:
+    outline = _outline(analysis)
+    extent = float(np.max(np.hypot(*outline.T))) * 1.25
+    starts = np.radians([17.0, 103.0, 197.0, 283.0])
+    steps = list(range(len(plan.steps)))
+    if len(steps) > MAX_TRACE_ROWS:
+        steps = steps[: MAX_TRACE_ROWS // 2] + steps[-MAX_TRACE_ROWS // 2:]
+    rows = len(steps) + 1
+    sub = grid.subgridspec(rows, 4, hspace=0.05, wspace=0.05)  # type: ignore[attr-defined]
+    for col, phi0 in enumerate(starts):
+        trace = plan.trace(float(phi0))
+        for r in range(rows):
+            ax = fig.add_subplot(sub[r, col])
+            phi = trace[0] if r == 0 else trace[steps[r - 1] + 1]
+            c, s = np.cos(phi), np.sin(phi)
+            pts = outline @ np.array([[c, s], [-s, c]])
+            ax.fill(pts[:, 0], pts[:, 1], color="lightsteelblue", ec="black", lw=0.6)
+            ax.plot([0, 0.5 * extent * c], [0, 0.5 * extent * s], color="crimson", lw=0.8)  # registration mark
+            if r > 0:
+                alpha = plan.steps[steps[r - 1]].gripper_angle
+                d = np.array([np.cos(alpha), np.sin(alpha)])
+                n = np.array([-d[1], d[0]])
+                for side in (-1, 1):
+                    q = side * 0.95 * extent * n
+                    ax.plot([q[0] - extent * d[0], q[0] + extent * d[0]], [q[1] - extent * d[1], q[1] + extent * d[1]],
+                            color="dimgray", lw=1.2)
+            ax.set_xlim(-extent, extent)
+            ax.set_ylim(-extent, extent)
+            ax.set_aspect("equal")
+            ax.axis("off")
+            if col == 0:
+                ax.text(-extent, extent * 0.8, "start" if r == 0 else f"{steps[r - 1] + 1}", fontsize=7)
+
+
+def plan_figure(analysis: Analysis, plan: Plan, path: str | Path) -> Path:
+    """Write the figure to ``path`` (.svg or .png). Returns the path."""
+    out = Path(path)
+    if out.suffix.lower() not in (".svg", ".png"):
+        raise AlgraspError(f"--figure: unsupported format {out.suffix!r} (use .svg or .png)")
+    fig = plt.figure(figsize=(11, 8.5))
+    grid = fig.add_gridspec(2, 2, width_ratios=[1.1, 1], height_ratios=[1, 1])
+    _function_panel(fig.add_subplot(grid[0, 0]), analysis, plan)
+    _transfer_panel(fig.add_subplot(grid[1, 0]), plan)
+    _trace_panel(fig, grid[:, 1], analysis, plan)
+    fig.suptitle(f"{analysis.part.name}: {len(plan.steps)}-step {plan.action} plan, "
+                 f"{len(plan.final_orientations)} final orientation(s)", fontsize=11)
+    try:
+        fig.savefig(out, dpi=110)
+    except OSError as exc:
+        raise AlgraspError(f"--figure: cannot write {out}: {exc.strerror}") from None
+    finally:
+        plt.close(fig)
+    return out
