@@ -14,6 +14,8 @@ $(STAMP): pyproject.toml
 
 run: $(STAMP)
 	$(BIN)/algrasp analyze algrasp/examples/pie-20.json
+	$(BIN)/algrasp plan algrasp/examples/pie-20.json --action squeeze
+	$(BIN)/algrasp plan algrasp/examples/pie-20.json --action push-grasp --figure logs/pie-20-push-grasp.svg
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q -n 2
@@ -24,6 +26,7 @@ lint: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_analysis.py
+	$(BIN)/python benchmarks/bench_plan.py
 
 clean:
 	rm -rf $(VENV) build *.egg-info

@@ -18,7 +18,7 @@ import numpy as np
 
 from algrasp.analysis import Analysis
 from algrasp.curves import FloatArray
-from algrasp.errors import NotOrientableError
+from algrasp.errors import AlgraspError, NotOrientableError
 from algrasp.functions import wrap
 from algrasp.planner import algorithm_a_prime, image
 from algrasp.transfer import TransferFunction
@@ -142,9 +142,8 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -
 
     Raises NotOrientableError (constant width, no step, margin too large).
     """
-    if min_margin_deg < 0 or not np.isfinite(min_margin_deg):
-        from algrasp.errors import AlgraspError
-        raise AlgraspError(f"min_margin_deg must be a finite non-negative number, got {min_margin_deg}")
+    if not (np.isfinite(min_margin_deg) and 0.0 <= min_margin_deg < 180.0):
+        raise AlgraspError(f"min_margin_deg must be in [0, 180), got {min_margin_deg}")
     F = transfer_for(analysis, action)
     t0 = time.perf_counter()
     T = F.symmetry_period(SYMMETRY_TOL_RAD)

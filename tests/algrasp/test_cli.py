@@ -60,3 +60,37 @@ def test_console_script_runs() -> None:
     exe = Path(sys.executable).parent / "algrasp"
     res = subprocess.run([str(exe), "analyze", str(EXAMPLE), "--json"], capture_output=True, text=True, check=True)
     assert json.loads(res.stdout)["squeeze"]["symmetry_period_deg"] == 180
+
+
+def test_plan_json_and_figure(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    fig = tmp_path / "plan.svg"
+    assert main(["plan", str(EXAMPLE), "--action", "squeeze", "--json", "--figure", str(fig)]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert set(doc) == {"action", "symmetry_period_deg", "intervals_deg", "steps", "final_orientations_deg",
+                        "verified", "timings_s"}
+    assert doc["action"] == "squeeze" and doc["verified"] is True and len(doc["steps"]) == 3
+    assert [round(b - a, 6) for a, b in doc["intervals_deg"]] == [70, 140, 180]
+    assert doc["steps"][0]["margin_deg"] is None and all(s["margin_deg"] >= 0 for s in doc["steps"][1:])
+    assert all(0 <= s["gripper_angle_deg"] < 360 for s in doc["steps"])
+    assert set(doc["timings_s"]) == {"analysis", "planning", "verification"}
+    assert fig.stat().st_size > 10_000 and fig.read_text().lstrip().startswith("<?xml")
+
+
+def test_plan_push_grasp_table(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["plan", str(EXAMPLE), "--action", "push-grasp"]) == 0
+    out = capsys.readouterr().out
+    assert "3-step push_grasp plan" in out and "verified: True" in out
+
+
+def test_plan_errors(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    disk = tmp_path / "disk.json"
+    disk.write_text(json.dumps(shapes.disk()))
+    assert main(["plan", str(disk), "--json"]) == 2
+    err = json.loads(capsys.readouterr().out)["error"]
+    assert err["type"] == "not_orientable" and err["reason"] == "constant_width"
+    assert main(["plan", str(EXAMPLE), "--min-margin-deg", "60"]) == 2
+    assert "no plan tolerates" in capsys.readouterr().err
+    assert main(["plan", str(EXAMPLE), "--figure", str(tmp_path / "x.pdf")]) == 2
+    assert "unsupported format" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["plan", str(EXAMPLE), "--min-margin-deg", "-1"])
