@@ -128,8 +128,20 @@ def polygon_segments(raw: Sequence[Any], field: str, limits: Limits) -> list[Seg
     """Polygon shorthand: vertices in order, closed implicitly."""
     if len(raw) < 3:
         raise PartDocumentError(field, f"a polygon needs at least 3 vertices, got {len(raw)}")
-    verts = [point(p, f"{field}[{i}]", i, limits) for i, p in enumerate(raw)]
+    verts = _fast_points(raw, limits)
+    if verts is None:  # something is wrong: find and name it
+        verts = [point(p, f"{field}[{i}]", i, limits) for i, p in enumerate(raw)]
     return [Line(verts[i], verts[(i + 1) % len(verts)]) for i in range(len(verts))]
+
+
+def _fast_points(raw: Sequence[Any], limits: Limits) -> list[tuple[float, float]] | None:
+    """All vertices at once when every one is a valid [x, y] of numbers; else None."""
+    if not all(type(p) in (list, tuple) and len(p) == 2 and all(type(c) in (int, float) for c in p) for p in raw):
+        return None
+    arr = np.asarray(raw, dtype=float)
+    if not np.all(np.isfinite(arr)) or np.max(np.abs(arr)) > limits.max_abs_coordinate:
+        return None
+    return [(float(x), float(y)) for x, y in arr.tolist()]
 
 
 def check_document_shape(doc: Any, limits: Limits) -> None:

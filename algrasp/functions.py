@@ -213,13 +213,13 @@ def analyse(kind: Kind, hull: ConvexHull, com: tuple[float, float], size: float,
     runs = theta_runs(kind, hull, com, size, tol)
     shell = SupportPairFunction(kind, hull, com, tuple(runs), (), ())
     period = shell.period
+    labelled = [(nxt.start, _CLASSIFY[(prev.sign, nxt.sign)]) for prev, nxt in zip([runs[-1], *runs[:-1]], runs)
+                if (prev.sign, nxt.sign) in _CLASSIFY]
+    values = shell.values(np.array([t for t, _ in labelled])) if labelled else np.zeros(0)
     extrema: dict[float, Extremum] = {}
-    for prev, nxt in zip([runs[-1], *runs[:-1]], runs):
-        label = _CLASSIFY.get((prev.sign, nxt.sign))
-        if label is None:
-            continue
-        key = wrap(nxt.start, period, tol.angle_rad)
-        extrema.setdefault(round(key, 9), Extremum(key, shell(nxt.start), label[0], label[1]))
+    for (theta, label), value in zip(labelled, values.tolist()):
+        key = wrap(theta, period, tol.angle_rad)
+        extrema.setdefault(round(key, 9), Extremum(key, value, label[0], label[1]))
     const = {round(wrap(r.start, period, tol.angle_rad), 9): (wrap(r.start, period, tol.angle_rad),
                                                              wrap(r.start, period, tol.angle_rad) + r.end - r.start)
              for r in runs if r.sign == 0}

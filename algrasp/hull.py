@@ -26,7 +26,7 @@ from scipy.spatial import ConvexHull as Qhull
 
 from algrasp.curves import FloatArray, Piece, horner, horner_rows, pder, real_roots_in
 from algrasp.errors import GeometryError
-from algrasp.segments import Segment
+from algrasp.segments import Line, Segment
 from algrasp.tolerances import Tolerances
 
 TWO_PI = 2.0 * np.pi
@@ -263,6 +263,8 @@ def _build_loop(boundary: list[Segment], size: float) -> _Loop:
     pieces: list[Piece] = []
     starts: list[int] = []
     ends: list[int] = []
+    if all(isinstance(seg, Line) for seg in boundary):  # polygons: the vertices are the starts
+        return _Loop(np.array([seg.start for seg in boundary]), (), (), ())
     close = 1e-12 * size
 
     def vertex(p: FloatArray | tuple[float, float]) -> int:

@@ -22,7 +22,7 @@ from algrasp.document import number, parse_loops
 from algrasp.errors import PartDocumentError
 from algrasp.hull import ConvexHull, exact_hull
 from algrasp.limits import DEFAULT_LIMITS, Limits
-from algrasp.segments import Line, Segment
+from algrasp.segments import Bezier, Line, Segment
 from algrasp.tolerances import DEFAULT_TOLERANCES, Tolerances
 
 _TESSELLATION_TURN_RAD = np.radians(2.0)  # only for the simplicity check, never for analysis
@@ -103,25 +103,40 @@ def _center_of_mass(doc: Mapping[str, Any], centroid: tuple[float, float], hull:
 
 
 def _size(loops: list[list[Segment]]) -> float:
-    pts = np.array([p for loop in loops for s in loop for p in _points(s)])
-    return float(np.hypot(*np.ptp(pts, axis=0)))
-
-
-def _points(seg: Segment) -> list[tuple[float, float]]:
-    if isinstance(seg, Line):
-        return [seg.start]
-    return [tuple(p) for p in seg.polyline(np.pi / 8)]
+    """Diagonal of the bounding box of all control points (arcs: their full circle)."""
+    pts: list[tuple[float, float]] = []
+    for loop in loops:
+        for seg in loop:
+            if isinstance(seg, Line):
+                pts.append(seg.start)
+            elif isinstance(seg, Bezier):
+                pts.extend(map(tuple, seg.points.tolist()))
+            else:
+                r = max(seg.rx, seg.ry)
+                pts.extend([(seg.center[0] - r, seg.center[1] - r), (seg.center[0] + r, seg.center[1] + r)])
+    arr = np.asarray(pts)
+    return float(np.hypot(*np.ptp(arr, axis=0)))
 
 
 def _length(seg: Segment) -> float:
+    """Length for the zero-length test: exact for lines and circular arcs, the control
+    polygon's extent for Bezier curves (zero exactly when all control points coincide)."""
     if isinstance(seg, Line):
         return math.hypot(seg.end[0] - seg.start[0], seg.end[1] - seg.start[1])
-    pts = seg.polyline(np.pi / 8)
-    return float(np.sum(np.hypot(*np.diff(pts, axis=0).T)))
+    if isinstance(seg, Bezier):
+        return float(np.hypot(*np.ptp(seg.points, axis=0)))
+    return abs(seg.end_t - seg.start_t) * min(seg.rx, seg.ry)
 
 
 def _check_loop(loop: list[Segment], field: str, size: float, tol: Tolerances) -> None:
     """Zero-length segments and gaps between consecutive segments."""
+    if all(isinstance(s, Line) for s in loop):
+        starts = np.array([s.start for s in loop])
+        ends = np.array([s.end for s in loop])
+        short = np.hypot(*(ends - starts).T) <= tol.zero_length_rel * size
+        gaps = np.hypot(*(np.roll(starts, -1, axis=0) - ends).T) > tol.closure_rel * size
+        if not (short.any() or gaps.any()):
+            return  # a valid polygon: no per-segment diagnosis needed
     for i, seg in enumerate(loop):
         length = _length(seg)
         if length <= tol.zero_length_rel * size:
@@ -136,11 +151,22 @@ def _check_loop(loop: list[Segment], field: str, size: float, tol: Tolerances) -
 
 
 def _moments(loop: list[Segment]) -> tuple[float, float, float]:
+    if all(isinstance(s, Line) for s in loop):  # polygons: the same formulas, vectorised
+        p = np.array([s.start for s in loop])
+        q = np.array([s.end for s in loop])
+        (px, py), (qx, qy) = p.T, q.T
+        a = float(np.sum((px + qx) / 2.0 * (qy - py)))
+        sx = float(np.sum((qy - py) * (px * px + px * qx + qx * qx))) / 6.0
+        sy = -float(np.sum((qx - px) * (py * py + py * qy + qy * qy))) / 6.0
+        return a, sx, sy
     m = np.sum([s.moments() for s in loop], axis=0)
     return float(m[0]), float(m[1]), float(m[2])
 
 
 def _polyline(loop: list[Segment]) -> tuple[FloatArray, list[FloatArray]]:
+    if all(isinstance(s, Line) for s in loop):
+        starts = np.array([s.start for s in loop])
+        return starts, list(starts[:, None, :])
     parts = [s.polyline(_TESSELLATION_TURN_RAD)[:-1] for s in loop]
     return np.concatenate(parts), parts
 
