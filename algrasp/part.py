@@ -42,6 +42,8 @@ class Part:
         size: diagonal of the bounding box of all control points (unit).
         hull: the exact convex hull of the boundary.
         source_document: the document as given (for records and replay).
+        polar_moment: ∬ |p − c|² dA over the region, about the centre of mass (unit⁴);
+            times the areal density it is the rotational inertia.
     """
 
     name: str
@@ -54,6 +56,7 @@ class Part:
     size: float
     hull: ConvexHull
     source_document: Mapping[str, Any]
+    polar_moment: float
 
 
 def load_part(doc: Mapping[str, Any], tol: Tolerances = DEFAULT_TOLERANCES, limits: Limits = DEFAULT_LIMITS) -> Part:
@@ -84,8 +87,16 @@ def load_part(doc: Mapping[str, Any], tol: Tolerances = DEFAULT_TOLERANCES, limi
         raise PartDocumentError("holes", "the holes leave the part with zero area")
     hull = exact_hull(boundary, size, tol)
     com, given = _center_of_mass(doc, (sx / area, sy / area), hull, limits_field="center_of_mass")
+    ixx, iyy = _second_moments(boundary, oriented_holes)
+    polar = ixx + iyy - area * (com[0] ** 2 + com[1] ** 2)
     return Part(str(doc.get("name", "part")), str(doc.get("units", "mm")), tuple(boundary), tuple(oriented_holes),
-                float(area), com, given, size, hull, doc)
+                float(area), com, given, size, hull, doc, float(polar))
+
+
+def _second_moments(boundary: list[Segment], holes: list[tuple[Segment, ...]]) -> tuple[float, float]:
+    """(∬ x² dA, ∬ y² dA) of boundary minus holes (loops already oriented)."""
+    m = np.sum([s.second_moments() for loop in [boundary, *holes] for s in loop], axis=0)
+    return float(m[0]), float(m[1])
 
 
 def _center_of_mass(doc: Mapping[str, Any], centroid: tuple[float, float], hull: ConvexHull,

@@ -49,6 +49,13 @@ class Line:
         sy = -0.5 * (qx - px) * (py * py + py * qy + qy * qy) / 3.0
         return a, sx, sy
 
+    def second_moments(self) -> tuple[float, float]:
+        """(⅓∮ x³ dy, −⅓∮ y³ dx) = (∬ x² dA, ∬ y² dA) contributions."""
+        (px, py), (qx, qy) = self.start, self.end
+        ixx = (qy - py) * (px**3 + px * px * qx + px * qx * qx + qx**3) / 12.0
+        iyy = -(qx - px) * (py**3 + py * py * qy + py * qy * qy + qy**3) / 12.0
+        return ixx, iyy
+
     def polyline(self, max_turn_rad: float) -> FloatArray:
         return np.array([self.start, self.end], dtype=float)
 
@@ -127,6 +134,22 @@ class EllipseArc:
 
         return tuple(_trig_integral(f, self.start_t, self.end_t) for f in (f_a, f_sx, f_sy))  # type: ignore[return-value]
 
+    def second_moments(self) -> tuple[float, float]:
+        """(⅓∮ x³ dy, −⅓∮ y³ dx): trigonometric polynomials of degree 4, exact."""
+        A, (cx, cy) = self.axes, self.center
+
+        def f_xx(t: FloatArray) -> FloatArray:
+            c, s = np.cos(t), np.sin(t)
+            x = cx + A[0, 0] * c + A[0, 1] * s
+            return x**3 * (-A[1, 0] * s + A[1, 1] * c) / 3.0
+
+        def f_yy(t: FloatArray) -> FloatArray:
+            c, s = np.cos(t), np.sin(t)
+            y = cy + A[1, 0] * c + A[1, 1] * s
+            return -(y**3) * (-A[0, 0] * s + A[0, 1] * c) / 3.0
+
+        return _trig_integral(f_xx, self.start_t, self.end_t), _trig_integral(f_yy, self.start_t, self.end_t)
+
     def polyline(self, max_turn_rad: float) -> FloatArray:
         n = max(2, int(np.ceil(abs(self.end_t - self.start_t) / max_turn_rad)) + 1)
         return self.at(np.linspace(self.start_t, self.end_t, n))
@@ -141,12 +164,13 @@ class EllipseArc:
 
 
 def _trig_integral(f: object, t0: float, t1: float) -> float:
-    """∫_{t0}^{t1} f for a trigonometric polynomial f of degree ≤ 3 (exact)."""
-    n = 8
+    """∫_{t0}^{t1} f for a trigonometric polynomial f of degree ≤ 4 (exact: 16 samples
+    over a period give its Fourier coefficients without aliasing)."""
+    n = 16
     ts = 2.0 * np.pi * np.arange(n) / n
     F = np.fft.rfft(f(ts))  # type: ignore[operator]
     total = float(F[0].real / n) * (t1 - t0)
-    for k in range(1, 4):
+    for k in range(1, 5):
         a = 2.0 * F[k].real / n
         b = -2.0 * F[k].imag / n
         total += a * (np.sin(k * t1) - np.sin(k * t0)) / k - b * (np.cos(k * t1) - np.cos(k * t0)) / k
@@ -204,6 +228,16 @@ class Bezier:
         tx, ty = horner_rows(p.TANGENTS[:2], t)
         dx, dy = tx / (W * W), ty / (W * W)
         return float(w @ (x * dy)), float(w @ (0.5 * x * x * dy)), float(w @ (-0.5 * y * y * dx))
+
+    def second_moments(self) -> tuple[float, float]:
+        """(⅓∮ x³ dy, −⅓∮ y³ dx): x³ y′ has degree 4k − 1, so 2k Gauss points are exact
+        for polynomial curves; rational curves use the composite rule of :meth:`moments`."""
+        p = self._piece
+        t, w = gauss_legendre_01(24, 16) if self.is_rational else gauss_legendre_01(2 * p.degree + 1, 1)
+        x, y, W = horner_rows(p.XYW, t)
+        x, y = x / W, y / W
+        tx, ty = horner_rows(p.TANGENTS[:2], t)
+        return float(w @ (x**3 * ty / (W * W))) / 3.0, -float(w @ (y**3 * tx / (W * W))) / 3.0
 
     def polyline(self, max_turn_rad: float) -> FloatArray:
         return self._piece.point(np.linspace(0.0, 1.0, 8 * self.points.shape[0] + 1))

@@ -62,3 +62,28 @@ def test_cauchy_formula(doc: dict) -> None:
     d = a.diameter.values(theta)
     assert d[::4000] == pytest.approx([a.diameter(t) for t in theta[::4000]], rel=1e-12)
     assert float(np.trapezoid(d, theta)) == pytest.approx(a.part.hull.perimeter, rel=2e-7)
+
+
+def test_polar_moments_closed_forms() -> None:
+    # Rectangle w×h: (w² + h²)·wh/12. Disk: πR⁴/2. Pie (sector, half-angle a) about the apex:
+    # R⁴a/2, moved to the centroid by the parallel-axis theorem.
+    rect = load_part(shapes.rectangle(3.0, 1.0))
+    assert rect.polar_moment == pytest.approx((9 + 1) * 3 / 12, rel=1e-12)
+    disk = load_part(shapes.disk(2.0))
+    assert disk.polar_moment == pytest.approx(math.pi * 16 / 2, rel=1e-12)
+    r, a = 5.0, math.radians(20)
+    pie = load_part(shapes.pie(r, 20))
+    apex = r**4 * a / 2
+    assert pie.polar_moment == pytest.approx(apex - pie.area * pie.center_of_mass[1] ** 2, rel=1e-12)
+    blob = shapes.bezier_blob(6, 1)
+    from shapely.geometry import Polygon
+    part = load_part(blob)
+    dense = np.concatenate([s.piece().point(np.linspace(0, 1, 20001))[:-1] for s in part.boundary])
+    poly = Polygon(dense)
+    # Polygon second moment of a dense tessellation (independent formula) about the centroid.
+    x, y = dense[:, 0], dense[:, 1]
+    x1, y1 = np.roll(x, -1), np.roll(y, -1)
+    cross = x * y1 - x1 * y
+    j = float(np.sum(cross * (x * x + x * x1 + x1 * x1 + y * y + y * y1 + y1 * y1))) / 12
+    cx, cy = poly.centroid.x, poly.centroid.y
+    assert part.polar_moment == pytest.approx(j - poly.area * (cx * cx + cy * cy), rel=1e-6)
