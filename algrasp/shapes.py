@@ -90,3 +90,14 @@ def bezier_blob(n: int, seed: int = 0, wobble: float = 0.25) -> Doc:
         segs.append({"type": "bezier", "points": [p[i].tolist(), (p[i] + tangent[i]).tolist(),
                                                   (p[j] - tangent[j]).tolist(), p[j].tolist()]})
     return {"name": f"bezier-blob-{n}-{seed}", "boundary": segs}
+
+
+def bezier_cam(scale: float = 2.0) -> Doc:
+    """A cam of a line and two Bezier arcs (cubic and quintic), about 13 × 9 mm at scale 2."""
+    def sc(pts: list[list[float]]) -> list[list[float]]:
+        return [[scale * x, scale * y] for x, y in pts]
+
+    return {"name": "bezier-cam", "boundary": [
+        {"type": "line", "start": sc([[0, 0]])[0], "end": sc([[4, 0]])[0]},
+        {"type": "bezier", "points": sc([[4, 0], [6.5, 1.0], [5.0, 4.0], [2.0, 4.2]])},
+        {"type": "bezier", "points": sc([[2.0, 4.2], [0.5, 4.3], [-0.8, 2.5], [-0.5, 1.5], [-0.3, 0.6], [0, 0]])}]}

@@ -1,0 +1,1 @@
+"""Physics validation of plans in Drake (adapter: the only package importing pydrake)."""

@@ -1,0 +1,117 @@
+"""Simulation parameters and the jaw/gripper schedule of a plan (pure: no pydrake).
+
+Model (stated for users and the README):
+- The part is a rigid prism on a PlanarJoint (x, y, θ); its collision shape is the exact
+  hull tessellated with a turn of ``tessellation_turn_rad`` per chord, so the chord error
+  is ρ·Δψ²/8 for the largest radius of curvature ρ (reported per part); mass
+  ``part_mass_kg``, rotational inertia from the exact region (``Part.polar_moment``).
+- Support friction: the ellipsoidal limit surface of uniform-pressure Coulomb friction,
+  f_max = μ m g and m_max = μ m g r̄ with r̄ the mean distance of the region's points from
+  the centre of mass; below ``stiction_speed_m_s`` the force is regularised (viscous).
+- Jaws: two frictionless boxes on prismatic joints of a gripper turned to α; each jaw is
+  PD-tracked along its schedule with its force capped at ``jaw_force_n``.
+- Contact: hydroelastic (compliant part, rigid jaws), discrete SAP, ``time_step_s``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from algrasp.errors import AlgraspError
+
+UNIT_TO_M = {"mm": 1e-3, "cm": 1e-2, "m": 1.0, "in": 0.0254, "um": 1e-6}
+
+
+@dataclass(frozen=True)
+class SimConfig:
+    """Physical and numerical parameters (SI units)."""
+
+    part_mass_kg: float = 0.02
+    support_friction: float = 0.3
+    gravity_m_s2: float = 9.81
+    stiction_speed_m_s: float = 5e-3
+    jaw_speed_m_s: float = 0.01
+    open_speed_m_s: float = 0.05
+    rotate_speed_rad_s: float = 3.0
+    jaw_force_n: float = 2.0
+    jaw_stiffness_n_m: float = 2000.0
+    jaw_damping_n_s_m: float = 40.0
+    hold_s: float = 0.2
+    push_distance_factor: float = 2.0
+    """Default push distance as a multiple of the largest centre-of-mass-to-hull distance."""
+    open_margin_factor: float = 1.6
+    time_step_s: float = 1e-3
+    hydroelastic_modulus_pa: float = 5e8
+    hunt_crossley_s_m: float = 10.0
+    tessellation_turn_rad: float = 0.03
+    record_hz: float = 50.0
+
+
+DEFAULT_SIM = SimConfig()
+
+
+def meters_per_unit(units: str) -> float:
+    try:
+        return UNIT_TO_M[units]
+    except KeyError:
+        raise AlgraspError(f"units: simulation needs a known length unit ({', '.join(UNIT_TO_M)}), got {units!r}") from None
+
+
+@dataclass(frozen=True)
+class Phase:
+    """Linear motion of the targets over [t0, t1]: gripper angle (rad), jaws L and H (m,
+    along the gripper's closing axis n, from the gripper centre)."""
+
+    t0: float
+    t1: float
+    gripper: tuple[float, float]
+    lower: tuple[float, float]
+    higher: tuple[float, float]
+    action: int
+    centre: bool = False
+    """At the start of this phase (ideal placement only) the jaws' paths are shifted so
+    both touch the part together (Assumption 7): the shift is the midpoint of the part's
+    extent along the closing axis, kept until the action ends."""
+
+    def at(self, t: float) -> tuple[float, float, float]:
+        s = 0.0 if self.t1 <= self.t0 else min(max((t - self.t0) / (self.t1 - self.t0), 0.0), 1.0)
+        return (self.gripper[0] + s * (self.gripper[1] - self.gripper[0]),
+                self.lower[0] + s * (self.lower[1] - self.lower[0]),
+                self.higher[0] + s * (self.higher[1] - self.higher[0]))
+
+
+def schedule(angles: list[float], action: str, half_open_m: float, push_m: float, cfg: SimConfig,
+             start_angle: float | None = None, reach_m: float = 0.0) -> list[Phase]:
+    """Phases for a plan: per action rotate (jaws open), then squeeze (fast approach to
+    ``reach_m``, slow contact), or push, close, move back; then open. ``angles`` are
+    gripper angles (rad) in execution order."""
+    W, v, fast = half_open_m, cfg.jaw_speed_m_s, cfg.open_speed_m_s
+    R = min(reach_m, W)
+    t, g = 0.0, angles[0] if start_angle is None else start_angle
+    phases: list[Phase] = []
+
+    def add(duration: float, gripper: tuple[float, float], lower: tuple[float, float],
+            higher: tuple[float, float], k: int) -> None:
+        nonlocal t
+        phases.append(Phase(t, t + duration, gripper, lower, higher, k))
+        t += duration
+
+    for k, alpha in enumerate(angles):
+        target = g + (alpha - g + math.pi) % (2 * math.pi) - math.pi  # shortest turn
+        add(max(abs(target - g) / cfg.rotate_speed_rad_s, 0.05), (g, target), (-W, -W), (W, W), k)
+        g = target
+        if action == "squeeze":
+            phases.append(Phase(t, t + (W - R) / fast, (g, g), (-W, -R), (W, R), k, centre=True))
+            t += (W - R) / fast
+            add(R / v, (g, g), (-R, 0.0), (R, 0.0), k)
+            add(cfg.hold_s, (g, g), (0.0, 0.0), (0.0, 0.0), k)
+            lower_end, higher_end = 0.0, 0.0
+        else:
+            add((W + push_m) / v, (g, g), (-W, push_m), (W, W + push_m), k)
+            add(W / v, (g, g), (push_m, push_m), (W + push_m, push_m), k)
+            add(cfg.hold_s, (g, g), (push_m, push_m), (push_m, push_m), k)
+            add(push_m / v, (g, g), (push_m, 0.0), (push_m, 0.0), k)
+            lower_end, higher_end = 0.0, 0.0
+        add(W / cfg.open_speed_m_s, (g, g), (lower_end, -W), (higher_end, W), k)
+    return phases

@@ -1,0 +1,100 @@
+"""Part quantities for the simulation, in metres (pure: no pydrake)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from algrasp.curves import FloatArray
+from algrasp.part import Part
+from algrasp.sim.config import SimConfig, meters_per_unit
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """Part quantities in metres, relative to the centre of mass."""
+
+    outline_m: FloatArray  # (N, 2) tessellated hull, counter-clockwise
+    reach_m: float  # largest distance from the centre of mass to the hull
+    mean_radius_m: float  # r̄: mean distance of the region's points from the centre of mass
+    chord_error_m: float  # tessellation bound ρ_max Δψ² / 8
+    polar_per_area_m2: float  # ∬|r|² dA / A
+
+
+def part_geometry(part: Part, cfg: SimConfig) -> Geometry:
+    s = meters_per_unit(part.units)
+    com = np.asarray(part.center_of_mass)
+    # Chords as fine as the turn allows, but ≥ 0.5% of the part and ≥ 50 µm: Drake rejects
+    # smaller collision faces as degenerate.
+    outline, chord_error = collision_outline(part, cfg.tessellation_turn_rad, max(0.005 * part.size, 50e-6 / s))
+    rel = (outline - com) * s
+    reach = float(np.max(np.hypot(*rel.T)))
+    return Geometry(rel, reach, _mean_radius(part) * s, chord_error * s, part.polar_moment / part.area * s * s)
+
+
+def collision_outline(part: Part, turn_rad: float, min_chord: float) -> tuple[FloatArray, float]:
+    """Tessellated hull (N, 2) in the part's unit, and its largest chord error.
+
+    Every corner and every end of a curve feature is kept exactly; a curve feature is
+    split into chords that turn by at most ``turn_rad`` but are no shorter than
+    ``min_chord`` (tiny chords make degenerate faces in Drake's collision hull). The chord
+    error of a chord of length c on a curve of radius ρ is ρ(1 − cos(c / 2ρ)) ≈ c²/8ρ;
+    the bound reported is the largest over all chords, measured on the exact curves.
+    """
+    pts: list[FloatArray] = []
+    corners: list[FloatArray] = []
+    worst = 0.0
+    for f in part.hull.features:
+        if f.kind == "point":
+            pts.append(np.asarray(f.center)[None, :])
+            corners.append(np.array([True]))
+            continue
+        dense = f.support_point(np.linspace(f.psi0, f.psi1, max(2, int(np.ceil((f.psi1 - f.psi0) / 0.002)) + 1)))
+        keep = [0]
+        for i in range(1, len(dense) - 1):
+            chord = float(np.hypot(*(dense[i] - dense[keep[-1]])))
+            turn = (f.psi1 - f.psi0) * (i - keep[-1]) / (len(dense) - 1)
+            if turn >= turn_rad and chord >= min_chord:
+                keep.append(i)
+        keep.append(len(dense) - 1)
+        for a, b in zip(keep[:-1], keep[1:]):
+            seg = dense[a:b + 1]
+            d = seg[-1] - seg[0]
+            n = np.array([-d[1], d[0]]) / max(float(np.hypot(*d)), 1e-300)
+            worst = max(worst, float(np.max(np.abs((seg - seg[0]) @ n))))
+        pts.append(dense[keep])
+        corners.append(np.zeros(len(keep), dtype=bool))
+    return _space(np.concatenate(pts), np.concatenate(corners), min_chord), worst
+
+
+def _space(pts: FloatArray, corner: np.ndarray, gap: float) -> FloatArray:
+    """Drop points closer than ``gap`` to a kept neighbour, never a corner (curve ends at
+    smooth junctions may go: their neighbours lie on the same smooth curve)."""
+    kept: list[int] = []
+    for i in range(len(pts)):
+        if kept and float(np.hypot(*(pts[i] - pts[kept[-1]]))) < gap:
+            if not corner[i]:
+                continue
+            if not corner[kept[-1]]:
+                kept.pop()
+            elif float(np.hypot(*(pts[i] - pts[kept[-1]]))) < 1e-12:
+                continue
+        kept.append(i)
+    while len(kept) > 3 and float(np.hypot(*(pts[kept[-1]] - pts[kept[0]]))) < gap and not corner[kept[-1]]:
+        kept.pop()
+    return pts[kept]
+
+
+def _mean_radius(part: Part) -> float:
+    """Mean distance of the region's points from the centre of mass (uniform grid)."""
+    from matplotlib.path import Path
+
+    pts = np.concatenate([s.polyline(0.05)[:-1] for s in part.boundary])
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    xs, ys = np.meshgrid(np.linspace(lo[0], hi[0], 120), np.linspace(lo[1], hi[1], 120))
+    grid = np.column_stack([xs.ravel(), ys.ravel()])
+    inside = Path(pts).contains_points(grid)
+    for hole in part.holes:
+        inside &= ~Path(np.concatenate([s.polyline(0.05)[:-1] for s in hole])).contains_points(grid)
+    return float(np.mean(np.hypot(*(grid[inside] - np.asarray(part.center_of_mass)).T)))

@@ -1,0 +1,205 @@
+"""The Drake model of a part between a parallel-jaw gripper (see ``config`` for the model).
+
+``PlanarGripperSim(part, cfg)`` builds the diagram once; ``run`` simulates a plan from one
+initial pose and returns the final orientation and a sampled trajectory. Lengths are
+converted from the part's unit to metres here and only here.
+"""
+
+from __future__ import annotations
+
+import bisect
+import math
+from typing import Any
+
+import numpy as np
+from pydrake.geometry import (
+    AddCompliantHydroelasticProperties,
+    AddContactMaterial,
+    AddRigidHydroelasticProperties,
+    Box,
+    Convex,
+    ProximityProperties,
+)
+from pydrake.math import RigidTransform
+from pydrake.multibody.plant import AddMultibodyPlant, CoulombFriction, MultibodyPlantConfig
+from pydrake.multibody.tree import (
+    PdControllerGains,
+    PlanarJoint,
+    PrismaticJoint,
+    RevoluteJoint,
+    SpatialInertia,
+    UnitInertia,
+)
+from pydrake.systems.analysis import Simulator
+from pydrake.systems.framework import BasicVector, DiagramBuilder, LeafSystem
+
+from algrasp.curves import FloatArray
+from algrasp.part import Part
+from algrasp.sim.config import DEFAULT_SIM, Phase, SimConfig
+from algrasp.sim.geometry import part_geometry
+
+FRICTIONLESS = CoulombFriction(0.0, 0.0)
+
+
+class _Controller(LeafSystem):
+    """Support friction on the part (ellipsoidal limit surface) and the desired state of
+    the gripper and jaw actuators along the schedule (their PD loops run implicitly in
+    the plant's SAP solver, with the jaw force capped by the actuators' effort limit)."""
+
+    def __init__(self, nq: int, nv: int, idx: dict[str, tuple[int, int]], cfg: SimConfig,
+                 f_max: float, m_max: float, outline: FloatArray) -> None:
+        super().__init__()
+        self._idx, self._cfg, self._f, self._m, self._nq = idx, cfg, f_max, m_max, nq
+        self._outline = outline
+        self.centring = True
+        self.set_phases([Phase(0.0, 0.0, (0.0, 0.0), (0.0, 0.0), (0.0, 0.0), 0)])
+        self.DeclareVectorInputPort("state", nq + nv)
+        self.DeclareVectorOutputPort("forces", BasicVector(nv), self._forces)
+        self.DeclareVectorOutputPort("desired_state", BasicVector(6), self._desired)
+
+    def set_phases(self, phases: list[Phase]) -> None:
+        self._phases = phases
+        self._starts = [p.t0 for p in phases]
+        self._shift: dict[int, float] = {}
+
+    def targets(self, t: float, x: FloatArray | None = None) -> tuple[float, float, float]:
+        i = max(bisect.bisect_right(self._starts, t) - 1, 0)
+        ph = self._phases[i]
+        g, lo, hi = ph.at(t)
+        if self.centring and ph.centre and ph.action not in self._shift and x is not None:
+            self._shift[ph.action] = self._centre_offset(x, g)
+        d = self._shift.get(ph.action, 0.0)
+        return g, lo + d, hi + d
+
+    def _centre_offset(self, x: FloatArray, g: float) -> float:
+        """Midpoint of the part's extent along the closing axis n of gripper angle g."""
+        pq, _ = self._idx["part"]
+        px, py, th = x[pq], x[pq + 1], x[pq + 2]
+        c, s = math.cos(th), math.sin(th)
+        n = np.array([-math.sin(g), math.cos(g)])
+        proj = (self._outline @ np.array([[c, s], [-s, c]]) + [px, py]) @ n
+        return float((proj.max() + proj.min()) / 2)
+
+    def _forces(self, context: Any, out: BasicVector) -> None:
+        v = np.asarray(self.get_input_port(0).Eval(context))[self._nq:]
+        tau = np.zeros(len(v))
+        _, pv = self._idx["part"]
+        vx, vy, w = v[pv], v[pv + 1], v[pv + 2]
+        # (f, m) = −(f_max² v, m_max² ω)/λ: the twist is normal to the ellipsoid; λ is
+        # regularised below the stiction speed (explicit force: keeps the step stable).
+        lam = math.sqrt(self._f**2 * (vx * vx + vy * vy) + self._m**2 * w * w
+                        + (self._f * self._cfg.stiction_speed_m_s) ** 2)
+        tau[pv:pv + 3] = [-self._f**2 * vx / lam, -self._f**2 * vy / lam, -self._m**2 * w / lam]
+        out.SetFromVector(tau)
+
+    def _desired(self, context: Any, out: BasicVector) -> None:
+        x = np.asarray(self.get_input_port(0).Eval(context))
+        g, lo, hi = self.targets(context.get_time(), x)
+        out.SetFromVector([g, lo, hi, 0.0, 0.0, 0.0])
+
+
+class PlanarGripperSim:
+    """Diagram of part + gripper; reusable for many runs of plans with the same action."""
+
+    def __init__(self, part: Part, cfg: SimConfig = DEFAULT_SIM) -> None:
+        self.part, self.cfg = part, cfg
+        self.geom = part_geometry(part, cfg)
+        builder = DiagramBuilder()
+        mbp_cfg = MultibodyPlantConfig(time_step=cfg.time_step_s, discrete_contact_approximation="sap",
+                                       contact_model="hydroelastic_with_fallback")
+        plant, scene_graph = AddMultibodyPlant(mbp_cfg, builder)
+        plant.mutable_gravity_field().set_gravity_vector([0.0, 0.0, 0.0])  # support friction is modelled
+        self._add_bodies(plant)
+        plant.Finalize()
+        self.plant = plant
+        idx = {name: (j.position_start(), j.velocity_start()) for name, j in self.joints.items()}
+        f_max = cfg.support_friction * cfg.part_mass_kg * cfg.gravity_m_s2
+        self.controller: Any = builder.AddSystem(_Controller(plant.num_positions(), plant.num_velocities(), idx,
+                                                        cfg, f_max, f_max * self.geom.mean_radius_m,
+                                                        self.geom.outline_m))
+        builder.Connect(plant.get_state_output_port(), self.controller.get_input_port(0))
+        builder.Connect(self.controller.get_output_port(0), plant.get_applied_generalized_force_input_port())
+        builder.Connect(self.controller.get_output_port(1),
+                        plant.get_desired_state_input_port(self._instance))
+        self.diagram = builder.Build()
+        self.simulator = Simulator(self.diagram)
+        del scene_graph
+
+    def _add_bodies(self, plant: Any) -> None:
+        cfg, g = self.cfg, self.geom
+        thick = max(0.2 * g.reach_m, 1e-3)
+        m = cfg.part_mass_kg
+        izz = g.polar_per_area_m2
+        ixx = izz / 2 + thick * thick / 12
+        part = plant.AddRigidBody("part", SpatialInertia(m, np.zeros(3), UnitInertia(ixx, ixx, izz)))
+        pts = np.vstack([np.column_stack([g.outline_m, np.full(len(g.outline_m), z)]) for z in (-thick / 2, thick / 2)])
+        props = ProximityProperties()
+        AddCompliantHydroelasticProperties(g.reach_m, cfg.hydroelastic_modulus_pa, props)
+        AddContactMaterial(cfg.hunt_crossley_s_m, None, FRICTIONLESS, props)
+        plant.RegisterCollisionGeometry(part, RigidTransform(), Convex(pts.T, "part_hull"), "part", props)
+        gripper = plant.AddRigidBody("gripper", SpatialInertia(0.1, np.zeros(3), UnitInertia(1e-3, 1e-3, 1e-3)))
+        jaw_len, jaw_t = 5.0 * g.reach_m, max(0.3 * g.reach_m, 1e-3)
+        jaws = {}
+        for name, side in (("lower", -1.0), ("higher", 1.0)):
+            body = plant.AddRigidBody(f"jaw_{name}", SpatialInertia(0.05, np.zeros(3), UnitInertia(1e-3, 1e-3, 1e-3)))
+            jp = ProximityProperties()
+            AddRigidHydroelasticProperties(jaw_t, jp)
+            AddContactMaterial(cfg.hunt_crossley_s_m, None, FRICTIONLESS, jp)
+            # The jaw's contact face lies at the joint coordinate; its box extends away from the part.
+            X = RigidTransform([0.0, side * jaw_t / 2, 0.0])
+            plant.RegisterCollisionGeometry(body, X, Box(jaw_len, jaw_t, 2 * thick), f"jaw_{name}", jp)
+            jaws[name] = body
+        world = plant.world_frame()
+        self.joints = {
+            "part": plant.AddJoint(PlanarJoint("part_xy_theta", world, part.body_frame())),
+            "gripper": plant.AddJoint(RevoluteJoint("gripper_angle", world, gripper.body_frame(), [0, 0, 1])),
+            "lower": plant.AddJoint(PrismaticJoint("jaw_lower", gripper.body_frame(), jaws["lower"].body_frame(), [0, 1, 0])),
+            "higher": plant.AddJoint(PrismaticJoint("jaw_higher", gripper.body_frame(), jaws["higher"].body_frame(), [0, 1, 0])),
+        }
+        self._instance = part.model_instance()
+        # Implicit PD actuators (SAP): stiff gripper rotation; jaws capped at the grip force.
+        for name, kp, kd, cap in (("gripper", 20.0, 0.05, 10.0),
+                                  ("lower", cfg.jaw_stiffness_n_m, cfg.jaw_damping_n_s_m, cfg.jaw_force_n),
+                                  ("higher", cfg.jaw_stiffness_n_m, cfg.jaw_damping_n_s_m, cfg.jaw_force_n)):
+            act = plant.AddJointActuator(f"act_{name}", self.joints[name], cap)
+            act.set_controller_gains(PdControllerGains(p=kp, d=kd))
+
+    def run(self, phases: list[Phase], phi0: float, offset_m: float, alpha0: float,
+            half_open_m: float, record: bool = False, centring: bool = True) -> tuple[float, list[tuple[float, ...]]]:
+        """Simulate from part orientation φ0 (rad), centred between the jaws of the first
+        action up to ``offset_m`` along its closing axis. Returns the final φ (rad,
+        unwrapped) and, if asked, samples (t, x, y, φ, α, q_lower, q_higher)."""
+        self.controller.set_phases(phases)
+        self.controller.centring = centring
+        ctx = self.simulator.get_mutable_context()
+        ctx.SetTime(0.0)
+        pc = self.plant.GetMyMutableContextFromRoot(ctx)
+        self.plant.SetDefaultState(pc, pc.get_mutable_state())
+        n = np.array([-math.sin(alpha0), math.cos(alpha0)])
+        c, s = math.cos(phi0), math.sin(phi0)
+        proj = (self.geom.outline_m @ np.array([[c, s], [-s, c]])) @ n  # support extents along n
+        centre = -(proj.max() + proj.min()) / 2 + offset_m
+        self.joints["part"].set_translation(pc, centre * n)
+        self.joints["part"].set_rotation(pc, phi0)
+        self.joints["gripper"].set_angle(pc, alpha0)
+        self.joints["lower"].set_translation(pc, -half_open_m)
+        self.joints["higher"].set_translation(pc, half_open_m)
+        self.simulator.Initialize()
+        samples: list[tuple[float, ...]] = []
+        t_end = phases[-1].t1
+        dt = 1.0 / self.cfg.record_hz if record else t_end
+        t = 0.0
+        while t < t_end - 1e-12:
+            t = min(t + dt, t_end)
+            self.simulator.AdvanceTo(t)
+            if record:
+                q = self.plant.GetPositions(pc)
+                samples.append(self._sample(t, q))
+        q = self.plant.GetPositions(pc)
+        return float(q[self.joints["part"].position_start() + 2]), samples
+
+    def _sample(self, t: float, q: FloatArray) -> tuple[float, ...]:
+        i = self.joints["part"].position_start()
+        return (t, float(q[i]), float(q[i + 1]), float(q[i + 2]),
+                float(q[self.joints["gripper"].position_start()]),
+                float(q[self.joints["lower"].position_start()]), float(q[self.joints["higher"].position_start()]))

@@ -1,0 +1,76 @@
+"""Drake validation: a few real simulations (marked ``sim``)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pydrake")
+
+from algrasp import shapes  # noqa: E402
+from algrasp.analysis import analyse_part  # noqa: E402
+from algrasp.part import load_part  # noqa: E402
+from algrasp.plan import make_plan  # noqa: E402
+from algrasp.sim.config import SimConfig, schedule  # noqa: E402
+from algrasp.sim.model import PlanarGripperSim  # noqa: E402
+from algrasp.sim.validate import validate_plan  # noqa: E402
+
+pytestmark = pytest.mark.sim
+RECT = shapes.rectangle(10.0, 4.0)
+
+
+@pytest.fixture(scope="module")
+def rect_sim() -> PlanarGripperSim:
+    return PlanarGripperSim(load_part(RECT), SimConfig())
+
+
+def _one_squeeze(sim: PlanarGripperSim, alpha: float) -> tuple[list, float]:
+    cfg = sim.cfg
+    W = cfg.open_margin_factor * sim.geom.reach_m + 1e-3
+    return schedule([alpha], "squeeze", W, 0.0, cfg, reach_m=sim.geom.reach_m), W
+
+
+@pytest.mark.parametrize("phi0_deg,alpha_deg,expected_deg", [(30.0, 0.0, 0.0), (90.0, 10.0, 100.0), (-40.0, 20.0, 20.0)])
+def test_squeeze_ends_at_predicted_local_minimum(rect_sim: PlanarGripperSim, phi0_deg: float, alpha_deg: float,
+                                                 expected_deg: float) -> None:
+    """d(θ) = 10|sin θ| + 4|cos θ| has maxima at ±68.2° (closed form): θ = φ0 − α = 30°
+    and −60° flow to 0 (long side on a jaw), θ = 80° flows to 90°."""
+    analysis = analyse_part(load_part(RECT))
+    phases, W = _one_squeeze(rect_sim, math.radians(alpha_deg))
+    phi, _ = rect_sim.run(phases, math.radians(phi0_deg), 0.0, math.radians(alpha_deg), W)
+    predicted = analysis.squeeze(math.radians(phi0_deg - alpha_deg)) + math.radians(alpha_deg)
+    err = (math.degrees(phi - predicted) + 90.0) % 180.0 - 90.0  # the rectangle has period 180°
+    assert abs(err) < 1.0
+    assert abs((math.degrees(predicted) - expected_deg + 90) % 180 - 90) < 1e-9
+
+
+def test_frictionless_jaws_exert_no_tangential_force(rect_sim: PlanarGripperSim) -> None:
+    alpha = math.radians(15.0)
+    phases, W = _one_squeeze(rect_sim, alpha)
+    hold = next(p for p in phases if p.lower == (0.0, 0.0))
+    rect_sim.run(phases[:1], math.radians(40.0), 0.0, alpha, W)  # set up the state, then continue
+    rect_sim.controller.set_phases(phases)
+    sim = rect_sim.simulator
+    sim.AdvanceTo((hold.t0 + hold.t1) / 2)
+    plant = rect_sim.plant
+    results = plant.get_contact_results_output_port().Eval(plant.GetMyContextFromRoot(sim.get_context()))
+    along_jaw = np.array([math.cos(alpha), math.sin(alpha), 0.0])
+    forces = [results.hydroelastic_contact_info(i).F_Ac_W().translational()
+              for i in range(results.num_hydroelastic_contacts())]
+    forces += [results.point_pair_contact_info(i).contact_force() for i in range(results.num_point_pair_contacts())]
+    assert len(forces) >= 2, "both jaws should be squeezing the part"
+    for f in forces:
+        assert np.linalg.norm(f) > 0.1  # squeezing with a real force (N)
+        assert abs(f @ along_jaw) <= 1e-6 * np.linalg.norm(f)
+
+
+def test_validation_api_in_parallel_workers() -> None:
+    analysis = analyse_part(load_part(RECT))
+    plan = make_plan(analysis, "squeeze")
+    v = validate_plan(analysis, plan, samples=4, seed=2, workers=2)
+    assert len(v.samples) == 4 and v.agreement == 1.0 and v.wall_seconds > 0 and v.sim_seconds > v.wall_seconds
+    doc = v.to_dict(plan.to_dict())
+    assert set(doc) >= {"plan", "samples", "agreement", "sim_seconds", "wall_seconds"}
+    assert set(doc["samples"][0]) >= {"initial_deg", "predicted_deg", "simulated_deg", "agrees"}
