@@ -33,11 +33,11 @@ class SimConfig:
     stiction_speed_m_s: float = 5e-3
     jaw_speed_m_s: float = 0.01
     open_speed_m_s: float = 0.05
-    rotate_speed_rad_s: float = 3.0
+    rotate_speed_rad_s: float = 6.0
     jaw_force_n: float = 2.0
     jaw_stiffness_n_m: float = 2000.0
     jaw_damping_n_s_m: float = 40.0
-    hold_s: float = 0.2
+    hold_s: float = 0.1
     push_distance_factor: float = 2.0
     """Default push distance as a multiple of the largest centre-of-mass-to-hull distance."""
     open_margin_factor: float = 1.6
