@@ -82,12 +82,15 @@ class Phase:
 
 
 def schedule(angles: list[float], action: str, half_open_m: float, push_m: float, cfg: SimConfig,
-             start_angle: float | None = None, reach_m: float = 0.0) -> list[Phase]:
+             start_angle: float | None = None, reach_m: float = 0.0, min_half_width_m: float = 0.0) -> list[Phase]:
     """Phases for a plan: per action rotate (jaws open), then squeeze (fast approach to
     ``reach_m``, slow contact), or push, close, move back; then open. ``angles`` are
     gripper angles (rad) in execution order."""
     W, v, fast = half_open_m, cfg.jaw_speed_m_s, cfg.open_speed_m_s
     R = min(reach_m, W)
+    # The squeeze force fades only once a jaw target is within F/k of the jaw's surface,
+    # which lies at least min_half_width_m from the centre: release fast up to there.
+    band = min(max(min_half_width_m - cfg.jaw_force_n / cfg.jaw_stiffness_n_m, 0.0), R)
     t, g = 0.0, angles[0] if start_angle is None else start_angle
     phases: list[Phase] = []
 
@@ -106,12 +109,17 @@ def schedule(angles: list[float], action: str, half_open_m: float, push_m: float
             t += (W - R) / fast
             add(R / v, (g, g), (-R, 0.0), (R, 0.0), k)
             add(cfg.hold_s, (g, g), (0.0, 0.0), (0.0, 0.0), k)
-            lower_end, higher_end = 0.0, 0.0
+            lower_end = higher_end = 0.0
         else:
             add((W + push_m) / v, (g, g), (-W, push_m), (W, W + push_m), k)
             add(W / v, (g, g), (push_m, push_m), (W + push_m, push_m), k)
             add(cfg.hold_s, (g, g), (push_m, push_m), (push_m, push_m), k)
             add(push_m / v, (g, g), (push_m, 0.0), (push_m, 0.0), k)
             lower_end, higher_end = 0.0, 0.0
-        add(W / cfg.open_speed_m_s, (g, g), (lower_end, -W), (higher_end, W), k)
+        # Release slowly until the targets pass the part's reach (the PD force fades over
+        # the last millimetre before the jaw surface), then open fast: a quick release
+        # of the squeezed, compliant contact kicks the part by a degree or so.
+        add(band / fast, (g, g), (lower_end, -band), (higher_end, band), k)
+        add((R - band) / v, (g, g), (-band, -R), (band, R), k)
+        add((W - R) / fast, (g, g), (-R, -W), (R, W), k)
     return phases

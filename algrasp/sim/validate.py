@@ -85,7 +85,8 @@ def simulate_one(doc: dict[str, Any], cfg: SimConfig, angles: list[float], actio
         _SIMS[key] = PlanarGripperSim(load_part(doc), cfg)
     sim = _SIMS[key]
     W = cfg.open_margin_factor * sim.geom.reach_m + 1e-3
-    phases = schedule(angles, action, W, cfg.push_distance_factor * sim.geom.reach_m, cfg, reach_m=sim.geom.reach_m)
+    phases = schedule(angles, action, W, cfg.push_distance_factor * sim.geom.reach_m, cfg, reach_m=sim.geom.reach_m,
+                      min_half_width_m=sim.geom.min_half_width_m)
     phi, traj = sim.run(phases, phi0, offset_m, angles[0], W, record=record, centring=centring)
     return phi, phases[-1].t1, traj
 
