@@ -74,7 +74,7 @@ def _ladd(a: list[float], b: list[float], sb: float = 1.0) -> list[float]:
     return [(a[i] if i < len(a) else 0.0) + sb * (b[i] if i < len(b) else 0.0) for i in range(n)]
 
 
-def _hf(c: list[float], t: float) -> float:
+def horner_float(c: list[float], t: float) -> float:
     """Horner in plain floats (scalar hot paths)."""
     y = c[-1]
     for a in c[-2::-1]:
@@ -152,9 +152,9 @@ def real_roots_in(poly: FloatArray | list[float], lo: float, hi: float, slack: f
     out: list[float] = []
     for x in cands:
         for _ in range(2):
-            d = _hf(dc, x)
+            d = horner_float(dc, x)
             if d != 0.0:
-                x -= _hf(c, x) / d
+                x -= horner_float(c, x) / d
         if lo - slack <= x <= hi + slack:
             out.append(min(max(x, lo), hi))
     out.sort()
@@ -277,8 +277,8 @@ class Piece:
         """Points at parameters ``t`` (shape (..., 2))."""
         if isinstance(t, float):
             X, Y, W, _, _ = self._lists
-            w = _hf(W, t)
-            return np.array([_hf(X, t) / w, _hf(Y, t) / w])
+            w = horner_float(W, t)
+            return np.array([horner_float(X, t) / w, horner_float(Y, t) / w])
         x, y, w = horner_rows(self.XYW, t)
         return np.stack([x / w, y / w], axis=-1)
 
@@ -286,7 +286,7 @@ class Piece:
         """Tangent directions (not normalised, same sense as B'(t)); shape (..., 2)."""
         if isinstance(t, float):
             _, _, _, TX, TY = self._lists
-            return np.array([_hf(TX, t), _hf(TY, t)])
+            return np.array([horner_float(TX, t), horner_float(TY, t)])
         tx, ty = horner_rows(self.TANGENTS[:2], t)
         return np.stack([tx, ty], axis=-1)
 

@@ -1,0 +1,282 @@
+"""Building blocks of the exact hull: convex pieces of a loop, candidate points on the
+exact curves, and straight edges solved and verified against every piece.
+
+Used by :mod:`algrasp.hull`; split out to keep each module readable.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+from scipy.optimize import root as solve_root
+
+from algrasp.curves import FloatArray, Piece, horner, real_roots_in
+from algrasp.errors import GeometryError
+from algrasp.segments import Line, Segment
+from algrasp.tolerances import Tolerances
+
+TWO_PI = 2.0 * np.pi
+
+
+# --------------------------------------------------------------------------- pieces
+
+
+@dataclass(frozen=True, eq=False)
+class Loop:
+    """Convex pieces of a counter-clockwise loop and the vertices between them."""
+
+    vertices: FloatArray  # (V, 2)
+    pieces: tuple[Piece, ...]
+    start_vertex: tuple[int, ...]
+    end_vertex: tuple[int, ...]
+
+    @cached_property
+    def control_points(self) -> tuple[FloatArray, FloatArray]:
+        """All pieces' control points stacked (M, 2) and the offset of each piece's first."""
+        if not self.pieces:
+            return np.zeros((0, 2)), np.zeros(0, dtype=int)
+        sizes = [len(p.points) for p in self.pieces]
+        return np.concatenate([p.points for p in self.pieces]), np.concatenate([[0], np.cumsum(sizes)[:-1]])
+
+
+def _convex_split(piece: Piece, size: float) -> list[Piece]:
+    """Sub-pieces of ``piece`` that turn left, each with a tangent turn < 90°.
+
+    Cuts at the roots of the curvature polynomial (inflections) and of the tangent's
+    coordinates (quadrant changes); the curvature sign of each part is read from the
+    parent's polynomial at the part's middle, so only kept parts are built.
+    """
+    K = piece.curvature_poly
+    inflections = [c for c in real_roots_in(K, 0.0, 1.0) if 1e-9 < c < 1.0 - 1e-9]
+    # Quadrant cuts only bound the turn of a piece; one a hair from another cut would
+    # leave a sliver whose tangent is lost to cancellation, so those are skipped.
+    edges = sorted({0.0, 1.0, *inflections})
+    for c in sorted(real_roots_in(piece.TX, 0.0, 1.0) + real_roots_in(piece.TY, 0.0, 1.0)):
+        if min(abs(c - e) for e in edges) > 1e-4:
+            edges = sorted([*edges, c])
+    kept = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        m = 0.5 * (a + b)
+        W = float(horner(piece.W, m)) if len(piece.W) > 1 else float(piece.W[0])
+        speed = float(np.hypot(*piece.tangent(m)))
+        if speed == 0.0:
+            continue
+        kappa = float(horner(K, m)) * W**3 / speed**3
+        if kappa * size > 1e-9:  # left turn; straight or right-turning parts never touch the hull
+            kept.append(piece.restrict(a, b))
+    return kept
+
+
+def build_loop(boundary: list[Segment], size: float) -> Loop:
+    verts: list[tuple[float, float]] = []
+    pieces: list[Piece] = []
+    starts: list[int] = []
+    ends: list[int] = []
+    if all(isinstance(seg, Line) for seg in boundary):  # polygons: the vertices are the starts
+        return Loop(np.array([seg.start for seg in boundary]), (), (), ())
+    close = 1e-12 * size
+
+    def vertex(p: FloatArray | tuple[float, float]) -> int:
+        # Consecutive copies of one point are one vertex, so pieces link up.
+        if verts and math.hypot(verts[-1][0] - p[0], verts[-1][1] - p[1]) <= close:
+            return len(verts) - 1
+        if verts and math.hypot(verts[0][0] - p[0], verts[0][1] - p[1]) <= close:
+            return 0
+        verts.append((float(p[0]), float(p[1])))
+        return len(verts) - 1
+
+    for i, seg in enumerate(boundary):
+        vertex(seg.start)
+        for raw in seg.pieces(i):
+            for p in _convex_split(raw, size):
+                starts.append(vertex(p.point(0.0)))
+                ends.append(vertex(p.point(1.0)))
+                pieces.append(p)
+    return Loop(np.array(verts), tuple(pieces), tuple(starts), tuple(ends))
+
+
+def _samples(p: Piece, max_turn: float) -> FloatArray:
+    """Interior parameters of ``p`` with a tangent turn of about ≤ max_turn between them.
+
+    One pass: 33 uniform parameters, then each cell that turns more is subdivided
+    evenly (the normal is monotone on a piece, so the turn per cell is known).
+    """
+    ts = np.linspace(0.0, 1.0, 33)
+    turn = np.diff(np.unwrap(p.normal_angle(ts)))
+    k = np.maximum(np.ceil(np.abs(turn) / max_turn).astype(int), 1)
+    cell = np.repeat(np.arange(k.size), k)
+    j = np.arange(cell.size) - np.repeat(np.cumsum(k) - k, k)
+    return (ts[cell] + (ts[cell + 1] - ts[cell]) * j / k[cell])[1:]
+
+
+# --------------------------------------------------------------------------- contacts
+
+Contact = tuple[int, int, float]  # (vertex id or -1, piece id or -1, parameter)
+
+
+def contact_point(loop: Loop, c: Contact) -> FloatArray:
+    if c[0] >= 0:
+        return np.asarray(loop.vertices[c[0]])
+    return np.asarray(loop.pieces[c[1]].point(c[2]))
+
+
+def _vertex_tangent(loop: Loop, a: FloatArray, pid: int, t_guess: float, size: float) -> float | None:
+    p = loop.pieces[pid]
+    roots = [t for t in real_roots_in(p.tangent_from_point_poly(a), 0.0, 1.0)
+             if np.hypot(*(p.point(t) - a)) > 1e-9 * size]
+    if not roots:
+        return None
+    return min(roots, key=lambda t: abs(t - t_guess))
+
+
+def _bitangent(loop: Loop, fa: int, sa: float, fb: int, sb: float) -> tuple[float, float] | None:
+    pa, pb = loop.pieces[fa], loop.pieces[fb]
+
+    def eqs(x: FloatArray) -> list[float]:
+        e = pb.point(x[1]) - pa.point(x[0])
+        ta, tb = pa.tangent(x[0]), pb.tangent(x[1])
+        ta, tb = ta / np.hypot(*ta), tb / np.hypot(*tb)
+        return [float(ta[0] * e[1] - ta[1] * e[0]), float(tb[0] * e[1] - tb[1] * e[0])]
+
+    sol = solve_root(eqs, [sa, sb], method="hybr", tol=1e-14)
+    # hybr may report "no further improvement" at machine precision: judge the residual.
+    if not np.all(np.isfinite(sol.x)) or float(np.max(np.abs(sol.fun))) > 1e-12:
+        return None
+    return float(sol.x[0]), float(sol.x[1])
+
+
+def _snap(loop: Loop, c: Contact) -> Contact:
+    """A contact at a piece end becomes the vertex there."""
+    if c[0] >= 0:
+        return c
+    if c[2] <= 1e-12:
+        return (loop.start_vertex[c[1]], -1, 0.0)
+    if c[2] >= 1.0 - 1e-12:
+        return (loop.end_vertex[c[1]], -1, 0.0)
+    return c
+
+
+def _solve_edge(loop: Loop, a: Contact, b: Contact, size: float) -> tuple[Contact, Contact]:
+    """Exact tangent contacts of the straight edge from near ``a`` to near ``b``."""
+    if a[0] < 0 and b[0] < 0:
+        st = _bitangent(loop, a[1], a[2], b[1], b[2])
+        if st is not None and -1e-9 <= st[0] <= 1 + 1e-9 and -1e-9 <= st[1] <= 1 + 1e-9:
+            return _snap(loop, (-1, a[1], min(max(st[0], 0.0), 1.0))), _snap(loop, (-1, b[1], min(max(st[1], 0.0), 1.0)))
+        a = _snap(loop, (-1, a[1], float(np.clip(round(a[2]), 0, 1))))
+    if a[0] >= 0 and b[0] < 0:
+        t = _vertex_tangent(loop, loop.vertices[a[0]], b[1], b[2], size)
+        return a, _snap(loop, (-1, b[1], t)) if t is not None else _snap(loop, (-1, b[1], float(round(b[2]))))
+    if a[0] < 0 and b[0] >= 0:
+        t = _vertex_tangent(loop, loop.vertices[b[0]], a[1], a[2], size)
+        return (_snap(loop, (-1, a[1], t)) if t is not None else _snap(loop, (-1, a[1], float(round(a[2]))))), b
+    return a, b
+
+
+def _worst_outside(loop: Loop, a: FloatArray, b: FloatArray) -> tuple[float, Contact]:
+    """Largest distance of any vertex or piece beyond the line a→b, and where."""
+    e = b - a
+    n = np.array([e[1], -e[0]]) / np.hypot(*e)
+    dv = (loop.vertices - a) @ n
+    iv = int(np.argmax(dv))
+    worst, where = float(dv[iv]), (iv, -1, 0.0)
+    cps, offsets = loop.control_points
+    if not len(cps):
+        return worst, where
+    bound = np.maximum.reduceat((cps - a) @ n, offsets.astype(np.intp))
+    for k in np.nonzero(bound > worst)[0]:
+        # Only pieces whose control polygon (which bounds the curve: positive weights)
+        # reaches past the current worst need their exact extreme point.
+        p = loop.pieces[int(k)]
+        t = p.support_param(n)
+        val = float((p.point(t) - a) @ n)
+        if val > worst:
+            worst, where = val, (-1, int(k), t)
+    return worst, where
+
+
+def _slide(loop: Loop, a: Contact, b: Contact, psi_edge: float) -> tuple[Contact, Contact] | None:
+    """Move a vertex contact onto the curve ending (starting) there when the edge would
+    turn back against that curve's end tangent — the true tangency is just inside it."""
+    if a[0] >= 0:
+        for k, v in enumerate(loop.end_vertex):
+            if v == a[0] and _ahead(float(loop.pieces[k].normal_angle(1.0)), psi_edge):
+                return (-1, k, 1.0 - 1e-6), b
+    if b[0] >= 0:
+        for k, v in enumerate(loop.start_vertex):
+            if v == b[0] and _ahead(psi_edge, float(loop.pieces[k].normal_angle(0.0))):
+                return a, (-1, k, 1e-6)
+    return None
+
+
+def _ahead(psi: float, other: float) -> bool:
+    """Whether normal ψ lies strictly past ``other`` (counter-clockwise, within π)."""
+    return (psi - other + np.pi) % TWO_PI - np.pi > 1e-12
+
+
+def verified_edge(loop: Loop, a: Contact, b: Contact, size: float) -> tuple[Contact, Contact]:
+    for _ in range(12):
+        a, b = _solve_edge(loop, a, b, size)
+        pa, pb = contact_point(loop, a), contact_point(loop, b)
+        worst, where = _worst_outside(loop, pa, pb)
+        if worst <= 1e-10 * size:
+            d = pb - pa
+            slid = _slide(loop, a, b, float(np.arctan2(-d[0], d[1])))
+            if slid is None:
+                return a, b
+            a, b = slid
+            continue
+        x = contact_point(loop, where)
+        along = float((x - pa) @ (pb - pa)) / float((pb - pa) @ (pb - pa))
+        if along < 0.5:
+            a = where
+        else:
+            b = where
+    raise GeometryError(f"could not resolve a hull edge near ({pa[0]:.6g}, {pa[1]:.6g})")
+
+
+def candidate_points(loop: Loop, tol: Tolerances) -> tuple[FloatArray, list[list[tuple[int, int]]], list[Contact]]:
+    """Exact curve points to locate the hull: vertices, then samples of every piece.
+
+    Returns the points (N, 2), for each the (piece, sample index) memberships that
+    link consecutive hull points along a piece, and the initial contact of each.
+    Memberships and contacts are lazy sequences: only hull points are ever asked.
+    """
+    n_v = len(loop.vertices)
+    vmembers: list[list[tuple[int, int]]] = [[] for _ in range(n_v)]
+    pts = [loop.vertices]
+    owners, params, index = [np.full(n_v, -1)], [np.zeros(n_v)], [np.zeros(n_v, dtype=int)]
+    for k, p in enumerate(loop.pieces):
+        ts = _samples(p, tol.hull_sample_turn_rad)
+        vmembers[loop.start_vertex[k]].append((k, 0))
+        vmembers[loop.end_vertex[k]].append((k, len(ts) + 1))
+        pts.append(p.point(ts).reshape(-1, 2))
+        owners.append(np.full(len(ts), k))
+        params.append(ts)
+        index.append(np.arange(1, len(ts) + 1))
+    owner, param, j = np.concatenate(owners), np.concatenate(params), np.concatenate(index)
+    return np.concatenate(pts), _Members(n_v, vmembers, owner, j), _Contacts(n_v, owner, param)  # type: ignore[return-value]
+
+
+class _Members:
+    """members[k]: (piece, sample index) pairs of candidate point k."""
+
+    def __init__(self, n_v: int, vmembers: list[list[tuple[int, int]]], owner: FloatArray, j: FloatArray) -> None:
+        self.n_v, self.vmembers, self.owner, self.j = n_v, vmembers, owner, j
+
+    def __getitem__(self, k: int) -> list[tuple[int, int]]:
+        return self.vmembers[k] if k < self.n_v else [(int(self.owner[k]), int(self.j[k]))]
+
+
+class _Contacts:
+    """contacts[k]: the initial contact of candidate point k."""
+
+    def __init__(self, n_v: int, owner: FloatArray, param: FloatArray) -> None:
+        self.n_v, self.owner, self.param = n_v, owner, param
+
+    def __getitem__(self, k: int) -> Contact:
+        return (int(k), -1, 0.0) if k < self.n_v else (-1, int(self.owner[k]), float(self.param[k]))
+
+
