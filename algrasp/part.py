@@ -86,7 +86,7 @@ def load_part(doc: Mapping[str, Any], tol: Tolerances = DEFAULT_TOLERANCES, limi
     if area <= tol.zero_area_rel * size * size:
         raise PartDocumentError("holes", "the holes leave the part with zero area")
     hull = exact_hull(boundary, size, tol)
-    com, given = _center_of_mass(doc, (sx / area, sy / area), hull, limits_field="center_of_mass")
+    com, given = _center_of_mass(doc, (sx / area, sy / area), hull)
     ixx, iyy = _second_moments(boundary, oriented_holes)
     polar = ixx + iyy - area * (com[0] ** 2 + com[1] ** 2)
     return Part(str(doc.get("name", "part")), str(doc.get("units", "mm")), tuple(boundary), tuple(oriented_holes),
@@ -99,17 +99,18 @@ def _second_moments(boundary: list[Segment], holes: list[tuple[Segment, ...]]) -
     return float(m[0]), float(m[1])
 
 
-def _center_of_mass(doc: Mapping[str, Any], centroid: tuple[float, float], hull: ConvexHull,
-                    limits_field: str) -> tuple[tuple[float, float], bool]:
+def _center_of_mass(doc: Mapping[str, Any], centroid: tuple[float, float],
+                    hull: ConvexHull) -> tuple[tuple[float, float], bool]:
+    """The given centre of mass (checked inside the hull), or the area centroid."""
     if "center_of_mass" not in doc:
         return (float(centroid[0]), float(centroid[1])), False
     raw = doc["center_of_mass"]
     if not isinstance(raw, (list, tuple)) or len(raw) != 2:
-        raise PartDocumentError(limits_field, "expected a point [x, y]")
-    com = (number(raw[0], f"{limits_field}[0]"), number(raw[1], f"{limits_field}[1]"))
+        raise PartDocumentError("center_of_mass", "expected a point [x, y]")
+    com = (number(raw[0], "center_of_mass[0]"), number(raw[1], "center_of_mass[1]"))
     margin = hull.inside_margin(np.array(com))
     if margin <= 0.0:
-        raise PartDocumentError(limits_field, f"({com[0]:g}, {com[1]:g}) lies outside the convex hull (by {-margin:.3g})")
+        raise PartDocumentError("center_of_mass", f"({com[0]:g}, {com[1]:g}) lies outside the convex hull (by {-margin:.3g})")
     return com, True
 
 

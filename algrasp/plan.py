@@ -20,7 +20,7 @@ from algrasp.analysis import Analysis
 from algrasp.curves import FloatArray
 from algrasp.errors import AlgraspError, NotOrientableError
 from algrasp.functions import wrap
-from algrasp.planner import algorithm_a_prime, image
+from algrasp.planner import algorithm_a_prime, images
 from algrasp.transfer import TransferFunction
 
 Action = Literal["squeeze", "push_grasp"]
@@ -95,8 +95,9 @@ def gripper_steps(F: TransferFunction, intervals: list[tuple[float, float]]) -> 
     order = intervals[::-1]  # I_1 … I_N
     alphas = [0.0] * len(order)
     margins: list[float | None] = [None] * len(order)
+    imgs = images(F, order)
     for j in range(len(order) - 2, -1, -1):
-        lo, hi = image(F, order[j])
+        lo, hi = imgs[j]
         a, b = order[j + 1]
         delta = 0.5 * (a + b) - 0.5 * (lo + hi)  # centre F(I_j) in I_{j+1}
         alphas[j] = alphas[j + 1] + delta

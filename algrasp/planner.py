@@ -131,9 +131,9 @@ def _margin_error(margin: float, intervals: list[tuple[float, float]]) -> NotOri
                               f"the widest interval that can be collapsed is {width:.6g}°")
 
 
-def image(F: TransferFunction, interval: tuple[float, float]) -> tuple[float, float]:
-    """[F(a), F(b⁻)] of [a, b) (radians, lifted)."""
+def images(F: TransferFunction, intervals: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    """[F(a), F(b⁻)] of each [a, b) (radians, lifted); one lifting for all. O((n + m) log n)."""
     lifted = _Lifted.of(F, range(-1, 4))
-    lo = float(lifted.value_at(np.array([interval[0]]))[0])
-    hi, _ = lifted.top(np.array([interval[1]]))
-    return lo, float(hi[0])
+    lo = lifted.value_at(np.array([a for a, _ in intervals]))
+    hi, _ = lifted.top(np.array([b for _, b in intervals]))
+    return [(float(x), float(y)) for x, y in zip(lo, hi)]

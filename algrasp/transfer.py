@@ -89,10 +89,6 @@ class TransferFunction:
         vals = values[idx]
         return np.where(np.isnan(vals), thetas, vals + k * self.period)
 
-    def breakpoints(self) -> list[float]:
-        """Starts of all pieces (radians, lifted)."""
-        return self.starts
-
     def symmetry_period(self, tol_rad: float) -> float:
         """Smallest T = P/k with F(θ + T) = F(θ) + T (structure and values within tol)."""
         n = len(self.pieces)
