@@ -32,7 +32,7 @@ from algrasp.hull_loop import (
     contact_point,
     verified_edge,
 )
-from algrasp.segments import Segment
+from algrasp.segments import Segment, gauss_legendre_01
 from algrasp.tolerances import Tolerances
 
 TWO_PI = 2.0 * np.pi
@@ -135,15 +135,12 @@ class HullFeature:
         if self.kind == "circle":
             return self.radius * (self.psi1 - self.psi0)
         assert self.piece is not None
-        nodes, wts = np.polynomial.legendre.leggauss(24)
-        edges = np.linspace(self.s0, self.s1, 9)
-        total = 0.0
-        for a, b in zip(edges[:-1], edges[1:]):
-            t = (a + b) / 2 + (b - a) / 2 * nodes
-            W = horner(self.piece.W, t)
-            speed = np.hypot(*self.piece.tangent(t).T) / (W * W)
-            total += float((b - a) / 2 * wts @ speed)
-        return total
+        # Composite Gauss-Legendre (8 panels × 24 nodes, cached) in one evaluation.
+        t01, w01 = gauss_legendre_01(24, 8)
+        t = self.s0 + (self.s1 - self.s0) * t01
+        W = horner(self.piece.W, t)
+        speed = np.hypot(*self.piece.tangent(t).T) / (W * W)
+        return float((self.s1 - self.s0) * (w01 @ speed))
 
 
 @dataclass(frozen=True, eq=False)
