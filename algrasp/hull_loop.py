@@ -143,9 +143,25 @@ def _bitangent(loop: Loop, fa: int, sa: float, fb: int, sb: float) -> tuple[floa
 
     sol = solve_root(eqs, [sa, sb], method="hybr", tol=1e-14)
     # hybr may report "no further improvement" at machine precision: judge the residual.
-    if not np.all(np.isfinite(sol.x)) or float(np.max(np.abs(sol.fun))) > 1e-12:
-        return None
-    return float(sol.x[0]), float(sol.x[1])
+    if np.all(np.isfinite(sol.x)) and float(np.max(np.abs(sol.fun))) <= 1e-12:
+        return float(sol.x[0]), float(sol.x[1])
+    return _alternating_bitangent(loop, fa, sa, fb, sb)
+
+
+def _alternating_bitangent(loop: Loop, fa: int, sa: float, fb: int, sb: float) -> tuple[float, float] | None:
+    """Bitangent by alternating tangents from a point (each a polynomial root): slower
+    than Newton but robust when the two curves nearly share a tangent line."""
+    pa, pb = loop.pieces[fa], loop.pieces[fb]
+    for _ in range(200):
+        rb = [t for t in real_roots_in(pb.tangent_from_point_poly(pa.point(sa)), 0.0, 1.0)]
+        ra = [t for t in real_roots_in(pa.tangent_from_point_poly(pb.point(sb)), 0.0, 1.0)]
+        if not ra or not rb:
+            return None
+        na, nb = min(ra, key=lambda t: abs(t - sa)), min(rb, key=lambda t: abs(t - sb))
+        if abs(na - sa) + abs(nb - sb) < 1e-15:
+            return na, nb
+        sa, sb = na, nb
+    return sa, sb
 
 
 def _snap(loop: Loop, c: Contact) -> Contact:
@@ -217,11 +233,16 @@ def _ahead(psi: float, other: float) -> bool:
 
 
 def verified_edge(loop: Loop, a: Contact, b: Contact, size: float) -> tuple[Contact, Contact]:
+    """Solve the edge near contacts a, b and verify that no piece lies beyond it (within
+    1e-10 of the part's size); a contact at a vertex slides onto an adjacent curve when
+    the edge would turn back against that curve's end tangent."""
+    verified: tuple[Contact, Contact] | None = None
     for _ in range(12):
         a, b = _solve_edge(loop, a, b, size)
         pa, pb = contact_point(loop, a), contact_point(loop, b)
         worst, where = _worst_outside(loop, pa, pb)
         if worst <= 1e-10 * size:
+            verified = (a, b)
             d = pb - pa
             slid = _slide(loop, a, b, float(np.arctan2(-d[0], d[1])))
             if slid is None:
@@ -234,6 +255,10 @@ def verified_edge(loop: Loop, a: Contact, b: Contact, size: float) -> tuple[Cont
             a = where
         else:
             b = where
+    if verified is not None:
+        # Sliding never settled (two curves nearly share a tangent); the edge is within
+        # the length tolerance of the hull and the normals are clamped when assembled.
+        return verified
     raise GeometryError(f"could not resolve a hull edge near ({pa[0]:.6g}, {pa[1]:.6g})")
 
 
