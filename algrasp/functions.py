@@ -131,13 +131,16 @@ def _derivative(F: HullFeature, G: HullFeature, psi: FloatArray | np.float64) ->
     return -chord[..., 0] * np.sin(psi) + chord[..., 1] * np.cos(psi)
 
 
-def _cell_roots(F: HullFeature, G: HullFeature, a: float, b: float, tol: Tolerances) -> list[float]:
-    """Zeros of f′ in (a, b) for a cell with a curve piece (grid + Brent)."""
-    n = max(8, int(np.ceil((b - a) / tol.root_grid_rad))) + 1
-    grid = np.linspace(a, b, n)
-    vals = _derivative(F, G, grid)
+def _grid(a: float, b: float, tol: Tolerances) -> FloatArray:
+    """Sign-change grid of a cell: spacing ≤ root_grid_rad, at least 9 points."""
+    return np.linspace(a, b, max(8, int(np.ceil((b - a) / tol.root_grid_rad))) + 1)
+
+
+def _cell_roots(F: HullFeature, G: HullFeature, grid: FloatArray, vals: FloatArray) -> list[float]:
+    """Zeros of f′ inside a cell with a curve piece: sign changes of f′ on the grid,
+    each refined by Brent's method to machine precision."""
     roots = []
-    for i in range(n - 1):
+    for i in range(len(grid) - 1):
         if vals[i] * vals[i + 1] < 0.0:
             def fprime(x: float) -> float:
                 return float(_derivative(F, G, np.float64(x)))
@@ -163,15 +166,38 @@ def _point_like_runs(F: HullFeature, G: HullFeature, a: float, b: float, size: f
     return runs
 
 
-def _cell_runs(F: HullFeature, G: HullFeature, a: float, b: float, size: float, tol: Tolerances) -> list[Run]:
-    """Monotone ψ-runs of one cell (sign of df/dψ)."""
-    if F.point_like and G.point_like:
-        return _point_like_runs(F, G, a, b, size, tol)
-    roots = _cell_roots(F, G, a, b, tol)
-    edges = [a, *roots, b]
-    mids = np.array([(x + y) / 2 for x, y in zip(edges[:-1], edges[1:])])
-    signs = np.sign(_derivative(F, G, mids)).astype(int)
+def _curve_runs(F: HullFeature, G: HullFeature, grid: FloatArray, vals: FloatArray, tol: Tolerances) -> list[Run]:
+    """Monotone ψ-runs of a cell with a curve piece, from f′ sampled on its grid."""
+    a, b = float(grid[0]), float(grid[-1])
+    edges = [a, *_cell_roots(F, G, grid, vals), b]
+    signs = [math.copysign(1.0, float(_derivative(F, G, np.float64(0.5 * (x + y))))) if y > x else 0.0
+             for x, y in zip(edges[:-1], edges[1:])]
     return [Run(x, y, int(s)) for x, y, s in zip(edges[:-1], edges[1:], signs) if y - x > tol.angle_rad]
+
+
+def _batched_derivatives(pairs: list[tuple[HullFeature, HullFeature, FloatArray]]) -> list[FloatArray]:
+    """f′ on every curve cell's grid, evaluating each feature's support points in one
+    vectorised call (per-call overhead, not arithmetic, dominates small grids)."""
+    wanted: dict[int, list[FloatArray]] = {}
+    feats: dict[int, HullFeature] = {}
+    for F, G, grid in pairs:
+        for feat, psi in ((F, grid), (G, grid + np.pi)):
+            feats[id(feat)] = feat
+            wanted.setdefault(id(feat), []).append(psi)
+    points: dict[int, list[FloatArray]] = {}
+    for key, chunks in wanted.items():
+        pts = feats[key].support_point(np.concatenate(chunks))
+        points[key] = np.split(pts, np.cumsum([len(c) for c in chunks])[:-1])
+    taken = {key: 0 for key in wanted}
+    out = []
+    for F, G, grid in pairs:
+        cf = points[id(F)][taken[id(F)]]
+        taken[id(F)] += 1
+        cg = points[id(G)][taken[id(G)]]
+        taken[id(G)] += 1
+        chord = cf - cg
+        out.append(-chord[:, 0] * np.sin(grid) + chord[:, 1] * np.cos(grid))
+    return out
 
 
 def _merge(runs: list[Run], sliver: float) -> list[Run]:
@@ -200,9 +226,17 @@ def theta_runs(kind: Kind, hull: ConvexHull, com: tuple[float, float], size: flo
     near = np.searchsorted(hull.breakpoints, base + (mids - base) % TWO_PI, side="right") - 1
     far = np.searchsorted(hull.breakpoints, base + (mids + np.pi - base) % TWO_PI, side="right") - 1
     com_feature = HullFeature("point", -np.inf, np.inf, center=com)
-    for (a, b), i, j in zip(cells, near.tolist(), far.tolist()):
-        F = com_feature if kind == "radius" else hull.features[max(i, 0)]
-        psi_runs.extend(_cell_runs(F, hull.features[max(j, 0)], a, b, size, tol))
+    pairs = [(com_feature if kind == "radius" else hull.features[max(i, 0)], hull.features[max(j, 0)])
+             for i, j in zip(near.tolist(), far.tolist())]
+    curved = [(F, G, _grid(a, b, tol)) for (F, G), (a, b) in zip(pairs, cells) if not (F.point_like and G.point_like)]
+    curve_vals = iter(_batched_derivatives(curved))
+    curved_iter = iter(curved)
+    for (F, G), (a, b) in zip(pairs, cells):
+        if F.point_like and G.point_like:
+            psi_runs.extend(_point_like_runs(F, G, a, b, size, tol))
+        else:
+            _, _, grid = next(curved_iter)
+            psi_runs.extend(_curve_runs(F, G, grid, next(curve_vals), tol))
     merged = _merge(psi_runs, tol.sliver_rad)
     # θ = π/2 − ψ reverses the order and the sign of the derivative.
     return [Run(np.pi / 2 - r.end, np.pi / 2 - r.start, -r.sign) for r in reversed(merged)]
