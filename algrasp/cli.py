@@ -116,12 +116,18 @@ def print_plan(plan: Plan) -> None:
     print(f"verified: {d['verified']}; {times}")
 
 
-def cmd_plan(args: argparse.Namespace) -> int:
+def _analysed_plan(args: argparse.Namespace) -> tuple[Analysis, Plan]:
+    """Load, analyse and plan the part named in ``args``; timings go into the plan."""
     t0 = time.perf_counter()
     analysis = analyse_part(load_part(read_document(args.part)))
     t1 = time.perf_counter()
     plan = make_plan(analysis, args.action.replace("-", "_"), args.min_margin_deg)
     plan.timings_s["analysis"] = t1 - t0
+    return analysis, plan
+
+
+def cmd_plan(args: argparse.Namespace) -> int:
+    analysis, plan = _analysed_plan(args)
     if args.figure:
         from algrasp.plots import plan_figure
 
@@ -142,11 +148,7 @@ def cmd_validate(args: argparse.Namespace) -> int:
         raise AlgraspError("validate needs Drake: pip install 'algrasp[sim]'") from None
     if args.samples < 1 or args.samples > 10_000:
         raise AlgraspError(f"--samples must be in [1, 10000], got {args.samples}")
-    t0 = time.perf_counter()
-    analysis = analyse_part(load_part(read_document(args.part)))
-    t1 = time.perf_counter()
-    plan = make_plan(analysis, args.action.replace("-", "_"), args.min_margin_deg)
-    plan.timings_s["analysis"] = t1 - t0
+    analysis, plan = _analysed_plan(args)
     v = validate_plan(analysis, plan, args.samples, args.seed, args.placement, args.tolerance_deg, workers=args.workers)
     if args.json:
         print(json.dumps(v.to_dict(plan.to_dict()), indent=2))

@@ -260,10 +260,15 @@ class Piece:
         return stack_polys(self.X, self.Y, self.W)
 
     @cached_property
-    def TANGENTS(self) -> FloatArray:
-        """Rows TX, TY, TX′, TY′: Newton on the tangent condition needs all four."""
+    def tangent_lists(self) -> tuple[list[float], list[float], list[float], list[float]]:
+        """TX, TY, TX′, TY′ as coefficient lists: Newton on the tangent condition needs all four."""
         _, _, _, TX, TY = self._lists
-        return stack_polys(np.array(TX), np.array(TY), np.array(_lder(TX)), np.array(_lder(TY)))
+        return TX, TY, _lder(TX), _lder(TY)
+
+    @cached_property
+    def TANGENTS(self) -> FloatArray:
+        """:attr:`tangent_lists` as rows for :func:`horner_rows`."""
+        return stack_polys(*(np.array(c) for c in self.tangent_lists))
 
     @property
     def degree(self) -> int:

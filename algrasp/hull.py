@@ -22,7 +22,7 @@ from typing import Literal
 import numpy as np
 from scipy.spatial import ConvexHull as Qhull
 
-from algrasp.curves import FloatArray, Piece, horner, horner_float, horner_rows, pder
+from algrasp.curves import FloatArray, Piece, horner, horner_float, horner_rows
 from algrasp.errors import GeometryError
 from algrasp.hull_loop import (
     Contact,
@@ -71,18 +71,18 @@ class HullFeature:
         return self.kind != "curve"
 
     @cached_property
-    def _normal_table(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-        """(ψ samples, t samples, TX′, TY′) for starting and running Newton in param_at."""
+    def _normal_table(self) -> tuple[FloatArray, FloatArray]:
+        """(ψ samples, t samples) to start Newton in param_at by interpolation."""
         assert self.piece is not None
         ts = np.linspace(self.s0, self.s1, 33)
         psis = self.psi0 + (self.piece.normal_angle(ts) - self.psi0 + np.pi) % TWO_PI - np.pi
-        return np.maximum.accumulate(psis), ts, pder(self.piece.TX), pder(self.piece.TY)
+        return np.maximum.accumulate(psis), ts
 
     def param_at(self, psi: FloatArray) -> FloatArray:
         """Curve parameter whose outward normal is ψ: Newton on ⟨T(t), u(ψ)⟩ = 0 from an
         interpolated start, kept inside [s0, s1] (the normal is monotone on a piece)."""
         assert self.piece is not None
-        psis, ts, dTX, dTY = self._normal_table
+        psis, ts = self._normal_table
         if np.ndim(psi) == 0:
             return np.asarray(self._param_at_scalar(float(psi)))
         psi = np.asarray(psi, dtype=float)
@@ -102,12 +102,11 @@ class HullFeature:
     def _param_at_scalar(self, psi: float) -> float:
         """Scalar twin of :meth:`param_at` in plain floats (root refinement calls it often)."""
         assert self.piece is not None
-        psis, ts, dTX, dTY = self._normal_table
+        psis, ts = self._normal_table
         local = self.psi0 + (psi - self.psi0 + np.pi) % TWO_PI - np.pi
         t = float(np.interp(local, psis, ts))
         c, s = np.cos(psi), np.sin(psi)
-        TX, TY = self.piece.TX.tolist(), self.piece.TY.tolist()
-        dx, dy = dTX.tolist(), dTY.tolist()
+        TX, TY, dx, dy = self.piece.tangent_lists
         for _ in range(_NEWTON_STEPS):
             q = horner_float(TX, t) * c + horner_float(TY, t) * s
             dq = horner_float(dx, t) * c + horner_float(dy, t) * s

@@ -22,7 +22,7 @@ from algrasp.document import number, parse_loops
 from algrasp.errors import PartDocumentError
 from algrasp.hull import ConvexHull, exact_hull
 from algrasp.limits import DEFAULT_LIMITS, Limits
-from algrasp.segments import Bezier, Line, Segment
+from algrasp.segments import Bezier, Line, Segment, line_moments
 from algrasp.tolerances import DEFAULT_TOLERANCES, Tolerances
 
 _TESSELLATION_TURN_RAD = np.radians(2.0)  # only for the simplicity check, never for analysis
@@ -163,14 +163,8 @@ def _check_loop(loop: list[Segment], field: str, size: float, tol: Tolerances) -
 
 
 def _moments(loop: list[Segment]) -> tuple[float, float, float]:
-    if all(isinstance(s, Line) for s in loop):  # polygons: the same formulas, vectorised
-        p = np.array([s.start for s in loop])
-        q = np.array([s.end for s in loop])
-        (px, py), (qx, qy) = p.T, q.T
-        a = float(np.sum((px + qx) / 2.0 * (qy - py)))
-        sx = float(np.sum((qy - py) * (px * px + px * qx + qx * qx))) / 6.0
-        sy = -float(np.sum((qx - px) * (py * py + py * qy + qy * qy))) / 6.0
-        return a, sx, sy
+    if all(isinstance(s, Line) for s in loop):  # polygons: one vectorised pass
+        return line_moments(np.array([s.start for s in loop]), np.array([s.end for s in loop]))
     m = np.sum([s.moments() for s in loop], axis=0)
     return float(m[0]), float(m[1]), float(m[2])
 

@@ -7,6 +7,7 @@ validity checks and drawings — never for the analysis.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
 
@@ -30,6 +31,15 @@ def gauss_legendre_01(n: int, panels: int) -> tuple[FloatArray, FloatArray]:
 """(∮ x dy, ½ ∮ x² dy, −½ ∮ y² dx): area and first moments of the enclosed region."""
 
 
+def line_moments(p: FloatArray, q: FloatArray) -> Moments:
+    """Summed Green's moments of straight segments p[i] → q[i] (arrays (N, 2)), exact."""
+    (px, py), (qx, qy) = p.T, q.T
+    a = float(np.sum((px + qx) / 2.0 * (qy - py)))
+    sx = float(np.sum((qy - py) * (px * px + px * qx + qx * qx))) / 6.0
+    sy = -float(np.sum((qx - px) * (py * py + py * qy + qy * qy))) / 6.0
+    return a, sx, sy
+
+
 @dataclass(frozen=True)
 class Line:
     start: tuple[float, float]
@@ -43,11 +53,7 @@ class Line:
         return Line(self.end, self.start)
 
     def moments(self) -> Moments:
-        (px, py), (qx, qy) = self.start, self.end
-        a = (px + qx) / 2.0 * (qy - py)
-        sx = 0.5 * (qy - py) * (px * px + px * qx + qx * qx) / 3.0
-        sy = -0.5 * (qx - px) * (py * py + py * qy + qy * qy) / 3.0
-        return a, sx, sy
+        return line_moments(np.array([self.start]), np.array([self.end]))
 
     def second_moments(self) -> tuple[float, float]:
         """(⅓∮ x³ dy, −⅓∮ y³ dx) = (∬ x² dA, ∬ y² dA) contributions."""
@@ -106,49 +112,30 @@ class EllipseArc:
     def reversed(self) -> EllipseArc:
         return EllipseArc(self.center, self.rx, self.ry, self.rotation, self.end_t, self.start_t, self.is_circle)
 
+    def _trace(self, t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """x, y, dx/dt, dy/dt at parameters t."""
+        A, (cx, cy) = self.axes, self.center
+        c, s = np.cos(t), np.sin(t)
+        return (cx + A[0, 0] * c + A[0, 1] * s, cy + A[1, 0] * c + A[1, 1] * s,
+                -A[0, 0] * s + A[0, 1] * c, -A[1, 0] * s + A[1, 1] * c)
+
     def moments(self) -> Moments:
-        # The integrands are trigonometric polynomials of degree ≤ 3 in t: 8 samples
-        # over a full period give their Fourier coefficients exactly.
-        A = self.axes
-        cx, cy = self.center
+        """Green's moments; the integrands are trigonometric polynomials, integrated exactly."""
+        def f(t: FloatArray) -> FloatArray:
+            x, y, dx, dy = self._trace(t)
+            return np.stack([x * dy, 0.5 * x * x * dy, -0.5 * y * y * dx])
 
-        def xy(t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-            c, s = np.cos(t), np.sin(t)
-            x = cx + A[0, 0] * c + A[0, 1] * s
-            y = cy + A[1, 0] * c + A[1, 1] * s
-            dx = -A[0, 0] * s + A[0, 1] * c
-            dy = -A[1, 0] * s + A[1, 1] * c
-            return x, y, dx, dy
-
-        def f_a(t: FloatArray) -> FloatArray:
-            x, _, _, dy = xy(t)
-            return x * dy
-
-        def f_sx(t: FloatArray) -> FloatArray:
-            x, _, _, dy = xy(t)
-            return 0.5 * x * x * dy
-
-        def f_sy(t: FloatArray) -> FloatArray:
-            _, y, dx, _ = xy(t)
-            return -0.5 * y * y * dx
-
-        return tuple(_trig_integral(f, self.start_t, self.end_t) for f in (f_a, f_sx, f_sy))  # type: ignore[return-value]
+        a, sx, sy = _trig_integral(f, self.start_t, self.end_t)
+        return a, sx, sy
 
     def second_moments(self) -> tuple[float, float]:
         """(⅓∮ x³ dy, −⅓∮ y³ dx): trigonometric polynomials of degree 4, exact."""
-        A, (cx, cy) = self.axes, self.center
+        def f(t: FloatArray) -> FloatArray:
+            x, y, dx, dy = self._trace(t)
+            return np.stack([x**3 * dy / 3.0, -(y**3) * dx / 3.0])
 
-        def f_xx(t: FloatArray) -> FloatArray:
-            c, s = np.cos(t), np.sin(t)
-            x = cx + A[0, 0] * c + A[0, 1] * s
-            return x**3 * (-A[1, 0] * s + A[1, 1] * c) / 3.0
-
-        def f_yy(t: FloatArray) -> FloatArray:
-            c, s = np.cos(t), np.sin(t)
-            y = cy + A[1, 0] * c + A[1, 1] * s
-            return -(y**3) * (-A[0, 0] * s + A[0, 1] * c) / 3.0
-
-        return _trig_integral(f_xx, self.start_t, self.end_t), _trig_integral(f_yy, self.start_t, self.end_t)
+        ixx, iyy = _trig_integral(f, self.start_t, self.end_t)
+        return ixx, iyy
 
     def polyline(self, max_turn_rad: float) -> FloatArray:
         n = max(2, int(np.ceil(abs(self.end_t - self.start_t) / max_turn_rad)) + 1)
@@ -163,18 +150,17 @@ class EllipseArc:
                 "start_deg": float(np.degrees(self.start_t)), "end_deg": float(np.degrees(self.end_t))}
 
 
-def _trig_integral(f: object, t0: float, t1: float) -> float:
-    """∫_{t0}^{t1} f for a trigonometric polynomial f of degree ≤ 4 (exact: 16 samples
-    over a period give its Fourier coefficients without aliasing)."""
+def _trig_integral(f: Callable[[FloatArray], FloatArray], t0: float, t1: float) -> list[float]:
+    """∫_{t0}^{t1} of each row of f, trigonometric polynomials of degree ≤ 4 (exact: 16
+    samples over a period give their Fourier coefficients without aliasing)."""
     n = 16
-    ts = 2.0 * np.pi * np.arange(n) / n
-    F = np.fft.rfft(f(ts))  # type: ignore[operator]
-    total = float(F[0].real / n) * (t1 - t0)
+    F = np.fft.rfft(f(2.0 * np.pi * np.arange(n) / n), axis=-1)
+    total = F[..., 0].real / n * (t1 - t0)
     for k in range(1, 5):
-        a = 2.0 * F[k].real / n
-        b = -2.0 * F[k].imag / n
-        total += a * (np.sin(k * t1) - np.sin(k * t0)) / k - b * (np.cos(k * t1) - np.cos(k * t0)) / k
-    return total
+        a = 2.0 * F[..., k].real / n
+        b = -2.0 * F[..., k].imag / n
+        total = total + a * (np.sin(k * t1) - np.sin(k * t0)) / k - b * (np.cos(k * t1) - np.cos(k * t0)) / k
+    return [float(v) for v in total]
 
 
 @dataclass(frozen=True)
@@ -216,28 +202,25 @@ class Bezier:
     def reversed(self) -> Bezier:
         return Bezier(self.points[::-1], self.weights[::-1])
 
-    def moments(self) -> Moments:
+    def _quadrature(self, poly_nodes: int) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+        """Weights w and x, y, dx/dt, dy/dt at Gauss-Legendre nodes: ``poly_nodes`` nodes
+        (exact for polynomial integrands of degree < 2·poly_nodes) for polynomial curves;
+        composite 16 × 24 nodes, converged to rounding, for rational ones."""
         p = self._piece
-        k = p.degree
-        # Rational integrands: composite Gauss-Legendre (16 × 24 nodes), converged to
-        # rounding for smooth low-degree curves. Polynomial: x² y′ has degree 3k − 1 and
-        # n Gauss points integrate degree 2n − 1 exactly.
-        t, w = gauss_legendre_01(24, 16) if self.is_rational else gauss_legendre_01((3 * k) // 2 + 1, 1)
+        t, w = gauss_legendre_01(24, 16) if self.is_rational else gauss_legendre_01(poly_nodes, 1)
         x, y, W = horner_rows(p.XYW, t)
-        x, y = x / W, y / W
         tx, ty = horner_rows(p.TANGENTS[:2], t)
-        dx, dy = tx / (W * W), ty / (W * W)
+        return w, x / W, y / W, tx / (W * W), ty / (W * W)
+
+    def moments(self) -> Moments:
+        # x² y′ has degree 3k − 1.
+        w, x, y, dx, dy = self._quadrature((3 * self._piece.degree) // 2 + 1)
         return float(w @ (x * dy)), float(w @ (0.5 * x * x * dy)), float(w @ (-0.5 * y * y * dx))
 
     def second_moments(self) -> tuple[float, float]:
-        """(⅓∮ x³ dy, −⅓∮ y³ dx): x³ y′ has degree 4k − 1, so 2k Gauss points are exact
-        for polynomial curves; rational curves use the composite rule of :meth:`moments`."""
-        p = self._piece
-        t, w = gauss_legendre_01(24, 16) if self.is_rational else gauss_legendre_01(2 * p.degree + 1, 1)
-        x, y, W = horner_rows(p.XYW, t)
-        x, y = x / W, y / W
-        tx, ty = horner_rows(p.TANGENTS[:2], t)
-        return float(w @ (x**3 * ty / (W * W))) / 3.0, -float(w @ (y**3 * tx / (W * W))) / 3.0
+        """(⅓∮ x³ dy, −⅓∮ y³ dx); x³ y′ has degree 4k − 1."""
+        w, x, y, dx, dy = self._quadrature(2 * self._piece.degree + 1)
+        return float(w @ (x**3 * dy)) / 3.0, -float(w @ (y**3 * dx)) / 3.0
 
     def polyline(self, max_turn_rad: float) -> FloatArray:
         return self._piece.point(np.linspace(0.0, 1.0, 8 * self.points.shape[0] + 1))

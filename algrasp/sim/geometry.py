@@ -23,6 +23,14 @@ class Geometry:
     min_half_width_m: float  # half the smallest diameter d_min / 2
 
 
+def extent_midpoint(outline_m: FloatArray, x: float, y: float, theta: float, n: FloatArray) -> float:
+    """Midpoint of the part's extent along direction n when its centre of mass is at
+    (x, y) and its orientation is θ (outline relative to the centre of mass, metres)."""
+    c, s = np.cos(theta), np.sin(theta)
+    proj = (outline_m @ np.array([[c, s], [-s, c]]) + [x, y]) @ n
+    return float((proj.max() + proj.min()) / 2)
+
+
 def part_geometry(part: Part, cfg: SimConfig) -> Geometry:
     s = meters_per_unit(part.units)
     com = np.asarray(part.center_of_mass)

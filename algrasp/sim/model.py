@@ -36,7 +36,7 @@ from pydrake.systems.framework import BasicVector, DiagramBuilder, LeafSystem
 from algrasp.curves import FloatArray
 from algrasp.part import Part
 from algrasp.sim.config import DEFAULT_SIM, Phase, SimConfig
-from algrasp.sim.geometry import part_geometry
+from algrasp.sim.geometry import extent_midpoint, part_geometry
 
 FRICTIONLESS = CoulombFriction(0.0, 0.0)
 
@@ -74,11 +74,8 @@ class _Controller(LeafSystem):
     def _centre_offset(self, x: FloatArray, g: float) -> float:
         """Midpoint of the part's extent along the closing axis n of gripper angle g."""
         pq, _ = self._idx["part"]
-        px, py, th = x[pq], x[pq + 1], x[pq + 2]
-        c, s = math.cos(th), math.sin(th)
         n = np.array([-math.sin(g), math.cos(g)])
-        proj = (self._outline @ np.array([[c, s], [-s, c]]) + [px, py]) @ n
-        return float((proj.max() + proj.min()) / 2)
+        return extent_midpoint(self._outline, x[pq], x[pq + 1], x[pq + 2], n)
 
     def _forces(self, context: Any, out: BasicVector) -> None:
         v = np.asarray(self.get_input_port(0).Eval(context))[self._nq:]
@@ -176,9 +173,7 @@ class PlanarGripperSim:
         pc = self.plant.GetMyMutableContextFromRoot(ctx)
         self.plant.SetDefaultState(pc, pc.get_mutable_state())
         n = np.array([-math.sin(alpha0), math.cos(alpha0)])
-        c, s = math.cos(phi0), math.sin(phi0)
-        proj = (self.geom.outline_m @ np.array([[c, s], [-s, c]])) @ n  # support extents along n
-        centre = -(proj.max() + proj.min()) / 2 + offset_m
+        centre = -extent_midpoint(self.geom.outline_m, 0.0, 0.0, phi0, n) + offset_m
         self.joints["part"].set_translation(pc, centre * n)
         self.joints["part"].set_rotation(pc, phi0)
         self.joints["gripper"].set_angle(pc, alpha0)
