@@ -21,12 +21,13 @@ test: $(STAMP)
 	$(BIN)/python -m pytest -q -n 2
 
 lint: $(STAMP)
-	$(BIN)/ruff check algrasp tests benchmarks
+	$(BIN)/ruff check algrasp optimisation service tests benchmarks
 	$(BIN)/mypy
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_analysis.py
 	$(BIN)/python benchmarks/bench_plan.py
+	$(BIN)/python benchmarks/bench_optimise.py
 	$(BIN)/python benchmarks/bench_validate.py
 
 clean:

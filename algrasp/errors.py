@@ -70,3 +70,19 @@ class NotOrientableError(AlgraspError):
         out = super().to_dict()
         out["reason"] = self.reason
         return out
+
+
+class ConfigError(AlgraspError):
+    """A configuration or request option is invalid (``field`` names it)."""
+
+    kind = "config_error"
+
+    def __init__(self, field: str, problem: str) -> None:
+        super().__init__(f"{field}: {problem}")
+        self.field = field
+        self.problem = problem
+
+    def to_dict(self) -> dict[str, object]:
+        out = super().to_dict()
+        out["field"] = self.field
+        return out

@@ -173,17 +173,23 @@ class ConvexHull:
         f = self.features[self.index_at(psi)]
         return float(f.support_point(psi) @ unit(psi))
 
-    def support_many(self, psi: FloatArray) -> FloatArray:
-        """h(ψ) for an array of normals, vectorised per feature; O(m log n)."""
+    def support_points(self, psi: FloatArray) -> FloatArray:
+        """Support points for an array of normals ψ (shape (m,) → (m, 2)), vectorised
+        per feature; O(m log n)."""
         psi = np.asarray(psi, dtype=float)
         base = self.features[0].psi0
         x = base + (psi - base) % TWO_PI
         idx = np.clip(np.searchsorted(self.breakpoints, x, side="right") - 1, 0, len(self.features) - 1)
-        out = np.empty(psi.shape)
+        out = np.empty(psi.shape + (2,))
         for i in np.unique(idx):
             sel = idx == i
-            out[sel] = np.sum(self.features[i].support_point(x[sel]) * unit(x[sel]), axis=-1)
+            out[sel] = self.features[i].support_point(x[sel])
         return out
+
+    def support_many(self, psi: FloatArray) -> FloatArray:
+        """h(ψ) for an array of normals, vectorised per feature; O(m log n)."""
+        psi = np.asarray(psi, dtype=float)
+        return np.sum(self.support_points(psi) * unit(psi), axis=-1)
 
     def inside_margin(self, p: FloatArray) -> float:
         """min over ψ of h(ψ) − ⟨p, u(ψ)⟩ at every feature end and 2,048 normals.

@@ -81,6 +81,31 @@ class Phase:
                 self.higher[0] + s * (self.higher[1] - self.higher[0]))
 
 
+@dataclass(frozen=True)
+class SimSchedule:
+    """Everything the simulation needs from a plan's execution: target phases, the open
+    half-width of the jaws (m) and the times (s) at which each push ends."""
+
+    phases: tuple[Phase, ...]
+    half_open_m: float
+    push_ends_s: tuple[float, ...] = ()
+
+
+def sampled_schedule(steps: list[tuple[list[float], list[float], list[float], list[float], float | None]],
+                     half_open_m: float, push_ends_s: tuple[float, ...]) -> SimSchedule:
+    """Phases that interpolate sampled trajectories linearly. ``steps`` holds per action
+    (t_s, gripper angle rad, lower m, higher m, centring time or None), times from the
+    action's start; actions follow each other."""
+    phases: list[Phase] = []
+    t0 = 0.0
+    for k, (t, g, lo, hi, centre) in enumerate(steps):
+        for i in range(len(t) - 1):
+            phases.append(Phase(t0 + t[i], t0 + t[i + 1], (g[i], g[i + 1]), (lo[i], lo[i + 1]), (hi[i], hi[i + 1]), k,
+                                centre=centre is not None and abs(t[i] - centre) < 1e-12))
+        t0 += t[-1]
+    return SimSchedule(tuple(phases), half_open_m, push_ends_s)
+
+
 def schedule(angles: list[float], action: str, half_open_m: float, push_m: float, cfg: SimConfig,
              start_angle: float | None = None, reach_m: float = 0.0, min_half_width_m: float = 0.0) -> list[Phase]:
     """Phases for a plan: per action rotate (jaws open), then squeeze (fast approach to

@@ -42,7 +42,7 @@ def part_geometry(part: Part, cfg: SimConfig) -> Geometry:
     theta = np.linspace(0.0, np.pi, 721)
     psi = np.pi / 2 - theta
     widths = part.hull.support_many(psi) + part.hull.support_many(psi + np.pi)
-    return Geometry(rel, reach, _mean_radius(part) * s, chord_error * s, part.polar_moment / part.area * s * s,
+    return Geometry(rel, reach, mean_radius(part) * s, chord_error * s, part.polar_moment / part.area * s * s,
                     0.5 * float(np.min(widths)) * s)
 
 
@@ -99,7 +99,7 @@ def _space(pts: FloatArray, corner: np.ndarray, gap: float) -> FloatArray:
     return pts[kept]
 
 
-def _mean_radius(part: Part) -> float:
+def mean_radius(part: Part) -> float:
     """Mean distance of the region's points from the centre of mass (uniform grid)."""
     from matplotlib.path import Path
 

@@ -161,16 +161,38 @@ class PlanarGripperSim:
             act = plant.AddJointActuator(f"act_{name}", self.joints[name], cap)
             act.set_controller_gains(PdControllerGains(p=kp, d=kd))
 
-    def run(self, phases: list[Phase], phi0: float, offset_m: float, alpha0: float,
-            half_open_m: float, record: bool = False, centring: bool = True) -> tuple[float, list[tuple[float, ...]]]:
+    def run(self, phases: list[Phase], phi0: float, offset_m: float, alpha0: float, half_open_m: float,
+            record: bool = False, centring: bool = True,
+            checkpoints: tuple[float, ...] = ()) -> tuple[float, list[float], list[tuple[float, ...]]]:
         """Simulate from part orientation φ0 (rad), centred between the jaws of the first
         action up to ``offset_m`` along its closing axis. Returns the final φ (rad,
-        unwrapped) and, if asked, samples (t, x, y, φ, α, q_lower, q_higher)."""
+        unwrapped), φ at each checkpoint time, and, if asked, samples
+        (t, x, y, φ, α, q_lower, q_higher)."""
         self.controller.set_phases(phases)
         self.controller.centring = centring
         ctx = self.simulator.get_mutable_context()
         ctx.SetTime(0.0)
         pc = self.plant.GetMyMutableContextFromRoot(ctx)
+        self._place(pc, phi0, offset_m, alpha0, half_open_m)
+        # The gripper starts where the schedule starts (an optimised cycle first turns
+        # from the previous cycle's last angle); the part is placed for the first action.
+        self.joints["gripper"].set_angle(pc, phases[0].gripper[0])
+        self.simulator.Initialize()
+        t_end = phases[-1].t1
+        times = np.arange(1.0, math.floor(t_end * self.cfg.record_hz) + 1) / self.cfg.record_hz if record else np.zeros(0)
+        stops = sorted(set(times.tolist()) | {min(c, t_end) for c in checkpoints} | {t_end})
+        samples: list[tuple[float, ...]] = []
+        at: dict[float, float] = {}
+        iphi = self.joints["part"].position_start() + 2
+        for t in stops:
+            self.simulator.AdvanceTo(t)
+            q = self.plant.GetPositions(pc)
+            at[t] = float(q[iphi])
+            if record:
+                samples.append(self._sample(t, q))
+        return at[t_end], [at[min(c, t_end)] for c in checkpoints], samples
+
+    def _place(self, pc: Any, phi0: float, offset_m: float, alpha0: float, half_open_m: float) -> None:
         self.plant.SetDefaultState(pc, pc.get_mutable_state())
         n = np.array([-math.sin(alpha0), math.cos(alpha0)])
         centre = -extent_midpoint(self.geom.outline_m, 0.0, 0.0, phi0, n) + offset_m
@@ -179,19 +201,6 @@ class PlanarGripperSim:
         self.joints["gripper"].set_angle(pc, alpha0)
         self.joints["lower"].set_translation(pc, -half_open_m)
         self.joints["higher"].set_translation(pc, half_open_m)
-        self.simulator.Initialize()
-        samples: list[tuple[float, ...]] = []
-        t_end = phases[-1].t1
-        dt = 1.0 / self.cfg.record_hz if record else t_end
-        t = 0.0
-        while t < t_end - 1e-12:
-            t = min(t + dt, t_end)
-            self.simulator.AdvanceTo(t)
-            if record:
-                q = self.plant.GetPositions(pc)
-                samples.append(self._sample(t, q))
-        q = self.plant.GetPositions(pc)
-        return float(q[self.joints["part"].position_start() + 2]), samples
 
     def _sample(self, t: float, q: FloatArray) -> tuple[float, ...]:
         i = self.joints["part"].position_start()

@@ -14,15 +14,15 @@ import math
 import multiprocessing
 import time
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from typing import Any, Literal
 
 import numpy as np
 
 from algrasp.analysis import Analysis
 from algrasp.plan import Plan
-from algrasp.sim.config import DEFAULT_SIM, SimConfig, schedule
-from algrasp.sim.geometry import part_geometry
+from algrasp.sim.config import DEFAULT_SIM, SimConfig, SimSchedule, schedule
+from algrasp.sim.geometry import Geometry, part_geometry
 
 Placement = Literal["centred", "random"]
 NEAR_UNSTABLE_DEG = 2.0
@@ -38,6 +38,9 @@ class Sample:
     agrees: bool
     near_unstable: bool
     offset_mm: float
+    pushed_deg: float | None = None  # simulated φ after the first push (push-grasp)
+    push_predicted_deg: float | None = None  # p(φ0 − α1) + α1
+    push_agrees: bool | None = None
 
 
 @dataclass(frozen=True)
@@ -50,15 +53,29 @@ class Validation:
     sim_seconds: float
     wall_seconds: float
     model: dict[str, float]
+    push_agreement: float | None = None  # first push within tolerance, clear samples only
+    optimised: bool = False
 
     def to_dict(self, plan_doc: dict[str, Any]) -> dict[str, Any]:
-        return {"plan": plan_doc,
-                "samples": [{"initial_deg": s.initial_deg, "predicted_deg": s.predicted_deg,
-                             "simulated_deg": s.simulated_deg, "agrees": s.agrees,
-                             "near_unstable": s.near_unstable, "offset_mm": s.offset_mm} for s in self.samples],
+        return {"plan": plan_doc, "samples": [asdict(s) for s in self.samples],
                 "agreement": self.agreement, "agreement_clear": self.agreement_clear,
+                "push_agreement": self.push_agreement, "optimised": self.optimised,
                 "tolerance_deg": self.tolerance_deg, "placement": self.placement,
                 "sim_seconds": self.sim_seconds, "wall_seconds": self.wall_seconds, "model": self.model}
+
+
+@dataclass(frozen=True)
+class SimTask:
+    """One simulation run; picklable for the worker processes."""
+
+    doc: dict[str, Any]
+    cfg: SimConfig
+    schedule: SimSchedule
+    alpha0: float
+    phi0: float
+    offset_m: float
+    centring: bool
+    record: bool = False
 
 
 # ----------------------------------------------------------------- worker side
@@ -74,26 +91,34 @@ def _key(doc: dict[str, Any], cfg: SimConfig) -> str:
     return hashlib.sha256(json.dumps([doc, asdict(cfg)], sort_keys=True).encode()).hexdigest()
 
 
-def simulate_one(doc: dict[str, Any], cfg: SimConfig, angles: list[float], action: str, phi0: float,
-                 offset_m: float, centring: bool, record: bool = False) -> tuple[float, float, list[tuple[float, ...]]]:
-    """Run one sample (in a worker or in-process): final φ (rad), sim seconds, samples."""
+def simulate_one(task: SimTask) -> tuple[float, list[float], float, list[tuple[float, ...]]]:
+    """Run one sample (in a worker or in-process): final φ (rad), φ at each push end,
+    simulated seconds and (if recorded) trajectory samples."""
     from algrasp.part import load_part
     from algrasp.sim.model import PlanarGripperSim
 
-    key = _key(doc, cfg)
+    key = _key(task.doc, task.cfg)
     if key not in _SIMS:
-        _SIMS[key] = PlanarGripperSim(load_part(doc), cfg)
-    sim = _SIMS[key]
-    W = cfg.open_margin_factor * sim.geom.reach_m + 1e-3
-    phases = schedule(angles, action, W, cfg.push_distance_factor * sim.geom.reach_m, cfg, reach_m=sim.geom.reach_m,
-                      min_half_width_m=sim.geom.min_half_width_m)
-    phi, traj = sim.run(phases, phi0, offset_m, angles[0], W, record=record, centring=centring)
-    return phi, phases[-1].t1, traj
+        _SIMS[key] = PlanarGripperSim(load_part(task.doc), task.cfg)
+    sch = task.schedule
+    phi, pushed, traj = _SIMS[key].run(list(sch.phases), task.phi0, task.offset_m, task.alpha0, sch.half_open_m,
+                                       record=task.record, centring=task.centring, checkpoints=sch.push_ends_s)
+    return phi, pushed, sch.phases[-1].t1, traj
 
 
-def _task(args: tuple[Any, ...]) -> tuple[float, float]:
-    phi, sim_s, _ = simulate_one(*args)
-    return phi, sim_s
+def _task(task: SimTask) -> tuple[float, list[float], float]:
+    phi, pushed, sim_s, _ = simulate_one(task)
+    return phi, pushed, sim_s
+
+
+def default_schedule(plan: Plan, geom: Geometry, cfg: SimConfig) -> SimSchedule:
+    """The constant-speed profile used when no optimised execution is given: jaws open
+    to ``open_margin_factor``·reach, push ``push_distance_factor``·reach past the centre."""
+    W = cfg.open_margin_factor * geom.reach_m + 1e-3
+    angles = [s.gripper_angle for s in plan.steps]
+    phases = schedule(angles, plan.action, W, cfg.push_distance_factor * geom.reach_m, cfg, reach_m=geom.reach_m,
+                      min_half_width_m=geom.min_half_width_m)
+    return SimSchedule(tuple(phases), W)
 
 
 class ValidationPool:
@@ -112,7 +137,7 @@ class ValidationPool:
             cls._shared = cls(workers)
         return cls._shared
 
-    def map(self, tasks: list[tuple[Any, ...]]) -> list[tuple[float, float]]:
+    def map(self, tasks: list[SimTask]) -> list[tuple[float, list[float], float]]:
         return list(self._pool.map(_task, tasks))
 
 
@@ -138,28 +163,44 @@ def _near_unstable(plan: Plan, phi0: float) -> bool:
 
 def validate_plan(analysis: Analysis, plan: Plan, samples: int = 36, seed: int = 0,
                   placement: Placement = "centred", tolerance_deg: float = 1.0,
-                  cfg: SimConfig = DEFAULT_SIM, workers: int = 2) -> Validation:
-    """Simulate the plan from ``samples`` seeded uniform initial orientations."""
-    doc = dict(analysis.part.source_document)
+                  cfg: SimConfig = DEFAULT_SIM, workers: int = 2, sim_schedule: SimSchedule | None = None) -> Validation:
+    """Simulate the plan from ``samples`` seeded uniform initial orientations, with the
+    given (optimised) schedule or the default constant-speed one."""
     rng = np.random.default_rng(seed)
     phi0 = rng.uniform(0.0, 2 * math.pi, samples)
     geom = part_geometry(analysis.part, cfg)
-    W = cfg.open_margin_factor * geom.reach_m + 1e-3
-    offsets = rng.uniform(-0.5, 0.5, samples) * (W - geom.reach_m) if placement == "random" else np.zeros(samples)
-    angles = [s.gripper_angle for s in plan.steps]
-    tasks = [(doc, cfg, angles, plan.action, float(p), float(o), placement == "centred") for p, o in zip(phi0, offsets)]
+    sch = sim_schedule or default_schedule(plan, geom, cfg)
+    offsets = rng.uniform(-0.5, 0.5, samples) * (sch.half_open_m - geom.reach_m) if placement == "random" \
+        else np.zeros(samples)
+    tasks = [SimTask(dict(analysis.part.source_document), cfg, sch, plan.steps[0].gripper_angle, float(p), float(o),
+                     placement == "centred") for p, o in zip(phi0, offsets)]
     t0 = time.perf_counter()
     results = ValidationPool.shared(workers).map(tasks) if workers > 1 else [_task(t) for t in tasks]
     wall = time.perf_counter() - t0
-    predicted = plan.run(phi0)
-    out = []
-    for p, o, pred, (sim_phi, _) in zip(phi0, offsets, predicted, results):
-        err = (math.degrees(sim_phi - pred) + 180.0) % 360.0 - 180.0
-        out.append(Sample(_wrap_deg(p), _wrap_deg(pred), _wrap_deg(sim_phi), abs(err) <= tolerance_deg,
-                          _near_unstable(plan, float(p)), float(o * 1e3)))
+    out = [_sample(analysis, plan, float(p), float(o), pred, r, tolerance_deg)
+           for p, o, pred, r in zip(phi0, offsets, plan.run(phi0), results)]
     clear = [s for s in out if not s.near_unstable]
+    pushes = [s.push_agrees for s in clear if s.push_agrees is not None]
     model = {"chord_error_m": geom.chord_error_m, "reach_m": geom.reach_m, "mean_radius_m": geom.mean_radius_m,
              **{k: float(v) for k, v in asdict(cfg).items()}}
     return Validation(tuple(out), sum(s.agrees for s in out) / len(out),
                       sum(s.agrees for s in clear) / len(clear) if clear else float("nan"),
-                      tolerance_deg, placement, float(sum(r[1] for r in results)), wall, model)
+                      tolerance_deg, placement, float(sum(r[2] for r in results)), wall, model,
+                      sum(pushes) / len(pushes) if pushes else None, sim_schedule is not None)
+
+
+def _sample(analysis: Analysis, plan: Plan, phi0: float, offset_m: float, predicted: float,
+            result: tuple[float, list[float], float], tolerance_deg: float) -> Sample:
+    sim_phi, pushed, _ = result
+    sample = Sample(_wrap_deg(phi0), _wrap_deg(predicted), _wrap_deg(sim_phi),
+                    _angle_err_deg(sim_phi, predicted) <= tolerance_deg, _near_unstable(plan, phi0), offset_m * 1e3)
+    if not pushed:
+        return sample
+    a1 = plan.steps[0].gripper_angle
+    want = analysis.push(phi0 - a1) + a1
+    return replace(sample, pushed_deg=_wrap_deg(pushed[0]), push_predicted_deg=_wrap_deg(want),
+                   push_agrees=_angle_err_deg(pushed[0], want) <= tolerance_deg)
+
+
+def _angle_err_deg(a: float, b: float) -> float:
+    return abs((math.degrees(a - b) + 180.0) % 360.0 - 180.0)

@@ -1,0 +1,200 @@
+"""Push distances: how far the lower jaw must push so that the part reaches its
+push-function fixed point, from every orientation of a plan step's input interval.
+
+Mechanics (the model of the Drake validation, ``algrasp.sim.config``): a frictionless
+straight pusher moving along the closing axis n touches the part at its lowest hull
+point q (relative to the centre of mass, gripper frame). Support friction follows the
+ellipsoidal limit surface with m_max / f_max = c (``c`` = the mean distance r̄ of the
+region's points from the centre of mass). The contact force λn has moment λ q_x; the
+quasi-static twist is normal to the ellipsoid, (v, ω) ∝ (λn / f², λ q_x / (f c)²), and
+the contact point must move with the pusher, so per unit of push distance s
+
+    dθ/ds = q_x(θ) / (c² + q_x(θ)²),            q_x(θ) = −r′(θ),
+
+which drives θ monotonically to the local minimum of r that the push function p
+predicts. Peshkin's bound [paper, ref. 29] takes the slowest rotation any pressure
+distribution inside the disk of radius a (the smallest disk centred on the centre of
+mass that covers the part) allows: the same law with c = a. Since the rate falls with
+c and r̄ ≤ a, the optimised distance never exceeds the bound.
+
+The dynamics are integrated in θ rather than in s: integrating dθ/ds in s is stiff at an
+edge-aligned fixed point (q_x jumps sign; fixed-step RK4 chatters across it by more than
+the tolerance), while its inverse ds/dθ is smooth up to the tolerance band where the
+push is complete. The worst case over the initial orientation is exact (see
+``_worst_case``): the far end of each monotone basin.
+
+Starting exactly at an unstable equilibrium (a local maximum of r, a step boundary of
+p), the part never turns; the needed distance grows without bound near it. As in the
+validation, orientations within ``band_rad`` of an unstable equilibrium are excluded
+from the worst case (stated in every result).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+
+from algrasp.analysis import Analysis
+from algrasp.curves import FloatArray
+from algrasp.errors import AlgraspError
+from algrasp.hull import TWO_PI, unit
+
+TABLE_POINTS = 7200
+"""Samples of q_x(θ) per turn (0.05°): exact support points, linearly interpolated."""
+PATH_STEPS = 400
+"""Simpson steps along the orientation path in the CasADi model."""
+MIN_LEVER_REL = 1e-9
+"""|q_x| floor (relative to the covering radius) where the push law is inverted."""
+
+
+@dataclass(frozen=True)
+class PushResult:
+    """Push distance of one push-grasp step (part units) with its evidence.
+
+    ``distance`` optimum of the CasADi model; ``bound`` Peshkin's covering-disk bound;
+    ``worst_start_deg`` the relative orientation that needs it, turning to
+    ``fixed_point_deg``; ``candidates`` number of basins (monotone start ranges) considered."""
+
+    distance: float
+    bound: float
+    worst_start_deg: float
+    fixed_point_deg: float
+    candidates: int
+    tolerance_deg: float
+    band_deg: float
+
+
+@dataclass(frozen=True, eq=False)
+class PushModel:
+    """q_x(θ) of a part (exact support points on a grid) and its friction radii."""
+
+    theta: FloatArray  # (TABLE_POINTS + 1,) radians over [0, 2π]
+    lever: FloatArray  # q_x at theta, part units
+    mean_radius: float  # c = r̄
+    cover_radius: float  # a: largest distance from the centre of mass to the hull
+
+    @cached_property
+    def path_distance(self) -> Any:
+        """CasADi function (θ₀, θ₁, c) → push distance to turn from θ₀ to θ₁: the push
+        law inverted along the path, s = ∫ (c² + q_x²)/|q_x| dθ, integrated with
+        PATH_STEPS RK4 (Simpson) steps through a linear interpolant of q_x."""
+        import casadi as ca
+
+        k = np.arange(-1, 3)  # four periods: no orientation a plan reaches needs wrapping
+        grid = np.concatenate([self.theta[:-1] + i * TWO_PI for i in k] + [self.theta[-1:] + 2 * TWO_PI])
+        vals = np.concatenate([self.lever[:-1]] * len(k) + [self.lever[-1:]])
+        lever = ca.interpolant("lever", "linear", [grid], vals)
+        th, h, c, acc = ca.MX.sym("theta"), ca.MX.sym("h"), ca.MX.sym("c"), ca.MX.sym("s")
+        floor = MIN_LEVER_REL * self.cover_radius
+
+        def g(x: Any) -> Any:
+            q = lever(x)
+            return (c * c + q * q) / ca.fmax(ca.fabs(q), floor)
+
+        mid, end = th + h / 2, th + h
+        step = ca.Function("simpson", [ca.vertcat(th, acc), ca.vertcat(h, c)],
+                           [ca.vertcat(end, acc + h / 6 * (g(th) + 4 * g(mid) + g(end)))])
+        t0, t1 = ca.MX.sym("t0"), ca.MX.sym("t1")
+        many = step.mapaccum("path", PATH_STEPS)
+        out = many(ca.vertcat(t0, 0), ca.repmat(ca.vertcat((t1 - t0) / PATH_STEPS, c), 1, PATH_STEPS))
+        return ca.Function("path_distance", [t0, t1, c], [ca.fabs(out[1, -1])])
+
+    def rate(self, theta: FloatArray, c: float) -> FloatArray:
+        qx = np.interp(np.mod(theta, TWO_PI), self.theta, self.lever)
+        return qx / (c * c + qx * qx)
+
+
+def push_model(analysis: Analysis, mean_radius: float) -> PushModel:
+    """Tabulate q_x(θ) from the exact hull: the lowest point in the gripper frame of the
+    part at relative orientation θ is its support point in direction R(−θ)(0, −1)."""
+    part = analysis.part
+    theta = np.linspace(0.0, TWO_PI, TABLE_POINTS + 1)
+    pts = part.hull.support_points(-np.pi / 2 - theta) - np.asarray(part.center_of_mass)
+    lever = np.sum(pts * unit(-theta), axis=-1)
+    psi = np.linspace(0.0, TWO_PI, 4096, endpoint=False)
+    cover = float(np.max(np.hypot(*(part.hull.support_points(psi) - np.asarray(part.center_of_mass)).T)))
+    return PushModel(theta, lever, mean_radius, cover)
+
+
+@dataclass(frozen=True)
+class Basin:
+    """Starts [lo, hi] (radians, lifted) that all flow to ``target`` = f ∓ tol; ``far``
+    is the end of [lo, hi] farther from the target."""
+
+    lo: float
+    hi: float
+    target: float
+    fixed_point: float
+
+    @property
+    def far(self) -> float:
+        return self.lo if self.target >= self.hi else self.hi
+
+
+def basins(analysis: Analysis, interval: tuple[float, float], band_rad: float, tol_rad: float) -> list[Basin]:
+    """The parts of ``interval`` in each step of p, minus ``band_rad`` around its ends
+    (unstable equilibria), split at the fixed point, minus starts already within tol."""
+    p = analysis.push
+    a, b = interval
+    k0 = int(np.floor((a - p.pieces[0].start) / p.period)) - 1
+    out = []
+    for k in range(k0, k0 + 4):
+        for piece in p.steps:
+            s = piece.shifted(k * p.period)
+            assert s.value is not None
+            lo, hi = max(a, s.start + band_rad), min(b, s.end - band_rad)
+            f = s.value
+            for x, y, t in ((lo, min(hi, f - tol_rad), f - tol_rad), (max(lo, f + tol_rad), hi, f + tol_rad)):
+                if x < y:
+                    out.append(Basin(x, y, t, f))
+    return out
+
+
+def _worst_case(model: PushModel, groups: list[list[Basin]]) -> list[tuple[float, float, float]]:
+    """Worst-case push distance per step, for c = r̄ and (Peshkin's bound) c = a.
+
+    The flow is one-dimensional and monotone: a start farther from the fixed point passes
+    through every nearer start on its way, so over a basin the needed distance is
+    maximised at its far end — the maximiser is known exactly and only the path
+    integrals are computed (one vectorised CasADi call over all basins and both c).
+    Returns (distance, bound, worst start) per step."""
+    flat = [b for g in groups for b in g]
+    K = len(flat)
+    far = np.array([b.far for b in flat] * 2)
+    target = np.array([b.target for b in flat] * 2)
+    cs = np.array([model.mean_radius] * K + [model.cover_radius] * K)
+    ss = np.asarray(model.path_distance.map(2 * K)(far[None, :], target[None, :], cs[None, :])).ravel()
+    if not np.all(np.isfinite(ss)):
+        raise AlgraspError("push distance: the push law could not be integrated (degenerate part?)")
+    out, i = [], 0
+    for g in groups:
+        own, cover = ss[i:i + len(g)], ss[K + i:K + i + len(g)]
+        w = int(np.argmax(own))
+        out.append((float(own[w]), float(np.max(cover)), float(far[i + w])))
+        i += len(g)
+    return out
+
+
+def push_distances(model: PushModel, analysis: Analysis, intervals: list[tuple[float, float]],
+                   tol_rad: float, band_rad: float) -> list[PushResult]:
+    """Optimised push distances of push-grasp steps whose relative orientations lie in
+    ``intervals`` (radians, lifted). Cost: 2·PATH_STEPS·3 table lookups per basin (tens
+    of milliseconds for the paper's parts)."""
+    groups = [basins(analysis, interval, band_rad, tol_rad) for interval in intervals]
+    live = [g for g in groups if g]
+    solved = iter(_worst_case(model, live) if live else [])
+    tol_deg, band_deg = float(np.degrees(tol_rad)), float(np.degrees(band_rad))
+    out = []
+    for interval, g in zip(intervals, groups):
+        if not g:
+            start = float(np.degrees(interval[0]) % 360.0)
+            out.append(PushResult(0.0, 0.0, start, start, 0, tol_deg, band_deg))
+            continue
+        d, bound, worst = next(solved)
+        f = min(g, key=lambda b: abs(b.far - worst)).fixed_point
+        out.append(PushResult(d, bound, float(np.degrees(worst) % 360.0), float(np.degrees(f) % 360.0), len(g),
+                              tol_deg, band_deg))
+    return out
