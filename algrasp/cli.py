@@ -87,13 +87,45 @@ def print_analysis(a: Analysis) -> None:
         _print_transfer(title, F)
 
 
+def _options(args: argparse.Namespace) -> dict[str, Any]:
+    """The request options a run record keeps (what replay needs to recompute)."""
+    keys = ("action", "min_margin_deg", "optimise", "samples", "seed", "placement", "tolerance_deg", "push_scale")
+    out = {k: getattr(args, k) for k in keys if hasattr(args, k)}
+    if "action" in out:
+        out["action"] = out["action"].replace("-", "_")
+    if getattr(args, "gripper", None):
+        from optimisation.profile import load_profile
+
+        out["gripper_profile"] = load_profile(args.gripper).to_dict()
+    return out
+
+
+def _recording(args: argparse.Namespace, command: str, doc: dict[str, Any]) -> Any:
+    from algrasp.record.session import recording
+
+    return recording(not args.no_record, Path(args.record_dir) if args.record_dir else None, command, doc, _options(args))
+
+
+def _with_run(doc: dict[str, Any], rec: Any) -> dict[str, Any]:
+    return {**doc, **rec.fields()}
+
+
 def cmd_analyze(args: argparse.Namespace) -> int:
-    analysis = analyse_part(load_part(read_document(args.part)))
+    doc = read_document(args.part)
+    with _recording(args, "analyze", doc) as rec:
+        analysis = analyse_part(load_part(doc))
+        rec.analysis(analysis.to_dict())
     if args.json:
-        print(json.dumps(analysis.to_dict(), indent=2))
+        print(json.dumps(_with_run(analysis.to_dict(), rec), indent=2))
     else:
         print_analysis(analysis)
+        _print_record(rec)
     return 0
+
+
+def _print_record(rec: Any) -> None:
+    if rec.record_path:
+        print(f"run {rec.run_id} recorded to {rec.record_path}")
 
 
 def print_plan(plan: Plan) -> None:
@@ -116,10 +148,11 @@ def print_plan(plan: Plan) -> None:
     print(f"verified: {d['verified']}; {times}")
 
 
-def _analysed_plan(args: argparse.Namespace) -> tuple[Analysis, Plan]:
-    """Load, analyse and plan the part named in ``args``; timings go into the plan."""
+def _analysed_plan(args: argparse.Namespace, doc: dict[str, Any], rec: Any) -> tuple[Analysis, Plan]:
+    """Analyse and plan the part document; timings go into the plan."""
     t0 = time.perf_counter()
-    analysis = analyse_part(load_part(read_document(args.part)))
+    analysis = analyse_part(load_part(doc))
+    rec.analysis(analysis.to_dict())
     t1 = time.perf_counter()
     plan = make_plan(analysis, args.action.replace("-", "_"), args.min_margin_deg)
     plan.timings_s["analysis"] = t1 - t0
@@ -162,15 +195,19 @@ def print_execution(execution: Any) -> None:
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
-    analysis, plan = _analysed_plan(args)
-    execution = _execution(args, analysis, plan)
+    doc = read_document(args.part)
+    with _recording(args, "plan", doc) as rec:
+        analysis, plan = _analysed_plan(args, doc, rec)
+        execution = _execution(args, analysis, plan)
+        rec.plan(_plan_document(plan, execution))
     if args.figure:
         from algrasp.plots import plan_figure
 
         plan_figure(analysis, plan, args.figure)
     if args.json:
-        print(json.dumps(_plan_document(plan, execution), indent=2))
+        print(json.dumps(_with_run(_plan_document(plan, execution), rec), indent=2))
     else:
+        _print_record(rec)
         print_plan(plan)
         if execution is not None:
             print_execution(execution)
@@ -188,13 +225,18 @@ def cmd_validate(args: argparse.Namespace) -> int:
         raise AlgraspError(f"--samples must be in [1, 10000], got {args.samples}")
     if not (0.0 < args.push_scale <= 10.0):
         raise AlgraspError(f"--push-scale must be in (0, 10], got {args.push_scale}")
-    analysis, plan = _analysed_plan(args)
-    execution = _execution(args, analysis, plan, args.push_scale)
-    v = validate_plan(analysis, plan, args.samples, args.seed, args.placement, args.tolerance_deg, workers=args.workers,
-                      sim_schedule=None if execution is None else execution.sim_schedule())
+    doc = read_document(args.part)
+    with _recording(args, "validate", doc) as rec:
+        analysis, plan = _analysed_plan(args, doc, rec)
+        execution = _execution(args, analysis, plan, args.push_scale)
+        rec.plan(_plan_document(plan, execution))
+        v = validate_plan(analysis, plan, args.samples, args.seed, args.placement, args.tolerance_deg, workers=args.workers,
+                          sim_schedule=None if execution is None else execution.sim_schedule(), record=not args.no_record)
+        _record_validation(rec, v, analysis, _plan_document(plan, execution))
     if args.json:
-        print(json.dumps(v.to_dict(_plan_document(plan, execution)), indent=2))
+        print(json.dumps(_with_run(v.to_dict(_plan_document(plan, execution)), rec), indent=2))
         return 0
+    _print_record(rec)
     print_plan(plan)
     if execution is not None:
         print_execution(execution)
@@ -218,12 +260,27 @@ def cmd_validate(args: argparse.Namespace) -> int:
     return 0
 
 
+def _record_validation(rec: Any, v: Any, analysis: Analysis, plan_doc: dict[str, Any]) -> None:
+    from algrasp.sim.config import DEFAULT_SIM
+    from algrasp.sim.geometry import part_geometry
+
+    geom = part_geometry(analysis.part, DEFAULT_SIM)
+    jaw = (5.0 * geom.reach_m, max(0.3 * geom.reach_m, 1e-3))  # as modelled in sim/model.py
+    rec.validation(v.to_dict(plan_doc), v.trajectories, geom.outline_m, jaw)
+
+
+def _record_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--no-record", action="store_true", help="do not write an MCAP run record for this call")
+    p.add_argument("--record-dir", metavar="DIR", help="where run records go (default $ALGRASP_LOG_DIR or logs/)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="algrasp", description="Sensorless orienting of planar parts.")
     sub = parser.add_subparsers(dest="command", required=True)
     p = sub.add_parser("analyze", help="diameter/radius functions and transfer functions of a part")
     p.add_argument("part", metavar="PART.json")
     p.add_argument("--json", action="store_true", help="print the analysis object as JSON")
+    _record_options(p)
     p.set_defaults(func=cmd_analyze)
     p = sub.add_parser("plan", help="shortest sensorless plan (Algorithm A′) for a part")
     p.add_argument("part", metavar="PART.json")
@@ -233,6 +290,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print the plan document as JSON")
     p.add_argument("--figure", metavar="OUT.svg|png", help="draw functions, intervals and plan traces")
     _optimise_options(p)
+    _record_options(p)
     p.set_defaults(func=cmd_plan)
     p = sub.add_parser("validate", help="simulate the plan in Drake from many initial orientations")
     p.add_argument("part", metavar="PART.json")
@@ -247,8 +305,12 @@ def build_parser() -> argparse.ArgumentParser:
     _optimise_options(p)
     p.add_argument("--push-scale", type=float, default=1.0,
                    help="multiply the optimised push distances (experiments: 0.5 shows the optimum is tight)")
+    _record_options(p)
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_validate)
+    from algrasp.record.commands import add_commands
+
+    add_commands(sub)
     return parser
 
 

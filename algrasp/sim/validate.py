@@ -55,6 +55,7 @@ class Validation:
     model: dict[str, float]
     push_agreement: float | None = None  # first push within tolerance, clear samples only
     optimised: bool = False
+    trajectories: tuple[list[tuple[float, ...]], ...] = ()  # per sample (t, x, y, φ, α, q_L, q_H), SI; if recorded
 
     def to_dict(self, plan_doc: dict[str, Any]) -> dict[str, Any]:
         return {"plan": plan_doc, "samples": [asdict(s) for s in self.samples],
@@ -106,9 +107,8 @@ def simulate_one(task: SimTask) -> tuple[float, list[float], float, list[tuple[f
     return phi, pushed, sch.phases[-1].t1, traj
 
 
-def _task(task: SimTask) -> tuple[float, list[float], float]:
-    phi, pushed, sim_s, _ = simulate_one(task)
-    return phi, pushed, sim_s
+def _task(task: SimTask) -> tuple[float, list[float], float, list[tuple[float, ...]]]:
+    return simulate_one(task)
 
 
 def default_schedule(plan: Plan, geom: Geometry, cfg: SimConfig) -> SimSchedule:
@@ -137,7 +137,7 @@ class ValidationPool:
             cls._shared = cls(workers)
         return cls._shared
 
-    def map(self, tasks: list[SimTask]) -> list[tuple[float, list[float], float]]:
+    def map(self, tasks: list[SimTask]) -> list[tuple[float, list[float], float, list[tuple[float, ...]]]]:
         return list(self._pool.map(_task, tasks))
 
 
@@ -163,9 +163,11 @@ def _near_unstable(plan: Plan, phi0: float) -> bool:
 
 def validate_plan(analysis: Analysis, plan: Plan, samples: int = 36, seed: int = 0,
                   placement: Placement = "centred", tolerance_deg: float = 1.0,
-                  cfg: SimConfig = DEFAULT_SIM, workers: int = 2, sim_schedule: SimSchedule | None = None) -> Validation:
+                  cfg: SimConfig = DEFAULT_SIM, workers: int = 2, sim_schedule: SimSchedule | None = None,
+                  record: bool = False) -> Validation:
     """Simulate the plan from ``samples`` seeded uniform initial orientations, with the
-    given (optimised) schedule or the default constant-speed one."""
+    given (optimised) schedule or the default constant-speed one; ``record`` keeps every
+    simulated trajectory (at ``cfg.record_hz``)."""
     rng = np.random.default_rng(seed)
     phi0 = rng.uniform(0.0, 2 * math.pi, samples)
     geom = part_geometry(analysis.part, cfg)
@@ -173,7 +175,7 @@ def validate_plan(analysis: Analysis, plan: Plan, samples: int = 36, seed: int =
     offsets = rng.uniform(-0.5, 0.5, samples) * (sch.half_open_m - geom.reach_m) if placement == "random" \
         else np.zeros(samples)
     tasks = [SimTask(dict(analysis.part.source_document), cfg, sch, plan.steps[0].gripper_angle, float(p), float(o),
-                     placement == "centred") for p, o in zip(phi0, offsets)]
+                     placement == "centred", record) for p, o in zip(phi0, offsets)]
     t0 = time.perf_counter()
     results = ValidationPool.shared(workers).map(tasks) if workers > 1 else [_task(t) for t in tasks]
     wall = time.perf_counter() - t0
@@ -186,12 +188,13 @@ def validate_plan(analysis: Analysis, plan: Plan, samples: int = 36, seed: int =
     return Validation(tuple(out), sum(s.agrees for s in out) / len(out),
                       sum(s.agrees for s in clear) / len(clear) if clear else float("nan"),
                       tolerance_deg, placement, float(sum(r[2] for r in results)), wall, model,
-                      sum(pushes) / len(pushes) if pushes else None, sim_schedule is not None)
+                      sum(pushes) / len(pushes) if pushes else None, sim_schedule is not None,
+                      tuple(r[3] for r in results))
 
 
 def _sample(analysis: Analysis, plan: Plan, phi0: float, offset_m: float, predicted: float,
-            result: tuple[float, list[float], float], tolerance_deg: float) -> Sample:
-    sim_phi, pushed, _ = result
+            result: tuple[float, list[float], float, Any], tolerance_deg: float) -> Sample:
+    sim_phi, pushed, _, _ = result
     sample = Sample(_wrap_deg(phi0), _wrap_deg(predicted), _wrap_deg(sim_phi),
                     _angle_err_deg(sim_phi, predicted) <= tolerance_deg, _near_unstable(plan, phi0), offset_m * 1e3)
     if not pushed:

@@ -1,0 +1,1 @@
+"""Run records (MCAP): an adapter kept apart from the pure core."""
