@@ -262,11 +262,10 @@ def cmd_validate(args: argparse.Namespace) -> int:
 
 def _record_validation(rec: Any, v: Any, analysis: Analysis, plan_doc: dict[str, Any]) -> None:
     from algrasp.sim.config import DEFAULT_SIM
-    from algrasp.sim.geometry import part_geometry
+    from algrasp.sim.geometry import jaw_size_m, part_geometry
 
     geom = part_geometry(analysis.part, DEFAULT_SIM)
-    jaw = (5.0 * geom.reach_m, max(0.3 * geom.reach_m, 1e-3))  # as modelled in sim/model.py
-    rec.validation(v.to_dict(plan_doc), v.trajectories, geom.outline_m, jaw)
+    rec.validation(v.to_dict(plan_doc), v.trajectories, geom.outline_m, jaw_size_m(geom))
 
 
 def _record_options(p: argparse.ArgumentParser) -> None:

@@ -23,6 +23,12 @@ class Geometry:
     min_half_width_m: float  # half the smallest diameter d_min / 2
 
 
+def jaw_size_m(geom: Geometry) -> tuple[float, float]:
+    """Length and thickness (m) of the jaw boxes: long enough to cover the part at any
+    offset, thick enough for a stable hydroelastic contact."""
+    return 5.0 * geom.reach_m, max(0.3 * geom.reach_m, 1e-3)
+
+
 def extent_midpoint(outline_m: FloatArray, x: float, y: float, theta: float, n: FloatArray) -> float:
     """Midpoint of the part's extent along direction n when its centre of mass is at
     (x, y) and its orientation is θ (outline relative to the centre of mass, metres)."""

@@ -36,7 +36,7 @@ from pydrake.systems.framework import BasicVector, DiagramBuilder, LeafSystem
 from algrasp.curves import FloatArray
 from algrasp.part import Part
 from algrasp.sim.config import DEFAULT_SIM, Phase, SimConfig
-from algrasp.sim.geometry import extent_midpoint, part_geometry
+from algrasp.sim.geometry import extent_midpoint, jaw_size_m, part_geometry
 
 FRICTIONLESS = CoulombFriction(0.0, 0.0)
 
@@ -135,7 +135,7 @@ class PlanarGripperSim:
         AddContactMaterial(cfg.hunt_crossley_s_m, None, FRICTIONLESS, props)
         plant.RegisterCollisionGeometry(part, RigidTransform(), Convex(pts.T, "part_hull"), "part", props)
         gripper = plant.AddRigidBody("gripper", SpatialInertia(0.1, np.zeros(3), UnitInertia(1e-3, 1e-3, 1e-3)))
-        jaw_len, jaw_t = 5.0 * g.reach_m, max(0.3 * g.reach_m, 1e-3)
+        jaw_len, jaw_t = jaw_size_m(g)
         jaws = {}
         for name, side in (("lower", -1.0), ("higher", 1.0)):
             body = plant.AddRigidBody(f"jaw_{name}", SpatialInertia(0.05, np.zeros(3), UnitInertia(1e-3, 1e-3, 1e-3)))
