@@ -7,6 +7,7 @@ Errors the user can cause end as one line on stderr and a non-zero exit; with
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import sys
 import time
@@ -94,9 +95,7 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
     if "action" in out:
         out["action"] = out["action"].replace("-", "_")
     if getattr(args, "gripper", None):
-        from optimisation.profile import load_profile
-
-        out["gripper_profile"] = load_profile(args.gripper).to_dict()
+        out["gripper_profile"] = _gripper_profile(args.gripper).to_dict()
     return out
 
 
@@ -166,12 +165,20 @@ def _execution(args: argparse.Namespace, analysis: Analysis, plan: Plan, push_sc
             raise AlgraspError("--gripper needs --optimise")
         return None
     from optimisation.execution import optimise_execution
-    from optimisation.profile import DEFAULT_PROFILE, load_profile
+    from optimisation.profile import DEFAULT_PROFILE
 
-    profile = load_profile(args.gripper) if args.gripper else DEFAULT_PROFILE
+    profile = _gripper_profile(args.gripper) if args.gripper else DEFAULT_PROFILE
     execution = optimise_execution(analysis, plan, profile, push_scale)
     plan.timings_s.update({f"optimisation_{k}": v for k, v in execution.timings_s.items()})
     return execution
+
+
+@functools.lru_cache(maxsize=4)
+def _gripper_profile(path: str) -> Any:
+    """The ``--gripper`` profile, read once per call (the record and the optimiser share it)."""
+    from optimisation.profile import load_profile
+
+    return load_profile(path)
 
 
 def _plan_document(plan: Plan, execution: Any) -> dict[str, Any]:
@@ -218,6 +225,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
 
 def cmd_validate(args: argparse.Namespace) -> int:
     try:
+        from algrasp.sim.config import DEFAULT_SIM
         from algrasp.sim.validate import validate_plan
     except ImportError:  # pragma: no cover - drake is an optional extra
         raise AlgraspError("validate needs Drake: pip install 'algrasp[sim]'") from None
@@ -230,8 +238,9 @@ def cmd_validate(args: argparse.Namespace) -> int:
         analysis, plan = _analysed_plan(args, doc, rec)
         execution = _execution(args, analysis, plan, args.push_scale)
         rec.plan(_plan_document(plan, execution))
+        sim = {} if execution is None else {"sim_schedule": execution.sim_schedule(), "cfg": execution.sim_config(DEFAULT_SIM)}
         v = validate_plan(analysis, plan, args.samples, args.seed, args.placement, args.tolerance_deg, workers=args.workers,
-                          sim_schedule=None if execution is None else execution.sim_schedule(), record=not args.no_record)
+                          record=not args.no_record, **sim)
         _record_validation(rec, v, analysis, _plan_document(plan, execution))
     if args.json:
         print(json.dumps(_with_run(v.to_dict(_plan_document(plan, execution)), rec), indent=2))

@@ -124,9 +124,9 @@ def solve_chains(chains: list[Chain]) -> list[Profile1D]:
     first = dict(zip(unique, _solve_together(unique))) if unique else {}
     solved: dict[Chain, Profile1D] = {}
     for c, p in first.items():
-        if p is None or p.duration_s > _feasible_duration(c) * FEASIBLE_SLACK:
+        if p is None or p.duration_s > trapezoid_duration(c) * FEASIBLE_SLACK:
             p = _solve_together([c])[0]
-        if p is None or p.duration_s > _feasible_duration(c) * FEASIBLE_SLACK:
+        if p is None or p.duration_s > trapezoid_duration(c) * FEASIBLE_SLACK:
             raise AlgraspError(f"jaw timing: the time-optimal solver did not converge for the move through "
                                f"{', '.join(f'{q:.6g}' for q in c.waypoints)}")
         solved[c] = p
@@ -138,15 +138,10 @@ def _at_rest(c: Chain) -> Profile1D:
     return Profile1D(np.zeros(1), np.array([c.waypoints[0]]), np.zeros(1), np.zeros(0), tuple(0 for _ in c.speed_limits))
 
 
-def naive_duration(c: Chain) -> float:
-    """Rest-to-rest trapezoid (or triangle) on every segment at its own limit: the
-    constant-speed reference profile, in closed form."""
-    return _feasible_duration(c)
-
-
-def _feasible_duration(c: Chain) -> float:
-    """Duration of a simple feasible profile (rest to rest on every segment at its own
-    limit): the optimum can only be shorter, so a longer solution did not converge."""
+def trapezoid_duration(c: Chain) -> float:
+    """Duration of rest-to-rest trapezoids (or triangles) on every segment at its own
+    limit, in closed form: the constant-speed reference profile, and a feasible profile
+    the optimum can only beat (a much longer solution did not converge)."""
     total = 0.0
     for d, v in zip(np.abs(np.diff(c.waypoints)), c.speed_limits):
         a = c.accel_limit

@@ -25,16 +25,16 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from algrasp.analysis import Analysis
 from algrasp.curves import FloatArray
 from algrasp.plan import Plan
-from algrasp.sim.config import SimSchedule, meters_per_unit, sampled_schedule
+from algrasp.sim.config import SimConfig, SimSchedule, meters_per_unit, sampled_schedule
 from algrasp.sim.geometry import mean_radius
-from optimisation.chains import Chain, Profile1D, naive_duration, solve_chains
+from optimisation.chains import Chain, Profile1D, solve_chains, trapezoid_duration
 from optimisation.profile import DEFAULT_PROFILE, GripperProfile
 from optimisation.push import PushResult, push_distances, push_model
 
@@ -100,6 +100,11 @@ class Execution:
                 ends.append(t0 + st.push_end_s)
             t0 += st.duration_s
         return sampled_schedule(steps, self.open_half_width * s, tuple(ends))
+
+    def sim_config(self, cfg: SimConfig) -> SimConfig:
+        """``cfg`` with the jaw servo of this execution's gripper profile: the force cap
+        and stiffness the squeeze targets were computed for."""
+        return replace(cfg, jaw_force_n=self.profile.grip_force_n, jaw_stiffness_n_m=self.profile.jaw_stiffness_n_m)
 
     def apply_to(self, plan_doc: dict[str, object]) -> dict[str, object]:
         """The plan document with the execution merged in (a new dict)."""
@@ -177,7 +182,7 @@ def optimise_execution(analysis: Analysis, plan: Plan, profile: GripperProfile =
     push_m = [0.0 if p is None else p.distance * scale * push_scale for p in pushes]
     fast, slow = profile.jaw_max_speed_m_s, profile.contact_speed_m_s
     best = _solve(profile, g, plan.action, turns, push_m, slow, fast)
-    naive_cycle = sum(c if isinstance(c, float) else naive_duration(c)
+    naive_cycle = sum(c if isinstance(c, float) else trapezoid_duration(c)
                       for k in range(len(turns)) for _, c in _action_chains(profile, g, k, plan.action, turns[k], push_m[k],
                                                                              slow, slow))
     t2 = time.perf_counter()
@@ -211,12 +216,15 @@ def _solve(pf: GripperProfile, g: _Geometry, action: str, turns: list[float], pu
     solved = iter(solve_chains(chains))
     out = []
     for moves in plans:
-        out.append([Move(axis, None, c) if isinstance(c, float) else _move(axis, next(solved)) for axis, c in moves])
+        row = []
+        for axis, c in moves:
+            if isinstance(c, float):
+                row.append(Move(axis, None, c))  # a dwell
+            else:
+                p = next(solved)
+                row.append(Move(axis, p, p.duration_s))
+        out.append(row)
     return out
-
-
-def _move(axis: str, p: Profile1D) -> Move:
-    return Move(axis, p, p.duration_s)
 
 
 def _sample(pf: GripperProfile, moves: list[Move], alpha0: float, push: PushResult | None, scale: float,

@@ -102,10 +102,6 @@ class PushModel:
         out = many(ca.vertcat(t0, 0), ca.repmat(ca.vertcat((t1 - t0) / PATH_STEPS, c), 1, PATH_STEPS))
         return ca.Function("path_distance", [t0, t1, c], [ca.fabs(out[1, -1])])
 
-    def rate(self, theta: FloatArray, c: float) -> FloatArray:
-        qx = np.interp(np.mod(theta, TWO_PI), self.theta, self.lever)
-        return qx / (c * c + qx * qx)
-
 
 def push_model(analysis: Analysis, mean_radius: float) -> PushModel:
     """Tabulate q_x(θ) from the exact hull: the lowest point in the gripper frame of the

@@ -22,14 +22,14 @@ IGNORED_KEYS = {"timings_s", "optimisation_timings_s"}
 def read_record(path: Path, topics: set[str] | None = None, partial_ok: bool = False) -> dict[str, list[dict[str, Any]]]:
     """JSON messages of a record grouped by topic, in log-time order."""
     from mcap.exceptions import McapError
-    from mcap.reader import make_reader
+    from mcap.reader import NonSeekingReader, make_reader
 
     if not path.is_file():
         raise AlgraspError(f"RUN: no such record: {path}")
     out: dict[str, list[dict[str, Any]]] = {}
     try:
         with open(path, "rb") as f:
-            reader = make_reader(f) if not partial_ok else _stream_reader(f)
+            reader = make_reader(f) if not partial_ok else NonSeekingReader(f)
             # A partial file is read in file order: sorting by log time would read to
             # the end (and fail there) before yielding anything.
             messages = reader.iter_messages(topics=list(topics) if topics else None, log_time_order=not partial_ok)
@@ -40,12 +40,6 @@ def read_record(path: Path, topics: set[str] | None = None, partial_ok: bool = F
         if not partial_ok:
             raise AlgraspError(f"RUN: {path.name} is not a complete MCAP record ({exc})") from None
     return out
-
-
-def _stream_reader(f: Any) -> Any:
-    from mcap.reader import NonSeekingReader
-
-    return NonSeekingReader(f)
 
 
 def summary(path: Path) -> dict[str, Any]:
