@@ -12,10 +12,10 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install --quiet -e '.[dev,sim]'
 	touch $(STAMP)
 
+# The service on embedded defaults (SQLite and records in logs/, a local worker pool):
+# plans the bundled example part once, then serves and prints the docs URL.
 run: $(STAMP)
-	$(BIN)/algrasp analyze algrasp/examples/pie-20.json
-	$(BIN)/algrasp plan algrasp/examples/pie-20.json --action squeeze
-	$(BIN)/algrasp plan algrasp/examples/pie-20.json --action push-grasp --figure logs/pie-20-push-grasp.svg
+	$(BIN)/algrasp serve --host 127.0.0.1 --port $(or $(PORT),8000)
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q -n 2
@@ -30,6 +30,8 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_optimise.py
 	$(BIN)/python benchmarks/bench_validate.py
 	$(BIN)/python benchmarks/bench_record.py
+	$(BIN)/python benchmarks/bench_service.py
+	$(BIN)/python benchmarks/bench_batch.py
 
 clean:
 	rm -rf $(VENV) build *.egg-info

@@ -10,7 +10,6 @@ import argparse
 import functools
 import json
 import sys
-import time
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -19,7 +18,7 @@ from algrasp.analysis import Analysis, analyse_part
 from algrasp.errors import AlgraspError, LimitExceededError, PartDocumentError
 from algrasp.limits import DEFAULT_LIMITS
 from algrasp.part import load_part
-from algrasp.plan import Plan, make_plan
+from algrasp.plan import Plan
 
 EXIT_USER_ERROR = 2
 
@@ -88,15 +87,20 @@ def print_analysis(a: Analysis) -> None:
         _print_transfer(title, F)
 
 
+def _request(args: argparse.Namespace) -> Any:
+    """The plan request the command line describes."""
+    from algrasp.pipeline import PlanRequest
+
+    if getattr(args, "gripper", None) and not args.optimise:
+        raise AlgraspError("--gripper needs --optimise")
+    profile = _gripper_profile(args.gripper).to_dict() if getattr(args, "gripper", None) else None
+    extra = {k: getattr(args, k) for k in ("samples", "seed", "placement", "tolerance_deg", "push_scale") if hasattr(args, k)}
+    return PlanRequest(args.action.replace("-", "_"), args.min_margin_deg, args.optimise, profile, **extra)
+
+
 def _options(args: argparse.Namespace) -> dict[str, Any]:
     """The request options a run record keeps (what replay needs to recompute)."""
-    keys = ("action", "min_margin_deg", "optimise", "samples", "seed", "placement", "tolerance_deg", "push_scale")
-    out = {k: getattr(args, k) for k in keys if hasattr(args, k)}
-    if "action" in out:
-        out["action"] = out["action"].replace("-", "_")
-    if getattr(args, "gripper", None):
-        out["gripper_profile"] = _gripper_profile(args.gripper).to_dict()
-    return out
+    return _request(args).record_options() if hasattr(args, "action") else {}
 
 
 def _recording(args: argparse.Namespace, command: str, doc: dict[str, Any]) -> Any:
@@ -147,42 +151,12 @@ def print_plan(plan: Plan) -> None:
     print(f"verified: {d['verified']}; {times}")
 
 
-def _analysed_plan(args: argparse.Namespace, doc: dict[str, Any], rec: Any) -> tuple[Analysis, Plan]:
-    """Analyse and plan the part document; timings go into the plan."""
-    t0 = time.perf_counter()
-    analysis = analyse_part(load_part(doc))
-    rec.analysis(analysis.to_dict())
-    t1 = time.perf_counter()
-    plan = make_plan(analysis, args.action.replace("-", "_"), args.min_margin_deg)
-    plan.timings_s["analysis"] = t1 - t0
-    return analysis, plan
-
-
-def _execution(args: argparse.Namespace, analysis: Analysis, plan: Plan, push_scale: float = 1.0) -> Any:
-    """The optimised execution when ``--optimise`` was given (else None)."""
-    if not args.optimise:
-        if args.gripper:
-            raise AlgraspError("--gripper needs --optimise")
-        return None
-    from optimisation.execution import optimise_execution
-    from optimisation.profile import DEFAULT_PROFILE
-
-    profile = _gripper_profile(args.gripper) if args.gripper else DEFAULT_PROFILE
-    execution = optimise_execution(analysis, plan, profile, push_scale)
-    plan.timings_s.update({f"optimisation_{k}": v for k, v in execution.timings_s.items()})
-    return execution
-
-
 @functools.lru_cache(maxsize=4)
 def _gripper_profile(path: str) -> Any:
     """The ``--gripper`` profile, read once per call (the record and the optimiser share it)."""
     from optimisation.profile import load_profile
 
     return load_profile(path)
-
-
-def _plan_document(plan: Plan, execution: Any) -> dict[str, Any]:
-    return plan.to_dict() if execution is None else execution.apply_to(plan.to_dict())
 
 
 def print_execution(execution: Any) -> None:
@@ -202,57 +176,53 @@ def print_execution(execution: Any) -> None:
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
+    from algrasp.pipeline import plan_part
+
     doc = read_document(args.part)
     with _recording(args, "plan", doc) as rec:
-        analysis, plan = _analysed_plan(args, doc, rec)
-        execution = _execution(args, analysis, plan)
-        rec.plan(_plan_document(plan, execution))
+        out = plan_part(doc, _request(args), rec)
     if args.figure:
         from algrasp.plots import plan_figure
 
-        plan_figure(analysis, plan, args.figure)
+        plan_figure(out.analysis, out.plan, args.figure)
     if args.json:
-        print(json.dumps(_with_run(_plan_document(plan, execution), rec), indent=2))
+        print(json.dumps(_with_run(out.plan_doc, rec), indent=2))
     else:
         _print_record(rec)
-        print_plan(plan)
-        if execution is not None:
-            print_execution(execution)
+        print_plan(out.plan)
+        if out.execution is not None:
+            print_execution(out.execution)
         if args.figure:
             print(f"figure written to {args.figure}")
     return 0
 
 
 def cmd_validate(args: argparse.Namespace) -> int:
-    try:
-        from algrasp.sim.config import DEFAULT_SIM
-        from algrasp.sim.validate import validate_plan
-    except ImportError:  # pragma: no cover - drake is an optional extra
-        raise AlgraspError("validate needs Drake: pip install 'algrasp[sim]'") from None
+    from algrasp.pipeline import plan_part
+
     if args.samples < 1 or args.samples > 10_000:
         raise AlgraspError(f"--samples must be in [1, 10000], got {args.samples}")
     if not (0.0 < args.push_scale <= 10.0):
         raise AlgraspError(f"--push-scale must be in (0, 10], got {args.push_scale}")
     doc = read_document(args.part)
     with _recording(args, "validate", doc) as rec:
-        analysis, plan = _analysed_plan(args, doc, rec)
-        execution = _execution(args, analysis, plan, args.push_scale)
-        rec.plan(_plan_document(plan, execution))
-        sim = {} if execution is None else {"sim_schedule": execution.sim_schedule(), "cfg": execution.sim_config(DEFAULT_SIM)}
-        v = validate_plan(analysis, plan, args.samples, args.seed, args.placement, args.tolerance_deg, workers=args.workers,
-                          record=not args.no_record, **sim)
-        _record_validation(rec, v, analysis, _plan_document(plan, execution))
+        out = plan_part(doc, _request(args), rec, sim_workers=args.workers, record_sim=not args.no_record)
     if args.json:
-        print(json.dumps(_with_run(v.to_dict(_plan_document(plan, execution)), rec), indent=2))
+        print(json.dumps(_with_run(out.validation_doc() or {}, rec), indent=2))
         return 0
     _print_record(rec)
-    print_plan(plan)
-    if execution is not None:
-        print_execution(execution)
+    print_plan(out.plan)
+    if out.execution is not None:
+        print_execution(out.execution)
+    print_validation(out.validation)
+    return 0
+
+
+def print_validation(v: Any) -> None:
     from rich.console import Console
     from rich.table import Table
 
-    table = Table(title=f"Drake validation: {args.samples} samples, {args.placement} placement")
+    table = Table(title=f"Drake validation: {len(v.samples)} samples, {v.placement} placement")
     for col in ("initial φ", "predicted φ", "simulated φ", "agrees", "near unstable"):
         table.add_column(col, justify="right")
     for s in v.samples:
@@ -266,15 +236,6 @@ def cmd_validate(args: argparse.Namespace) -> int:
     print(f"simulated {v.sim_seconds:.1f} s in {v.wall_seconds:.1f} s wall "
           f"({v.sim_seconds / v.wall_seconds:.2f}× real time); collision chord error "
           f"{1e6 * v.model['chord_error_m']:.2f} µm")
-    return 0
-
-
-def _record_validation(rec: Any, v: Any, analysis: Analysis, plan_doc: dict[str, Any]) -> None:
-    from algrasp.sim.config import DEFAULT_SIM
-    from algrasp.sim.geometry import jaw_size_m, part_geometry
-
-    geom = part_geometry(analysis.part, DEFAULT_SIM)
-    rec.validation(v.to_dict(plan_doc), v.trajectories, geom.outline_m, jaw_size_m(geom))
 
 
 def _record_options(p: argparse.ArgumentParser) -> None:
@@ -317,8 +278,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_validate)
     from algrasp.record.commands import add_commands
+    from service.commands import add_commands as add_service_commands
 
     add_commands(sub)
+    add_service_commands(sub)
     return parser
 
 

@@ -21,6 +21,18 @@ class AlgraspError(Exception):
         """JSON-ready ``{"type": .., "message": ..}`` (plus subclass fields)."""
         return {"type": self.kind, "message": self.message}
 
+    def __reduce__(self) -> tuple[object, ...]:
+        # Subclasses take typed fields, not the message, so the default pickling
+        # (``cls(*args)``) would fail when an error crosses a worker-process boundary.
+        return (_rebuild, (type(self), self.message, dict(self.__dict__)))
+
+
+def _rebuild(cls: type[AlgraspError], message: str, fields: dict[str, object]) -> AlgraspError:
+    err = cls.__new__(cls)
+    Exception.__init__(err, message)
+    err.__dict__.update(fields)
+    return err
+
 
 class PartDocumentError(AlgraspError):
     """The part document is malformed or describes an invalid part.
@@ -85,4 +97,20 @@ class ConfigError(AlgraspError):
     def to_dict(self) -> dict[str, object]:
         out = super().to_dict()
         out["field"] = self.field
+        return out
+
+
+class TimeLimitError(AlgraspError):
+    """A stage of a request ran past its time limit (``stage``, ``limit_s``)."""
+
+    kind = "time_limit_exceeded"
+
+    def __init__(self, stage: str, limit_s: float) -> None:
+        super().__init__(f"{stage} took longer than its {limit_s:g} s time limit")
+        self.stage = stage
+        self.limit_s = limit_s
+
+    def to_dict(self) -> dict[str, object]:
+        out = super().to_dict()
+        out.update({"stage": self.stage, "limit_s": self.limit_s})
         return out

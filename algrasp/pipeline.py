@@ -1,0 +1,114 @@
+"""One plan request end to end — analyse, plan, optimise, validate, record — shared by the
+CLI, the HTTP service and batch jobs so the three compute and record the same thing.
+
+A shell module: it calls the pure core, the CasADi optimiser and (only when a
+validation is asked for) the Drake simulation, each imported lazily.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+from algrasp.analysis import Analysis, analyse_part
+from algrasp.errors import AlgraspError, ConfigError
+from algrasp.part import load_part
+from algrasp.plan import Plan, make_plan
+
+Action = Literal["squeeze", "push_grasp"]
+
+
+@dataclass(frozen=True)
+class PlanRequest:
+    """What to compute for one part. ``samples`` 0: no validation; ``gripper_profile``
+    None: the default profile (only used with ``optimise``)."""
+
+    action: Action = "squeeze"
+    min_margin_deg: float = 0.0
+    optimise: bool = False
+    gripper_profile: dict[str, Any] | None = None
+    push_scale: float = 1.0
+    samples: int = 0
+    seed: int = 0
+    placement: Literal["centred", "random"] = "centred"
+    tolerance_deg: float = 1.0
+
+    def record_options(self) -> dict[str, Any]:
+        """The options a run record keeps (what replay needs to recompute the run)."""
+        out: dict[str, Any] = {"action": self.action, "min_margin_deg": self.min_margin_deg, "optimise": self.optimise}
+        if self.gripper_profile is not None:
+            out["gripper_profile"] = self.gripper_profile
+        if self.samples:
+            out.update(samples=self.samples, seed=self.seed, placement=self.placement, tolerance_deg=self.tolerance_deg,
+                       push_scale=self.push_scale)
+        return out
+
+
+@dataclass
+class PlanOutcome:
+    """Everything one request computed; ``plan_doc`` is the plan document (optimised
+    fields included), ``validation`` the Drake validation or None."""
+
+    analysis: Analysis
+    plan: Plan
+    execution: Any = None
+    validation: Any = None
+    plan_doc: dict[str, Any] = field(default_factory=dict)
+
+    def validation_doc(self) -> dict[str, Any] | None:
+        return None if self.validation is None else self.validation.to_dict(self.plan_doc)
+
+
+def plan_part(doc: dict[str, Any], req: PlanRequest, rec: Any, sim_workers: int = 2, record_sim: bool = True) -> PlanOutcome:
+    """Analyse, plan, optionally optimise and validate one part document; feed ``rec``
+    (a :class:`~algrasp.record.session.Recording`) with every result as it comes."""
+    if req.gripper_profile is not None and not req.optimise:
+        raise ConfigError("gripper", "a gripper profile needs optimise")
+    t0 = time.perf_counter()
+    analysis = analyse_part(load_part(doc))
+    rec.analysis(analysis.to_dict())
+    t1 = time.perf_counter()
+    plan = make_plan(analysis, req.action, req.min_margin_deg)
+    plan.timings_s["analysis"] = t1 - t0
+    out = PlanOutcome(analysis, plan)
+    if req.optimise:
+        out.execution = _optimise(analysis, plan, req)
+    out.plan_doc = plan.to_dict() if out.execution is None else out.execution.apply_to(plan.to_dict())
+    rec.plan(out.plan_doc)
+    if req.samples:
+        out.validation = _validate(out, req, sim_workers, record_sim)
+        _record_validation(rec, out)
+    return out
+
+
+def _optimise(analysis: Analysis, plan: Plan, req: PlanRequest) -> Any:
+    from optimisation.execution import optimise_execution
+    from optimisation.profile import DEFAULT_PROFILE, profile_from_dict
+
+    profile = DEFAULT_PROFILE if req.gripper_profile is None else profile_from_dict(req.gripper_profile)
+    execution = optimise_execution(analysis, plan, profile, req.push_scale)
+    plan.timings_s.update({f"optimisation_{k}": v for k, v in execution.timings_s.items()})
+    return execution
+
+
+def _validate(out: PlanOutcome, req: PlanRequest, sim_workers: int, record_sim: bool) -> Any:
+    try:
+        from algrasp.sim.config import DEFAULT_SIM
+        from algrasp.sim.validate import validate_plan
+    except ImportError:  # pragma: no cover - drake is an optional extra
+        raise AlgraspError("validation needs Drake: pip install 'algrasp[sim]'") from None
+    ex = out.execution
+    sim = {} if ex is None else {"sim_schedule": ex.sim_schedule(), "cfg": ex.sim_config(DEFAULT_SIM)}
+    return validate_plan(out.analysis, out.plan, req.samples, req.seed, req.placement, req.tolerance_deg,
+                         workers=sim_workers, record=record_sim, **sim)
+
+
+def _record_validation(rec: Any, out: PlanOutcome) -> None:
+    from algrasp.sim.config import DEFAULT_SIM
+    from algrasp.sim.geometry import jaw_size_m, part_geometry
+
+    geom = part_geometry(out.analysis.part, DEFAULT_SIM)
+    doc = out.validation_doc()
+    assert doc is not None
+    rec.validation(doc, out.validation.trajectories, geom.outline_m, jaw_size_m(geom))

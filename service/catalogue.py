@@ -1,0 +1,104 @@
+"""Part catalogues: a directory or an archive (zip, tar, tar.gz) of part files, read in
+memory — an archive is never extracted, so no member name can reach the disk.
+
+A file that cannot be read becomes a part with an error (the rest of the batch goes
+on); too many files or too many bytes refuse the whole catalogue.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import tarfile
+import zipfile
+from collections.abc import Iterator
+from pathlib import Path, PurePosixPath
+from typing import Any
+
+from algrasp.errors import AlgraspError, LimitExceededError, PartDocumentError
+
+Entry = tuple[str, dict[str, Any], dict[str, Any] | None]  # (name, document, error or None)
+PART_SUFFIXES = (".json",)
+"""Part files a catalogue may hold (CAD formats join when ``algrasp import`` exists)."""
+
+
+def part_from_bytes(filename: str, data: bytes) -> dict[str, Any]:
+    """A part document from one file's bytes (JSON part document)."""
+    try:
+        doc = json.loads(data.decode("utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise PartDocumentError(filename, f"not valid JSON: {exc}") from None
+    if not isinstance(doc, dict):
+        raise PartDocumentError(filename, "a part document must be a JSON object")
+    return doc
+
+
+def _entry(filename: str, data: bytes) -> Entry:
+    stem = PurePosixPath(filename).stem
+    try:
+        doc = part_from_bytes(filename, data)
+    except AlgraspError as exc:
+        return stem, {}, exc.to_dict()
+    if not isinstance(doc.get("name"), str):
+        doc = {**doc, "name": stem}
+    return str(doc["name"]), doc, None
+
+
+def _members(data: bytes) -> Iterator[tuple[str, int, Any]]:
+    """(name, size, reader) of each regular file of a zip or tar archive."""
+    if zipfile.is_zipfile(io.BytesIO(data)):
+        zf = zipfile.ZipFile(io.BytesIO(data))
+        for info in zf.infolist():
+            if not info.is_dir():
+                yield info.filename, info.file_size, lambda i=info: zf.read(i)
+        return
+    try:
+        tf = tarfile.open(fileobj=io.BytesIO(data), mode="r:*")  # noqa: SIM115 - read lazily by the caller
+    except tarfile.TarError:
+        raise PartDocumentError("archive", "not a zip or tar archive") from None
+    for m in tf.getmembers():
+        if m.isfile():
+            yield m.name, m.size, lambda m=m: tf.extractfile(m).read()  # type: ignore[union-attr]
+
+
+def read_archive(data: bytes, max_parts: int, max_bytes: int) -> list[Entry]:
+    """The part files of an archive, sorted by name; other files are skipped."""
+    out: list[Entry] = []
+    total = 0
+    for name, size, read in sorted(_members(data), key=lambda m: m[0]):
+        if not name.lower().endswith(PART_SUFFIXES) or PurePosixPath(name).name.startswith("."):
+            continue
+        total += size
+        if total > max_bytes:  # checked on the declared sizes, before decompressing (zip bombs)
+            raise LimitExceededError("archive", f"more than {max_bytes} bytes of part files")
+        if len(out) >= max_parts:
+            raise LimitExceededError("archive", f"more than {max_parts} part files")
+        out.append(_entry(PurePosixPath(name).name, read()[: max_bytes + 1]))
+    if not out:
+        raise PartDocumentError("archive", f"no part files ({', '.join(PART_SUFFIXES)}) in the archive")
+    return out
+
+
+def read_catalogue(path: Path, max_parts: int, max_bytes: int) -> list[Entry]:
+    """A catalogue directory (its part files, recursively) or archive file."""
+    if path.is_file():
+        return read_archive(path.read_bytes(), max_parts, max_bytes)
+    if not path.is_dir():
+        raise PartDocumentError("CATALOGUE", f"no such directory or archive: {path}")
+    files = sorted(p for p in path.rglob("*") if p.is_file() and p.suffix.lower() in PART_SUFFIXES)
+    if not files:
+        raise PartDocumentError("CATALOGUE", f"no part files ({', '.join(PART_SUFFIXES)}) in {path}")
+    if len(files) > max_parts:
+        raise LimitExceededError("CATALOGUE", f"more than {max_parts} part files")
+    return [_entry(p.name, p.read_bytes()) for p in files]
+
+
+def catalogue_hash(entries: list[Entry], options: dict[str, Any]) -> str:
+    """Canonical hash of a catalogue and its options (the batch CLI resumes a job by it)."""
+    return canonical_hash({"parts": [[n, d, e] for n, d, e in entries], "options": options})
+
+
+def canonical_hash(value: Any) -> str:
+    """SHA-256 of the canonical JSON of ``value`` (sorted keys, no spaces)."""
+    return hashlib.sha256(json.dumps(value, sort_keys=True, separators=(",", ":")).encode()).hexdigest()

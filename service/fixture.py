@@ -1,0 +1,137 @@
+"""Fixture design for one part and for a catalogue (pure: no I/O but the run record the
+caller's Recording writes).
+
+For a part: plan with both actions, choose the best (unique final orientation first,
+then fewest steps, then the largest worst-case margin), optimise it, optionally validate
+it in Drake, and state what the gripper must provide. For a catalogue: one gripper
+specification that covers every orientable part, in millimetres.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import numpy as np
+
+from algrasp.analysis import Analysis
+from algrasp.errors import NotOrientableError
+from algrasp.pipeline import PlanRequest, plan_part
+from algrasp.plan import Plan, make_plan
+from algrasp.sim.config import meters_per_unit
+
+ACTIONS = ("squeeze", "push_grasp")
+
+
+@dataclass(frozen=True)
+class DesignOptions:
+    """Batch options (the same for every part of a job). ``samples`` 0: no validation."""
+
+    min_margin_deg: float = 0.0
+    samples: int = 0
+    seed: int = 0
+    placement: Literal["centred", "random"] = "centred"
+    gripper_profile: dict[str, Any] | None = None
+
+
+def _score(plan: Plan) -> tuple[bool, int, float]:
+    margins = [s.margin for s in plan.steps if s.margin is not None]
+    return (len(plan.final_orientations) != 1, len(plan.steps), -min(margins, default=math.inf))
+
+
+def choose_plan(analysis: Analysis, min_margin_deg: float) -> tuple[Plan | None, dict[str, Any]]:
+    """The best plan over both actions (None if neither orients the part) and, per
+    action, its step count or why it failed."""
+    plans: dict[str, Plan] = {}
+    compared: dict[str, Any] = {}
+    for action in ACTIONS:
+        try:
+            plans[action] = make_plan(analysis, action, min_margin_deg)  # type: ignore[arg-type]
+            p = plans[action]
+            compared[action] = {"steps": len(p.steps), "final_orientations": len(p.final_orientations),
+                                "min_margin_deg": _margin_deg(p)}
+        except NotOrientableError as exc:
+            compared[action] = {"error": exc.to_dict()}
+    best = min(plans.values(), key=_score) if plans else None
+    return best, compared
+
+
+def _margin_deg(plan: Plan) -> float | None:
+    margins = [s.margin for s in plan.steps if s.margin is not None]
+    return math.degrees(min(margins)) if margins else None
+
+
+def max_diameter(analysis: Analysis) -> float:
+    """d_max in part units: the largest diameter-function maximum (constant width: d)."""
+    values = [e.value for e in analysis.diameter.extrema]
+    if values:
+        return float(max(values))
+    psi = np.array([0.0])
+    return float(analysis.part.hull.support_many(psi)[0] + analysis.part.hull.support_many(psi + np.pi)[0])
+
+
+def design_part(doc: dict[str, Any], opts: DesignOptions, rec: Any, analysis: Analysis, sim_workers: int = 1) -> dict[str, Any]:
+    """The fixture design of one analysed part (see module docs); ``rec`` records the
+    chosen plan's run. Lengths in the part's unit and in mm."""
+    best, compared = choose_plan(analysis, opts.min_margin_deg)
+    units = analysis.part.units
+    out: dict[str, Any] = {"name": analysis.part.name, "units": units, "compared": compared, "orientable": best is not None}
+    if best is None:
+        out["reasons"] = {a: c["error"]["message"] for a, c in compared.items()}
+        return out
+    req = PlanRequest(best.action, opts.min_margin_deg, True, opts.gripper_profile, samples=opts.samples, seed=opts.seed,
+                      placement=opts.placement)
+    res = plan_part(doc, req, rec, sim_workers=sim_workers)
+    out["action"] = best.action
+    out["plan"] = res.plan_doc
+    v = res.validation
+    out["validation"] = None if v is None else {"samples": len(v.samples), "agreement": v.agreement,
+                                                "agreement_clear": v.agreement_clear, "push_agreement": v.push_agreement}
+    out["gripper"] = _requirements(analysis, res.plan_doc)
+    return out
+
+
+def _requirements(analysis: Analysis, plan_doc: dict[str, Any]) -> dict[str, Any]:
+    """Jaw opening 2W (largest diameter + clearance + placement tolerance, from the
+    optimiser), jaw length = extent along the jaws at the worst orientation (d_max) plus
+    the placement tolerance on each side, longest push, cycle time."""
+    mm = 1000.0 * meters_per_unit(analysis.part.units)
+    profile = plan_doc["gripper_profile"]
+    d_max = max_diameter(analysis)
+    opening = 2.0 * plan_doc["open_half_width"]
+    length = d_max + 2.0 * profile["placement_tolerance_m"] * 1000.0 / mm
+    pushes = [s["push_distance"] for s in plan_doc["steps"] if s.get("push_distance") is not None]
+    push = max(pushes, default=None)
+    return {"max_diameter": d_max, "jaw_opening": opening, "jaw_length": length, "push_distance": push,
+            "jaw_opening_mm": opening * mm, "jaw_length_mm": length * mm,
+            "push_distance_mm": None if push is None else push * mm, "cycle_time_s": plan_doc["cycle_time_s"]}
+
+
+def catalogue_spec(results: list[dict[str, Any]]) -> dict[str, Any]:
+    """The gripper specification covering every oriented part (mm, s), and the parts
+    that cannot be oriented (or failed) with why. ``results`` are job-part records
+    ``{"index", "name", "status", "result"|"error"}``."""
+    ok = [r for r in results if r["status"] == "done" and r["result"]["orientable"]]
+    grips = [r["result"]["gripper"] for r in ok]
+    pushes = [g["push_distance_mm"] for g in grips if g["push_distance_mm"] is not None]
+    cycles = [g["cycle_time_s"] for g in grips]
+    failed = [{"index": r["index"], "name": r["name"], "why": _why(r)} for r in results if r not in ok]
+    return {
+        "parts": len(results), "oriented": len(ok),
+        "jaw_opening_mm": max((g["jaw_opening_mm"] for g in grips), default=None),
+        "jaw_length_mm": max((g["jaw_length_mm"] for g in grips), default=None),
+        "push_stroke_mm": max(pushes, default=None),
+        "max_cycle_time_s": max(cycles, default=None),
+        "mean_cycle_time_s": sum(cycles) / len(cycles) if cycles else None,
+        "actions": {a: sum(r["result"]["action"] == a for r in ok) for a in ACTIONS},
+        "not_oriented": failed,
+    }
+
+
+def _why(r: dict[str, Any]) -> str:
+    if r["status"] == "done":
+        return "; ".join(f"{a}: {m}" for a, m in r["result"]["reasons"].items())
+    if r.get("error"):
+        return f"{r['error'].get('type')}: {r['error'].get('message')}"
+    return str(r["status"])

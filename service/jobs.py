@@ -1,0 +1,116 @@
+"""Running batch jobs: dispatch a job's pending parts to the executor (local pool or
+Dask — the same code), store each outcome as it arrives, resume unfinished jobs after a
+restart, cancel on request.
+
+Durability: the store is the truth. A part is dispatched only while ``pending`` and
+stored once (``Store.finish_part``), so a restart re-dispatches exactly the parts
+without a stored outcome: nothing is lost, nothing finished is redone.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from algrasp.errors import AlgraspError
+from service.executor import Executor
+from service.store import Store
+from service.work import design_task
+
+Progress = Callable[[str, int, int], None]  # (job_id, finished parts, total)
+
+
+@dataclass(frozen=True)
+class RunnerConfig:
+    record_dir: str
+    sim_workers: int
+    part_time_limit_s: float
+    window: int  # parts in flight at once (bounded, so ``attempts`` counts real dispatches)
+
+
+class JobRunner:
+    """Runs jobs in background threads (service) or in the caller's thread (CLI)."""
+
+    def __init__(self, store: Store, executor: Executor, cfg: RunnerConfig, on_progress: Progress | None = None) -> None:
+        self.store = store
+        self.executor = executor
+        self.cfg = cfg
+        self.on_progress = on_progress
+        self._cancel: dict[str, threading.Event] = {}
+        self._threads: dict[str, threading.Thread] = {}
+
+    def start(self, job_id: str) -> None:
+        """Run the job in a background thread."""
+        self._cancel[job_id] = threading.Event()
+        t = threading.Thread(target=self.run, args=(job_id,), name=f"job-{job_id[:8]}", daemon=True)
+        self._threads[job_id] = t
+        t.start()
+
+    def resume_all(self) -> list[str]:
+        """Start every job a previous process left queued or running."""
+        jobs = self.store.unfinished_jobs()
+        for job_id in jobs:
+            self.start(job_id)
+        return jobs
+
+    def cancel(self, job_id: str) -> bool:
+        """Cancel a queued or running job: pending parts become ``cancelled``."""
+        if not self.store.set_state(job_id, "cancelled"):
+            return False
+        self.store.cancel_pending(job_id)
+        self._cancel.setdefault(job_id, threading.Event()).set()
+        return True
+
+    def wait(self, job_id: str, timeout_s: float | None = None) -> None:
+        t = self._threads.get(job_id)
+        if t is not None:
+            t.join(timeout_s)
+
+    def run(self, job_id: str) -> None:
+        """Dispatch the pending parts, at most ``window`` at a time, and store outcomes."""
+        job = self.store.job(job_id)
+        if job is None or not self.store.set_state(job_id, "running"):
+            return
+        stop = self._cancel.setdefault(job_id, threading.Event())
+        todo = self.store.pending_parts(job_id)
+        todo.reverse()
+        inflight: dict[cf.Future[Any], int] = {}
+        while (todo or inflight) and not stop.is_set():
+            while todo and len(inflight) < self.cfg.window:
+                idx, doc = todo.pop()
+                self.store.start_attempt(job_id, idx)
+                inflight[self.executor.submit(design_task, doc, job.options, self.cfg.record_dir, self.cfg.sim_workers,
+                                              timeout_s=self.cfg.part_time_limit_s, stage="part")] = idx
+            done, _ = cf.wait(inflight, timeout=0.5, return_when=cf.FIRST_COMPLETED)
+            for fut in done:
+                self._store(job_id, inflight.pop(fut), fut)
+            self._report(job_id)
+        for fut in inflight:
+            fut.cancel()
+        self.store.set_state(job_id, "done", only_if=("running",))
+        self._report(job_id)
+
+    def _store(self, job_id: str, idx: int, fut: cf.Future[Any]) -> None:
+        try:
+            response, run, err = fut.result()
+        except AlgraspError as exc:  # the time limit
+            self.store.finish_part(job_id, idx, "failed", error=exc.to_dict())
+            return
+        except Exception as exc:  # noqa: BLE001 - a crashed worker must not stop the job
+            self.store.finish_part(job_id, idx, "failed", error={"type": "internal_error", "message": repr(exc)})
+            return
+        self.store.add_run(run, job_id)
+        if err is not None:
+            self.store.finish_part(job_id, idx, "failed", error=err.to_dict(), run_id=run["run_id"])
+        else:
+            self.store.finish_part(job_id, idx, "done", result=response, run_id=run["run_id"])
+
+    def _report(self, job_id: str) -> None:
+        if self.on_progress is None:
+            return
+        p = self.store.progress(job_id)
+        if p is not None:
+            self.on_progress(job_id, p["total"] - p["pending"], p["total"])

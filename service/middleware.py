@@ -1,0 +1,139 @@
+"""HTTP plumbing: the one error mapping (AlgraspError → status), the body-size limit,
+API-key authentication and Prometheus metrics. Error bodies are always
+``{"error": {"type", "message", "field"?, ..}}``."""
+
+from __future__ import annotations
+
+import hmac
+import json
+import time
+from collections.abc import Awaitable, Callable
+from typing import Any
+
+from fastapi import FastAPI, Request
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import JSONResponse
+from prometheus_client import CollectorRegistry, Counter, Gauge, Histogram
+from starlette.exceptions import HTTPException as StarletteHTTPException
+
+from algrasp.errors import AlgraspError, LimitExceededError
+
+ASGIApp = Callable[[dict[str, Any], Callable[[], Awaitable[dict[str, Any]]], Callable[[dict[str, Any]], Awaitable[None]]],
+                   Awaitable[None]]
+STATUS = {"limit_exceeded": 413}
+"""HTTP status per error kind; every other AlgraspError is the request's fault: 422."""
+
+
+def error_response(status: int, error: dict[str, Any], headers: dict[str, str] | None = None) -> JSONResponse:
+    return JSONResponse({"error": error}, status_code=status, headers=headers)
+
+
+def install_error_handlers(app: FastAPI) -> None:
+    @app.exception_handler(AlgraspError)
+    async def _algrasp(_: Request, exc: AlgraspError) -> JSONResponse:
+        status = STATUS.get(exc.kind, 422)
+        if isinstance(exc, LimitExceededError) and not exc.field.startswith(("body", "archive")):
+            status = 422  # a document beyond a segment/degree limit is a validation failure
+        return error_response(status, exc.to_dict())
+
+    @app.exception_handler(RequestValidationError)
+    async def _invalid(_: Request, exc: RequestValidationError) -> JSONResponse:
+        errors = [{"field": ".".join(str(x) for x in e.get("loc", ())), "problem": str(e.get("msg", ""))} for e in exc.errors()]
+        first = errors[0] if errors else {"field": "body", "problem": "invalid request"}
+        return error_response(422, {"type": "request_validation", "message": f"{first['field']}: {first['problem']}",
+                                    "field": first["field"], "errors": errors[:20]})
+
+    @app.exception_handler(StarletteHTTPException)
+    async def _http(_: Request, exc: StarletteHTTPException) -> JSONResponse:
+        kind = {401: "unauthorized", 404: "not_found", 405: "method_not_allowed", 409: "conflict"}.get(exc.status_code, "http_error")
+        return error_response(exc.status_code, {"type": kind, "message": str(exc.detail)}, dict(exc.headers or {}))
+
+    @app.exception_handler(Exception)
+    async def _internal(_: Request, exc: Exception) -> JSONResponse:  # never expected: the fuzz test looks for these
+        return error_response(500, {"type": "internal_error", "message": f"{type(exc).__name__}"})
+
+
+class BodyLimit:
+    """Refuse request bodies over ``max_bytes`` with 413 (declared or streamed size)."""
+
+    def __init__(self, app: ASGIApp, max_bytes: int) -> None:
+        self.app = app
+        self.max_bytes = max_bytes
+
+    async def __call__(self, scope: dict[str, Any], receive: Any, send: Any) -> None:
+        if scope["type"] != "http":
+            return await self.app(scope, receive, send)
+        declared = dict(scope.get("headers", [])).get(b"content-length")
+        if declared is not None and declared.isdigit() and int(declared) > self.max_bytes:
+            return await self._refuse(send)
+        seen = 0
+
+        async def counted() -> dict[str, Any]:
+            nonlocal seen
+            msg: dict[str, Any] = await receive()
+            seen += len(msg.get("body", b""))
+            if seen > self.max_bytes:
+                raise LimitExceededError("body", f"request body larger than {self.max_bytes} bytes")
+            return msg
+
+        await self.app(scope, counted, send)
+
+    async def _refuse(self, send: Any) -> None:
+        body = json.dumps({"error": {"type": "limit_exceeded", "field": "body",
+                                     "message": f"body: request body larger than {self.max_bytes} bytes"}}).encode()
+        await send({"type": "http.response.start", "status": 413,
+                    "headers": [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode())]})
+        await send({"type": "http.response.body", "body": body})
+
+
+def check_key(authorization: str | None, keys: frozenset[str]) -> bool:
+    """Whether ``Authorization: Bearer KEY`` names a configured key (constant-time)."""
+    if not keys:
+        return True
+    if not authorization or not authorization.startswith("Bearer "):
+        return False
+    given = authorization[len("Bearer "):].strip().encode()
+    return any(hmac.compare_digest(given, k.encode()) for k in keys)
+
+
+class Metrics:
+    """The service's Prometheus metrics, on their own registry (one per app)."""
+
+    def __init__(self) -> None:
+        self.registry = CollectorRegistry()
+        r = self.registry
+        self.requests = Counter("algrasp_http_requests_total", "HTTP requests", ["method", "route", "status"], registry=r)
+        self.latency = Histogram("algrasp_http_request_duration_seconds", "HTTP request latency", ["method", "route"],
+                                 buckets=(0.002, 0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 0.5, 1, 2.5, 5, 10, 30, 120), registry=r)
+        self.plans = Counter("algrasp_plans_total", "Plans answered", ["action", "cached"], registry=r)
+        self.analyses = Counter("algrasp_analyses_total", "Analyses answered", ["cached"], registry=r)
+        self.validations = Counter("algrasp_validations_total", "Drake validations run", registry=r)
+        self.samples = Counter("algrasp_validation_samples_total", "Drake samples simulated", registry=r)
+        self.jobs = Gauge("algrasp_jobs", "Jobs by state", ["state"], registry=r)
+        self.parts = Gauge("algrasp_job_parts", "Job parts by status", ["status"], registry=r)
+
+
+class MetricsMiddleware:
+    """Count and time every HTTP request by route template (not raw path: bounded labels)."""
+
+    def __init__(self, app: ASGIApp, metrics: Metrics) -> None:
+        self.app = app
+        self.metrics = metrics
+
+    async def __call__(self, scope: dict[str, Any], receive: Any, send: Any) -> None:
+        if scope["type"] != "http":
+            return await self.app(scope, receive, send)
+        t0 = time.perf_counter()
+        status = [500]
+
+        async def send_status(msg: dict[str, Any]) -> None:
+            if msg["type"] == "http.response.start":
+                status[0] = msg["status"]
+            await send(msg)
+
+        try:
+            await self.app(scope, receive, send_status)
+        finally:
+            route = getattr(scope.get("route"), "path", "unmatched")
+            self.metrics.requests.labels(scope["method"], route, str(status[0])).inc()
+            self.metrics.latency.labels(scope["method"], route).observe(time.perf_counter() - t0)

@@ -1,0 +1,69 @@
+"""Request bodies of the HTTP API (pydantic): unknown fields are refused, every bound is
+stated, so a malformed request gets a 422 naming the field before any work starts.
+The part document itself is checked by the core parser (``algrasp.document``), whose
+errors name the segment."""
+
+from __future__ import annotations
+
+from typing import Any, Literal
+
+from fastapi import Query
+from pydantic import BaseModel, ConfigDict, Field
+
+LIMIT = Query(50, ge=1, le=1000, description="page size")
+OFFSET = Query(0, ge=0, le=1_000_000_000, description="rows to skip")
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", populate_by_name=True)
+
+
+class ValidateOptions(_Strict):
+    """Drake validation of the plan (``samples`` also bounded by ``ALGRASP_MAX_SAMPLES``)."""
+
+    samples: int = Field(36, ge=1, description="initial orientations simulated")
+    placement: Literal["centred", "random"] = Field("centred", description="centred: both jaws touch together")
+    seed: int = Field(0, ge=0, le=2**32 - 1)
+    tolerance_deg: float = Field(1.0, gt=0.0, le=180.0, description="agreement tolerance on the final orientation")
+
+
+class PlanBody(_Strict):
+    """``POST /v1/plans``."""
+
+    part: dict[str, Any] = Field(description="part document (conventions §5)")
+    action: Literal["squeeze", "push_grasp"] = "squeeze"
+    min_margin_deg: float = Field(0.0, ge=0.0, lt=180.0, description="every transition tolerates this gripper error")
+    optimise: bool = Field(False, description="optimise push distances and jaw timing (adds cycle_time_s)")
+    gripper: dict[str, Any] | None = Field(None, description="gripper profile (SI keys of optimisation/profiles/default.yaml)")
+    validate_: ValidateOptions | None = Field(None, alias="validate", description="simulate the plan in Drake")
+
+    def request(self) -> dict[str, Any]:
+        """Keyword arguments of :class:`algrasp.pipeline.PlanRequest`."""
+        out: dict[str, Any] = {"action": self.action, "min_margin_deg": self.min_margin_deg, "optimise": self.optimise,
+                               "gripper_profile": self.gripper}
+        if self.validate_ is not None:
+            out.update(self.validate_.model_dump())
+        return out
+
+
+class JobOptions(_Strict):
+    """Options applied to every part of a job."""
+
+    min_margin_deg: float = Field(0.0, ge=0.0, lt=180.0)
+    validate_: ValidateOptions | None = Field(None, alias="validate")
+    gripper: dict[str, Any] | None = None
+
+    def design(self) -> dict[str, Any]:
+        """Keyword arguments of :class:`service.fixture.DesignOptions`."""
+        out: dict[str, Any] = {"min_margin_deg": self.min_margin_deg, "gripper_profile": self.gripper}
+        if self.validate_ is not None:
+            v = self.validate_
+            out.update(samples=v.samples, seed=v.seed, placement=v.placement)
+        return out
+
+
+class JobBody(_Strict):
+    """``POST /v1/jobs`` as JSON: the part documents and the options."""
+
+    parts: list[dict[str, Any]] = Field(min_length=1, description="part documents")
+    options: JobOptions = Field(default_factory=JobOptions)  # type: ignore[arg-type]

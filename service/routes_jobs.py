@@ -1,0 +1,143 @@
+"""Batch job endpoints: submit (JSON list of part documents, or a multipart upload of a
+zip/tar archive of part files), progress, results (JSON lines or a zip with the report
+and gripper specification), cancel."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+from typing import Any
+
+from fastapi import APIRouter, HTTPException, Path, Query, Request
+from fastapi.responses import JSONResponse, Response
+from pydantic import ValidationError
+from starlette.datastructures import UploadFile
+
+from algrasp.errors import ConfigError, LimitExceededError, PartDocumentError
+from service.catalogue import Entry, read_archive
+from service.models import LIMIT, OFFSET, JobBody, JobOptions
+from service.reports import report_zip, results_jsonl
+
+router = APIRouter(prefix="/v1/jobs", tags=["jobs"])
+JOB_ID = r"^[0-9a-f]{32}$"
+
+
+def _inline(schema: dict[str, Any]) -> dict[str, Any]:
+    """A pydantic JSON schema with its ``$defs`` inlined (for a hand-written OpenAPI body)."""
+    defs = schema.pop("$defs", {})
+
+    def walk(x: Any) -> Any:
+        if isinstance(x, dict):
+            if "$ref" in x:
+                return walk(defs[x["$ref"].rsplit("/", 1)[-1]])
+            return {k: walk(v) for k, v in x.items()}
+        return [walk(v) for v in x] if isinstance(x, list) else x
+
+    return walk(schema)  # type: ignore[no-any-return]
+
+
+_BODY = {"required": True, "content": {
+    "application/json": {"schema": _inline(JobBody.model_json_schema(by_alias=True))},
+    "multipart/form-data": {"schema": {"type": "object", "required": ["archive"], "properties": {
+        "archive": {"type": "string", "format": "binary", "description": "zip or tar(.gz) of part files"},
+        "options": {"type": "string", "description": "JobOptions as a JSON string"}}}}}}
+
+
+def _svc(request: Request) -> Any:
+    return request.app.state.svc
+
+
+def _validation(exc: ValidationError, prefix: str) -> ConfigError:
+    e = exc.errors()[0]
+    loc = ".".join(str(x) for x in e["loc"])
+    return ConfigError(f"{prefix}.{loc}" if loc else prefix, e["msg"])
+
+
+async def _entries(request: Request, max_parts: int, max_bytes: int) -> tuple[list[Entry], JobOptions]:
+    ctype = request.headers.get("content-type", "")
+    if ctype.startswith("multipart/form-data"):
+        form = await request.form(max_files=1, max_fields=4)
+        upload, raw = form.get("archive"), form.get("options")
+        if not isinstance(upload, UploadFile):
+            raise PartDocumentError("archive", "a multipart job needs a file field 'archive'")
+        try:
+            opts = JobOptions.model_validate(json.loads(raw) if isinstance(raw, str) and raw else {})
+        except json.JSONDecodeError:
+            raise ConfigError("options", "not valid JSON") from None
+        except ValidationError as exc:
+            raise _validation(exc, "options") from None
+        data = await upload.read()
+        return await asyncio.to_thread(read_archive, data, max_parts, max_bytes), opts
+    if not ctype.startswith("application/json"):
+        raise ConfigError("content-type", "send application/json (parts) or multipart/form-data (archive)")
+    try:
+        body = JobBody.model_validate_json(await request.body())
+    except ValidationError as exc:
+        raise _validation(exc, "body") from None
+    if len(body.parts) > max_parts:
+        raise LimitExceededError("body.parts", f"at most {max_parts} parts per job")
+    names = [str(p["name"]) if isinstance(p.get("name"), str) else f"part-{i}" for i, p in enumerate(body.parts)]
+    return [(n, p, None) for n, p in zip(names, body.parts)], body.options
+
+
+@router.post("", status_code=202, openapi_extra={"requestBody": _BODY})
+async def create_job(request: Request) -> JSONResponse:
+    """Queue a batch: fixture design for every part. Returns ``202`` and the job id."""
+    svc = _svc(request)
+    entries, opts = await _entries(request, svc.settings.max_batch_parts, svc.settings.max_body_bytes)
+    if opts.validate_ is not None and opts.validate_.samples > svc.settings.max_samples:
+        raise ConfigError("options.validate.samples", f"at most {svc.settings.max_samples} samples per part")
+    if opts.gripper is not None:
+        from optimisation.profile import profile_from_dict
+
+        profile_from_dict(opts.gripper)
+    job_id = await asyncio.to_thread(svc.store.create_job, opts.design(), entries)
+    svc.runner.start(job_id)
+    return JSONResponse({"id": job_id, "state": "queued", "total": len(entries), "links": _links(job_id)},
+                        status_code=202, headers={"Location": f"/v1/jobs/{job_id}"})
+
+
+def _links(job_id: str) -> dict[str, str]:
+    return {"self": f"/v1/jobs/{job_id}", "results": f"/v1/jobs/{job_id}/results"}
+
+
+@router.get("")
+async def list_jobs(request: Request, limit: int = LIMIT, offset: int = OFFSET) -> dict[str, Any]:
+    return {"jobs": await asyncio.to_thread(_svc(request).store.jobs, limit, offset)}
+
+
+async def _progress(request: Request, job_id: str) -> dict[str, Any]:
+    p = await asyncio.to_thread(_svc(request).store.progress, job_id)
+    if p is None:
+        raise HTTPException(404, f"no job {job_id!r}")
+    return p  # type: ignore[no-any-return]
+
+
+@router.get("/{job_id}")
+async def job(request: Request, job_id: str = Path(pattern=JOB_ID)) -> dict[str, Any]:
+    """State, progress (done/total) and per-part status."""
+    p = await _progress(request, job_id)
+    return {**p, "progress": {"finished": p["total"] - p["pending"], "total": p["total"]}, "links": _links(job_id)}
+
+
+@router.get("/{job_id}/results", response_class=Response)
+async def results(request: Request, job_id: str = Path(pattern=JOB_ID),
+                  format: str = Query("jsonl", pattern="^(jsonl|zip)$")) -> Response:  # noqa: A002
+    """JSON lines (one part per line) or a zip with results, summary, report and gripper
+    specification. Partial while the job runs."""
+    p = await _progress(request, job_id)
+    rows = await asyncio.to_thread(_svc(request).store.results, job_id)
+    if format == "jsonl":
+        return Response(results_jsonl(rows), media_type="application/x-ndjson")
+    data = await asyncio.to_thread(report_zip, rows, p)
+    return Response(data, media_type="application/zip",
+                    headers={"Content-Disposition": f'attachment; filename="job-{job_id}.zip"'})
+
+
+@router.delete("/{job_id}")
+async def cancel(request: Request, job_id: str = Path(pattern=JOB_ID)) -> dict[str, Any]:
+    """Cancel a queued or running job (parts already finished keep their results)."""
+    p = await _progress(request, job_id)
+    if not await asyncio.to_thread(_svc(request).runner.cancel, job_id):
+        raise HTTPException(409, f"job {job_id} is already {p['state']}")
+    return {"id": job_id, "state": "cancelled"}

@@ -1,0 +1,195 @@
+"""Durable store of runs, jobs and job parts (SQLAlchemy; SQLite by default).
+
+Finishing a part is one conditional UPDATE (``… WHERE status = 'pending'``), so a part
+finished twice — a resumed job racing a late result — is stored once; ``attempts``
+counts dispatches, which is how a resume shows it redid nothing.
+"""
+
+from __future__ import annotations
+
+import time
+import uuid
+from typing import Any
+
+from sqlalchemy import JSON, Float, ForeignKey, Integer, String, UniqueConstraint, create_engine, event, func, select, update
+from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column, sessionmaker
+
+UNFINISHED = ("queued", "running")
+
+
+class Base(DeclarativeBase):
+    pass
+
+
+class RunRow(Base):
+    __tablename__ = "runs"
+    run_id: Mapped[str] = mapped_column(String(64), primary_key=True)
+    created_at: Mapped[float] = mapped_column(Float, index=True)
+    command: Mapped[str] = mapped_column(String(32))
+    part_name: Mapped[str | None] = mapped_column(String(256))
+    action: Mapped[str | None] = mapped_column(String(32))
+    steps: Mapped[int | None] = mapped_column(Integer)
+    agreement: Mapped[float | None] = mapped_column(Float)
+    cycle_time_s: Mapped[float | None] = mapped_column(Float)
+    status: Mapped[str] = mapped_column(String(16))
+    error: Mapped[dict[str, Any] | None] = mapped_column(JSON)
+    job_id: Mapped[str | None] = mapped_column(String(32), index=True)
+
+
+class JobRow(Base):
+    __tablename__ = "jobs"
+    id: Mapped[str] = mapped_column(String(32), primary_key=True)
+    created_at: Mapped[float] = mapped_column(Float)
+    updated_at: Mapped[float] = mapped_column(Float)
+    state: Mapped[str] = mapped_column(String(16), index=True)
+    options: Mapped[dict[str, Any]] = mapped_column(JSON)
+    total: Mapped[int] = mapped_column(Integer)
+    catalogue_hash: Mapped[str | None] = mapped_column(String(64), index=True)
+
+
+class PartRow(Base):
+    __tablename__ = "job_parts"
+    __table_args__ = (UniqueConstraint("job_id", "idx"),)
+    id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
+    job_id: Mapped[str] = mapped_column(ForeignKey("jobs.id"), index=True)
+    idx: Mapped[int] = mapped_column(Integer)
+    name: Mapped[str] = mapped_column(String(256))
+    document: Mapped[dict[str, Any]] = mapped_column(JSON)
+    status: Mapped[str] = mapped_column(String(16), default="pending")
+    attempts: Mapped[int] = mapped_column(Integer, default=0)
+    result: Mapped[dict[str, Any] | None] = mapped_column(JSON)
+    error: Mapped[dict[str, Any] | None] = mapped_column(JSON)
+    run_id: Mapped[str | None] = mapped_column(String(64))
+    finished_at: Mapped[float | None] = mapped_column(Float)
+
+
+class Store:
+    """All database access of the service and the batch runner. Thread-safe: one short
+    session per call."""
+
+    def __init__(self, url: str) -> None:
+        sqlite = url.startswith("sqlite")
+        self.engine = create_engine(url, connect_args={"check_same_thread": False, "timeout": 30} if sqlite else {})
+        if sqlite:
+            event.listen(self.engine, "connect", _sqlite_pragmas)
+        Base.metadata.create_all(self.engine)
+        self._session = sessionmaker(self.engine, expire_on_commit=False)
+
+    # ------------------------------------------------------------------ runs
+    def add_run(self, run: dict[str, Any], job_id: str | None = None) -> None:
+        with self._session.begin() as s:
+            s.merge(RunRow(job_id=job_id, created_at=time.time(), **run))
+
+    def runs(self, limit: int, offset: int) -> tuple[int, list[dict[str, Any]]]:
+        with self._session() as s:
+            total = s.scalar(select(func.count()).select_from(RunRow)) or 0
+            rows = s.scalars(select(RunRow).order_by(RunRow.created_at.desc()).limit(limit).offset(offset)).all()
+            return total, [_run_dict(r) for r in rows]
+
+    def run(self, run_id: str) -> dict[str, Any] | None:
+        with self._session() as s:
+            r = s.get(RunRow, run_id)
+            return None if r is None else _run_dict(r)
+
+    # ------------------------------------------------------------------ jobs
+    def create_job(self, options: dict[str, Any], parts: list[tuple[str, dict[str, Any], dict[str, Any] | None]],
+                   catalogue_hash: str | None = None) -> str:
+        """A queued job; a part given with an error (a file that could not be read) is
+        stored as failed at once."""
+        job_id = uuid.uuid4().hex
+        now = time.time()
+        with self._session.begin() as s:
+            s.add(JobRow(id=job_id, created_at=now, updated_at=now, state="queued", options=options, total=len(parts),
+                         catalogue_hash=catalogue_hash))
+            s.add_all(PartRow(job_id=job_id, idx=i, name=n[:256], document=d, status="failed" if e else "pending", attempts=0,
+                              error=e, finished_at=now if e else None) for i, (n, d, e) in enumerate(parts))
+        return job_id
+
+    def find_job(self, catalogue_hash: str) -> str | None:
+        """The newest job made from the same catalogue and options (the batch CLI resumes it)."""
+        with self._session() as s:
+            return s.scalar(select(JobRow.id).where(JobRow.catalogue_hash == catalogue_hash).order_by(JobRow.created_at.desc()))
+
+    def job(self, job_id: str) -> JobRow | None:
+        with self._session() as s:
+            return s.get(JobRow, job_id)
+
+    def set_state(self, job_id: str, state: str, only_if: tuple[str, ...] = UNFINISHED) -> bool:
+        with self._session.begin() as s:
+            res = s.execute(update(JobRow).where(JobRow.id == job_id, JobRow.state.in_(only_if))
+                            .values(state=state, updated_at=time.time()))
+            return bool(res.rowcount)  # type: ignore[attr-defined]
+
+    def unfinished_jobs(self) -> list[str]:
+        with self._session() as s:
+            return list(s.scalars(select(JobRow.id).where(JobRow.state.in_(UNFINISHED)).order_by(JobRow.created_at)))
+
+    def pending_parts(self, job_id: str) -> list[tuple[int, dict[str, Any]]]:
+        with self._session() as s:
+            rows = s.execute(select(PartRow.idx, PartRow.document)
+                             .where(PartRow.job_id == job_id, PartRow.status == "pending").order_by(PartRow.idx))
+            return [(int(i), dict(d)) for i, d in rows]
+
+    def start_attempt(self, job_id: str, idx: int) -> None:
+        with self._session.begin() as s:
+            s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx == idx)
+                      .values(attempts=PartRow.attempts + 1))
+
+    def finish_part(self, job_id: str, idx: int, status: str, result: dict[str, Any] | None = None,
+                    error: dict[str, Any] | None = None, run_id: str | None = None) -> bool:
+        """Store a part's outcome once; False if it was no longer pending."""
+        with self._session.begin() as s:
+            res = s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx == idx, PartRow.status == "pending")
+                            .values(status=status, result=result, error=error, run_id=run_id, finished_at=time.time()))
+            return bool(res.rowcount)  # type: ignore[attr-defined]
+
+    def cancel_pending(self, job_id: str) -> int:
+        with self._session.begin() as s:
+            res = s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.status == "pending")
+                            .values(status="cancelled", finished_at=time.time()))
+            return int(res.rowcount)  # type: ignore[attr-defined]
+
+    def progress(self, job_id: str) -> dict[str, Any] | None:
+        """``{"id", "state", "total", "done", "failed", "cancelled", "pending", "parts": [..]}``."""
+        with self._session() as s:
+            job = s.get(JobRow, job_id)
+            if job is None:
+                return None
+            rows = s.execute(select(PartRow.idx, PartRow.name, PartRow.status, PartRow.attempts, PartRow.error, PartRow.run_id)
+                             .where(PartRow.job_id == job_id).order_by(PartRow.idx)).all()
+        parts = [{"index": i, "name": n, "status": st, "attempts": a, "error": e, "run_id": r} for i, n, st, a, e, r in rows]
+        counts = {k: sum(p["status"] == k for p in parts) for k in ("done", "failed", "cancelled", "pending")}
+        return {"id": job.id, "state": job.state, "total": job.total, **counts, "options": job.options,
+                "created_at": job.created_at, "updated_at": job.updated_at, "parts": parts}
+
+    def counts(self) -> dict[str, dict[str, int]]:
+        """Jobs by state and parts by status (for /metrics)."""
+        with self._session() as s:
+            jobs = dict(s.execute(select(JobRow.state, func.count()).group_by(JobRow.state)).all())
+            parts = dict(s.execute(select(PartRow.status, func.count()).group_by(PartRow.status)).all())
+        return {"jobs": {k: int(v) for k, v in jobs.items()}, "parts": {k: int(v) for k, v in parts.items()}}
+
+    def jobs(self, limit: int, offset: int) -> list[dict[str, Any]]:
+        with self._session() as s:
+            rows = s.scalars(select(JobRow).order_by(JobRow.created_at.desc()).limit(limit).offset(offset)).all()
+            return [{"id": j.id, "state": j.state, "total": j.total, "created_at": j.created_at} for j in rows]
+
+    def results(self, job_id: str) -> list[dict[str, Any]]:
+        with self._session() as s:
+            rows = s.scalars(select(PartRow).where(PartRow.job_id == job_id).order_by(PartRow.idx)).all()
+            return [{"index": r.idx, "name": r.name, "status": r.status, "run_id": r.run_id, "attempts": r.attempts,
+                     "result": r.result, "error": r.error} for r in rows]
+
+
+def _run_dict(r: RunRow) -> dict[str, Any]:
+    return {"run_id": r.run_id, "created_at": r.created_at, "command": r.command, "part_name": r.part_name,
+            "action": r.action, "steps": r.steps, "agreement": r.agreement, "cycle_time_s": r.cycle_time_s,
+            "status": r.status, "error": r.error, "job_id": r.job_id}
+
+
+def _sqlite_pragmas(conn: Any, _record: Any) -> None:
+    # WAL: readers (GET /v1/jobs) do not block the job runner's writes.
+    cur = conn.cursor()
+    cur.execute("PRAGMA journal_mode=WAL")
+    cur.execute("PRAGMA synchronous=NORMAL")
+    cur.close()

@@ -1,0 +1,96 @@
+"""The tasks worker processes run (local pool or Dask): plain functions of picklable
+arguments. Each records its run (MCAP) and returns ``(response, run, error)``: the
+response (None on error), the run row the server stores, and the user error (an
+:class:`AlgraspError`, which pickles across processes) or None.
+"""
+
+from __future__ import annotations
+
+import tempfile
+from pathlib import Path
+from typing import Any
+
+from algrasp.errors import AlgraspError
+from algrasp.record.session import Recording, recording
+
+TaskResult = tuple[dict[str, Any] | None, dict[str, Any], AlgraspError | None]
+
+
+def _run_row(rec: Recording, command: str, doc: dict[str, Any], action: str | None, error: AlgraspError | None,
+             plan_doc: dict[str, Any] | None = None, agreement: float | None = None) -> dict[str, Any]:
+    name = doc.get("name") if isinstance(doc.get("name"), str) else None
+    return {"run_id": rec.run_id, "command": command, "part_name": name, "action": action,
+            "steps": None if plan_doc is None else len(plan_doc["steps"]), "agreement": agreement,
+            "cycle_time_s": None if plan_doc is None else plan_doc.get("cycle_time_s"),
+            "status": "error" if error else "ok", "error": error.to_dict() if error else None}
+
+
+def analysis_task(doc: dict[str, Any], record_dir: str) -> TaskResult:
+    """``POST /v1/analyses``: the analysis object of ``algrasp analyze``."""
+    from algrasp.analysis import analyse_part
+    from algrasp.part import load_part
+
+    try:
+        with recording(True, Path(record_dir), "analyze", doc, {}) as rec:
+            out = analyse_part(load_part(doc)).to_dict()
+            rec.analysis(out)
+    except AlgraspError as exc:
+        return None, _run_row(rec, "analyze", doc, None, exc), exc
+    return {**out, "run_id": rec.run_id}, _run_row(rec, "analyze", doc, None, None), None
+
+
+def plan_task(doc: dict[str, Any], request: dict[str, Any], record_dir: str, sim_workers: int) -> TaskResult:
+    """``POST /v1/plans``: the plan document (+ ``validation`` when asked for)."""
+    from algrasp.pipeline import PlanRequest, plan_part
+
+    req = PlanRequest(**request)
+    command = "validate" if req.samples else "plan"
+    try:
+        with recording(True, Path(record_dir), command, doc, req.record_options()) as rec:
+            out = plan_part(doc, req, rec, sim_workers=sim_workers)
+    except AlgraspError as exc:
+        return None, _run_row(rec, command, doc, req.action, exc), exc
+    v = out.validation_doc()
+    response = {**out.plan_doc, "run_id": rec.run_id,
+                "validation": None if v is None else {k: x for k, x in v.items() if k != "plan"}}
+    return response, _run_row(rec, command, doc, req.action, None, out.plan_doc, None if v is None else v["agreement"]), None
+
+
+def design_task(doc: dict[str, Any], options: dict[str, Any], record_dir: str, sim_workers: int) -> TaskResult:
+    """One part of a batch job: its fixture design (``service.fixture.design_part``)."""
+    from algrasp.analysis import analyse_part
+    from algrasp.part import load_part
+    from service.fixture import DesignOptions, design_part
+
+    opts = DesignOptions(**options)
+    out: dict[str, Any] = {}
+    try:
+        with recording(True, Path(record_dir), "design", doc, {"design": options}) as rec:
+            analysis = analyse_part(load_part(doc))
+            if analysis.squeeze.steps == () and analysis.push_grasp.steps == ():
+                rec.analysis(analysis.to_dict())  # no plan follows; else plan_part records the analysis
+            out = design_part(doc, opts, rec, analysis, sim_workers)
+    except AlgraspError as exc:
+        return None, _run_row(rec, "design", doc, None, exc), exc
+    val = out.get("validation") or {}
+    return {**out, "run_id": rec.run_id}, _run_row(rec, "design", doc, out.get("action"), None, out.get("plan"),
+                                                   val.get("agreement")), None
+
+
+def figure_task(record_path: str) -> bytes:
+    """The plan figure (SVG) of a recorded plan run, recomputed from its request."""
+    from algrasp.analysis import analyse_part
+    from algrasp.part import load_part
+    from algrasp.plan import make_plan
+    from algrasp.plots import plan_figure
+    from algrasp.record.replay import read_record
+
+    rec = read_record(Path(record_path), {"/request", "/plan"})
+    if "/plan" not in rec:
+        raise AlgraspError("run: this run has no plan to draw (an analysis, or a failed request)")
+    request, plan_doc = rec["/request"][0], rec["/plan"][0]
+    analysis = analyse_part(load_part(request["part"]))
+    margin = request["options"].get("min_margin_deg") or request["options"].get("design", {}).get("min_margin_deg", 0.0)
+    plan = make_plan(analysis, plan_doc["action"], margin)
+    with tempfile.TemporaryDirectory() as tmp:
+        return plan_figure(analysis, plan, Path(tmp) / "figure.svg").read_bytes()
