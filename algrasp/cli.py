@@ -23,8 +23,13 @@ from algrasp.plan import Plan
 EXIT_USER_ERROR = 2
 
 
-def read_document(path: str) -> dict[str, Any]:
-    """Read a part document file (size-limited JSON)."""
+def read_document(path: str, args: argparse.Namespace | None = None) -> dict[str, Any]:
+    """Read a part document file (size-limited JSON), or import a DXF/SVG/mesh file with
+    the ``--layer``/``--id``/``--pose`` options of ``args``."""
+    from algrasp.cad import import_file, is_cad
+
+    if is_cad(path):
+        return import_file(path, **_import_options(args))
     p = Path(path)
     if not p.is_file():
         raise PartDocumentError("PART", f"no such file: {path}")
@@ -37,6 +42,29 @@ def read_document(path: str) -> dict[str, Any]:
     if not isinstance(doc, dict):
         raise PartDocumentError("$", "a part document must be a JSON object")
     return doc
+
+
+def _import_options(args: argparse.Namespace | None) -> dict[str, Any]:
+    keys = {"layer": "layer", "id": "element_id", "pose": "pose", "tolerance": "tolerance", "units": "units"}
+    return {v: getattr(args, k) for k, v in keys.items() if getattr(args, k, None) is not None}
+
+
+def cmd_import(args: argparse.Namespace) -> int:
+    from algrasp.cad import import_file
+
+    doc = import_file(args.file, **_import_options(args))
+    load_part(doc)  # the imported document must be a valid part
+    text = json.dumps(doc, indent=2)
+    if args.output is None:
+        print(text)
+        return 0
+    Path(args.output).write_text(text + "\n", encoding="utf-8")
+    loops = [doc["boundary"], *doc.get("holes", [])] if "boundary" in doc else [doc["polygon"]]
+    kinds = sorted({s["type"] for lp in loops if isinstance(lp[0], dict) for s in lp}) or ["polygon"]
+    print(f"{args.file} → {args.output}: part {doc['name']!r} in {doc['units']}, {len(loops[0])} boundary "
+          f"segments/vertices ({', '.join(kinds)}), {len(loops) - 1} hole(s)"
+          f"{', approximate (mesh projection)' if doc.get('approximate') else ''}")
+    return 0
 
 
 def _print_function(title: str, rows: list[dict[str, Any]], consts: list[list[float]]) -> None:
@@ -114,7 +142,7 @@ def _with_run(doc: dict[str, Any], rec: Any) -> dict[str, Any]:
 
 
 def cmd_analyze(args: argparse.Namespace) -> int:
-    doc = read_document(args.part)
+    doc = read_document(args.part, args)
     with _recording(args, "analyze", doc) as rec:
         analysis = analyse_part(load_part(doc))
         rec.analysis(analysis.to_dict())
@@ -178,7 +206,7 @@ def print_execution(execution: Any) -> None:
 def cmd_plan(args: argparse.Namespace) -> int:
     from algrasp.pipeline import plan_part
 
-    doc = read_document(args.part)
+    doc = read_document(args.part, args)
     with _recording(args, "plan", doc) as rec:
         out = plan_part(doc, _request(args), rec)
     if args.figure:
@@ -204,7 +232,7 @@ def cmd_validate(args: argparse.Namespace) -> int:
         raise AlgraspError(f"--samples must be in [1, 10000], got {args.samples}")
     if not (0.0 < args.push_scale <= 10.0):
         raise AlgraspError(f"--push-scale must be in (0, 10], got {args.push_scale}")
-    doc = read_document(args.part)
+    doc = read_document(args.part, args)
     with _recording(args, "validate", doc) as rec:
         out = plan_part(doc, _request(args), rec, sim_workers=args.workers, record_sim=not args.no_record)
     if args.json:
@@ -246,13 +274,20 @@ def _record_options(p: argparse.ArgumentParser) -> None:
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="algrasp", description="Sensorless orienting of planar parts.")
     sub = parser.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("import", help="turn a DXF/SVG drawing or a 3-D mesh into a part document")
+    p.add_argument("file", metavar="FILE.dxf|svg|stl|obj|ply")
+    _cad_options(p)
+    p.add_argument("-o", "--output", metavar="PART.json", help="write here (default: print the document)")
+    p.set_defaults(func=cmd_import)
     p = sub.add_parser("analyze", help="diameter/radius functions and transfer functions of a part")
     p.add_argument("part", metavar="PART.json")
+    _cad_options(p)
     p.add_argument("--json", action="store_true", help="print the analysis object as JSON")
     _record_options(p)
     p.set_defaults(func=cmd_analyze)
     p = sub.add_parser("plan", help="shortest sensorless plan (Algorithm A′) for a part")
     p.add_argument("part", metavar="PART.json")
+    _cad_options(p)
     p.add_argument("--action", choices=["squeeze", "push-grasp"], default="squeeze")
     p.add_argument("--min-margin-deg", type=_non_negative, default=0.0, metavar="M",
                    help="every transition must tolerate M degrees of gripper error")
@@ -263,6 +298,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_plan)
     p = sub.add_parser("validate", help="simulate the plan in Drake from many initial orientations")
     p.add_argument("part", metavar="PART.json")
+    _cad_options(p)
     p.add_argument("--action", choices=["squeeze", "push-grasp"], default="squeeze")
     p.add_argument("--min-margin-deg", type=_non_negative, default=0.0, metavar="M")
     p.add_argument("--samples", type=int, default=36)
@@ -283,6 +319,16 @@ def build_parser() -> argparse.ArgumentParser:
     add_commands(sub)
     add_service_commands(sub)
     return parser
+
+
+def _cad_options(p: argparse.ArgumentParser) -> None:
+    g = p.add_argument_group("CAD import (DXF, SVG, STL/OBJ/PLY files)")
+    x = g.add_mutually_exclusive_group()
+    x.add_argument("--layer", help="DXF: the layer holding the outline (default: every layer)")
+    x.add_argument("--id", help="SVG: the element (path, shape or group) to import (default: every shape)")
+    x.add_argument("--pose", type=int, help="mesh: stable resting pose, 0 = most probable (default)")
+    g.add_argument("--tolerance", type=float, help="chaining tolerance in drawing units (default 1e-6 of its size)")
+    g.add_argument("--units", help="override the unit (meshes carry none: default mm)")
 
 
 def _optimise_options(p: argparse.ArgumentParser) -> None:

@@ -13,10 +13,10 @@ import re
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Annotated, Any
 
 from cachetools import LRUCache
-from fastapi import Depends, FastAPI, Header, HTTPException, Path, Request
+from fastapi import Depends, FastAPI, File, Form, Header, HTTPException, Path, Request, UploadFile
 from fastapi.responses import FileResponse, JSONResponse, PlainTextResponse, Response
 from prometheus_client import CONTENT_TYPE_LATEST, generate_latest
 
@@ -28,7 +28,7 @@ from service.middleware import BodyLimit, Metrics, MetricsMiddleware, check_key,
 from service.models import LIMIT, OFFSET, PlanBody
 from service.settings import Settings
 from service.store import Store
-from service.work import analysis_task, figure_task, plan_task
+from service.work import analysis_task, figure_task, import_task, plan_task
 
 RUN_ID = r"^[0-9]{8}T[0-9]{6}Z-[0-9a-f]{8}$"
 JOB_ID = r"^[0-9a-f]{32}$"
@@ -173,6 +173,24 @@ def add_routes(app: FastAPI) -> None:
                 svc.metrics.samples.inc(body.validate_.samples)
         svc.metrics.plans.labels(body.action, str(cached).lower()).inc()
         return JSONResponse(svc.cache[key], headers={"X-Cache": "hit" if cached else "miss"})
+
+    @app.post("/v1/imports", tags=["plans"], dependencies=auth)
+    async def imports(request: Request, file: Annotated[UploadFile, File(description="DXF, SVG or STL/OBJ/PLY/OFF/GLB file")],
+                      layer: Annotated[str | None, Form(max_length=256)] = None,
+                      id: Annotated[str | None, Form(max_length=256)] = None,  # noqa: A002
+                      pose: Annotated[int | None, Form(ge=0, le=10_000)] = None) -> dict[str, Any]:
+        """A CAD file → its part document (exact curves; meshes give an approximate
+        polygon), ready for ``/v1/plans``. Only the file name's suffix is used."""
+        from algrasp.cad import CAD_SUFFIXES, is_cad
+
+        svc = state(request)
+        name = (file.filename or "upload").replace("\\", "/").rsplit("/", 1)[-1]
+        if not is_cad(name):
+            raise ConfigError("file", f"unsupported file type: use {', '.join(CAD_SUFFIXES)}")
+        options = {k: v for k, v in (("layer", layer), ("element_id", id), ("pose", pose)) if v is not None}
+        data = await file.read()
+        return await run_task(svc, import_task, name, data, options,  # type: ignore[no-any-return]
+                              timeout_s=svc.settings.analysis_time_limit_s, stage="import")
 
     @app.get("/v1/runs", tags=["runs"], dependencies=auth)
     async def runs(request: Request, limit: int = LIMIT, offset: int = OFFSET) -> dict[str, Any]:

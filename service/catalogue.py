@@ -19,12 +19,17 @@ from typing import Any
 from algrasp.errors import AlgraspError, LimitExceededError, PartDocumentError
 
 Entry = tuple[str, dict[str, Any], dict[str, Any] | None]  # (name, document, error or None)
-PART_SUFFIXES = (".json",)
-"""Part files a catalogue may hold (CAD formats join when ``algrasp import`` exists)."""
+PART_SUFFIXES = (".json", ".dxf", ".svg", ".stl", ".obj", ".ply", ".off", ".glb")
+"""Part files a catalogue may hold: part documents and CAD files (imported with default
+options: every DXF layer, every SVG shape, a mesh's most probable pose)."""
 
 
 def part_from_bytes(filename: str, data: bytes) -> dict[str, Any]:
-    """A part document from one file's bytes (JSON part document)."""
+    """A part document from one file's bytes (JSON part document or a CAD file)."""
+    from algrasp.cad import import_bytes, is_cad
+
+    if is_cad(filename):
+        return import_bytes(filename, data)
     try:
         doc = json.loads(data.decode("utf-8"))
     except (json.JSONDecodeError, UnicodeDecodeError) as exc:

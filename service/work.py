@@ -94,3 +94,13 @@ def figure_task(record_path: str) -> bytes:
     plan = make_plan(analysis, plan_doc["action"], margin)
     with tempfile.TemporaryDirectory() as tmp:
         return plan_figure(analysis, plan, Path(tmp) / "figure.svg").read_bytes()
+
+
+def import_task(filename: str, data: bytes, options: dict[str, Any]) -> dict[str, Any]:
+    """``POST /v1/imports``: a CAD file's part document (checked to be a valid part)."""
+    from algrasp.cad import import_bytes
+    from algrasp.part import load_part
+
+    doc = import_bytes(filename, data, **options)
+    load_part(doc)
+    return doc

@@ -140,3 +140,30 @@ def test_metrics_count_requests_and_plans(server: Server, pie: dict[str, Any]) -
     assert 'algrasp_http_requests_total{method="POST",route="/v1/plans",status="200"}' in text
     assert 'algrasp_plans_total{action="squeeze",cached=' in text
     assert "algrasp_http_request_duration_seconds_bucket" in text and "algrasp_job_parts" in text
+
+
+def test_cad_upload_and_cad_files_in_a_job_archive(server: Server) -> None:
+    import json
+
+    from tests.algrasp.cad.test_svg_mesh import SVG
+
+    with server.client() as c:
+        r = c.post("/v1/imports", files={"file": ("drawing.svg", SVG, "image/svg+xml")}, data={"id": "oval"})
+        assert r.status_code == 200, r.text
+        doc = r.json()
+        assert {s["type"] for s in doc["boundary"]} == {"ellipse_arc"}
+        plan = c.post("/v1/plans", json={"part": doc}).json()
+        assert len(plan["final_orientations_deg"]) == 2  # an ellipse: squeeze period 180°, symmetry 180°
+        bad = c.post("/v1/imports", files={"file": ("drawing.svg", SVG, "image/svg+xml")}, data={"id": "open"})
+        assert bad.status_code == 422 and "open contour" in bad.json()["error"]["message"]
+        assert c.post("/v1/imports", files={"file": ("x.exe", b"MZ", "application/octet-stream")}).status_code == 422
+        buf = io.BytesIO()
+        with zipfile.ZipFile(buf, "w") as zf:
+            zf.writestr("drawing.svg", SVG)  # every shape at once: the open path fails the file
+            zf.writestr("rect.json", json.dumps(rectangle(5.0, 2.0)))
+        job = c.post("/v1/jobs", files={"archive": ("cat.zip", buf.getvalue(), "application/zip")})
+        assert job.status_code == 202
+        done = wait_job(c, job.json()["id"])
+    by_name = {p["name"]: p for p in done["parts"]}
+    assert by_name["rect-5x2"]["status"] == "done"
+    assert by_name["drawing"]["status"] == "failed" and "open contour" in by_name["drawing"]["error"]["message"]

@@ -1,0 +1,157 @@
+"""Chain exact segments (part-document segment dicts, in any order and direction) into
+closed loops; the outer loop becomes the boundary, loops inside it holes.
+
+Only the chaining and the loop classification look at sampled points (to find which
+loop contains which); the segments themselves stay exact. Complexity O(n²) in the
+number of segments (n ≤ the document limit).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from algrasp.errors import PartDocumentError
+from algrasp.tolerances import DEFAULT_TOLERANCES
+
+Segment = dict[str, Any]
+
+
+@dataclass(frozen=True)
+class Piece:
+    """A segment and where it came from (``origin``: e.g. ``LINE #2F`` for errors)."""
+
+    segment: Segment
+    origin: str
+
+
+def _ellipse_point(s: Segment, deg: float) -> np.ndarray:
+    t, rot = math.radians(deg), math.radians(s.get("rotation_deg", 0.0))
+    x, y = s["rx"] * math.cos(t), s["ry"] * math.sin(t)
+    return np.array(s["center"]) + [x * math.cos(rot) - y * math.sin(rot), x * math.sin(rot) + y * math.cos(rot)]
+
+
+def point_at(s: Segment, end: bool) -> np.ndarray:
+    """The start (``end`` False) or end point of a segment."""
+    kind = s["type"]
+    if kind == "line":
+        return np.array(s["end" if end else "start"], dtype=float)
+    if kind == "bezier":
+        return np.array(s["points"][-1 if end else 0], dtype=float)
+    deg = s["end_deg" if end else "start_deg"]
+    if kind == "arc":
+        a = math.radians(deg)
+        return np.array(s["center"]) + s["radius"] * np.array([math.cos(a), math.sin(a)])
+    return _ellipse_point(s, deg)
+
+
+def reverse(s: Segment) -> Segment:
+    """The same curve traversed the other way."""
+    kind = s["type"]
+    if kind == "line":
+        return {**s, "start": s["end"], "end": s["start"]}
+    if kind == "bezier":
+        out = {**s, "points": list(reversed(s["points"]))}
+        if "weights" in s:
+            out["weights"] = list(reversed(s["weights"]))
+        return out
+    return {**s, "start_deg": s["end_deg"], "end_deg": s["start_deg"]}
+
+
+def _snap(s: Segment, start: np.ndarray) -> Segment:
+    """Move a line's or a Bezier's first point onto the previous segment's end (arcs are
+    left exact: their gap must be within the document tolerance)."""
+    if s["type"] == "line":
+        return {**s, "start": [float(start[0]), float(start[1])]}
+    if s["type"] == "bezier":
+        return {**s, "points": [[float(start[0]), float(start[1])], *s["points"][1:]]}
+    return s
+
+
+def samples(s: Segment, n: int = 16) -> np.ndarray:
+    """(n, 2) points along a segment, for loop classification only."""
+    kind = s["type"]
+    if kind == "line":
+        return np.linspace(s["start"], s["end"], n)
+    if kind == "bezier":
+        P = np.asarray(s["points"], float)
+        w = np.asarray(s.get("weights", np.ones(len(P))), float)
+        t = np.linspace(0.0, 1.0, n)[:, None]
+        k = len(P) - 1
+        B = np.hstack([math.comb(k, i) * t**i * (1 - t) ** (k - i) for i in range(k + 1)]) * w
+        return np.asarray((B @ P) / B.sum(axis=1, keepdims=True))
+    degs = np.linspace(s["start_deg"], s["end_deg"], n)
+    return np.array([point_at({**s, "end_deg": d}, True) for d in degs])
+
+
+def chain(pieces: Sequence[Piece], tol: float) -> list[list[Segment]]:
+    """Closed loops from the pieces; endpoints closer than ``tol`` join. Raises
+    PartDocumentError for an open contour, naming where the gap is and how big."""
+    left = list(pieces)
+    loops = []
+    while left:
+        first = left.pop(0)
+        loop = [first.segment]
+        start, end = point_at(first.segment, False), point_at(first.segment, True)
+        while np.linalg.norm(end - start) > tol:
+            k, flip, gap = _nearest(left, end)
+            if k is None or gap > tol:
+                nearest = "no other segment is left" if k is None else f"the nearest free end is {gap:.3g} away"
+                raise PartDocumentError(
+                    f"contour at ({end[0]:.6g}, {end[1]:.6g})",
+                    f"open contour: the chain of {len(loop)} segment(s) from {first.origin} ends here, "
+                    f"{float(np.linalg.norm(end - start)):.3g} from its start ({start[0]:.6g}, {start[1]:.6g}); "
+                    f"{nearest} (chaining tolerance {tol:.3g})")
+            seg = left.pop(k).segment
+            seg = _snap(reverse(seg) if flip else seg, end)
+            loop.append(seg)
+            end = point_at(seg, True)
+        loops.append(loop)
+    return loops
+
+
+def _nearest(left: list[Piece], p: np.ndarray) -> tuple[int | None, bool, float]:
+    best: tuple[int | None, bool, float] = (None, False, math.inf)
+    for i, pc in enumerate(left):
+        for flip in (False, True):
+            d = float(np.linalg.norm(point_at(pc.segment, flip) - p))
+            if d < best[2]:
+                best = (i, flip, d)
+    return best
+
+
+def _polygon(loop: list[Segment]) -> Any:
+    from shapely.geometry import Polygon
+
+    pts = np.vstack([samples(s)[:-1] for s in loop])
+    return Polygon(pts).buffer(0)
+
+
+def outline_document(loops: list[list[Segment]], name: str, units: str, source: dict[str, Any]) -> dict[str, Any]:
+    """The part document: the loop of largest area is the boundary, the others must lie
+    inside it and not overlap (then they are holes)."""
+    if not loops:
+        raise PartDocumentError("drawing", "no closed contour")
+    polys = [_polygon(lp) for lp in loops]
+    order = sorted(range(len(loops)), key=lambda i: -polys[i].area)
+    outer, holes = order[0], order[1:]
+    for i in holes:
+        if not polys[outer].contains(polys[i]):
+            raise PartDocumentError(f"loop {i}", f"overlapping loops: loop {i} is not inside the outer loop {outer} "
+                                    "(several parts in one drawing? choose one with --layer or --id)")
+        for j in holes:
+            if j != i and polys[i].intersects(polys[j]):
+                raise PartDocumentError(f"loop {i}", f"overlapping loops: loops {i} and {j} intersect or nest "
+                                        "(a part inside a hole is a separate part)")
+    return {"name": name, "units": units, "boundary": loops[outer], "holes": [loops[i] for i in holes], "source": source}
+
+
+def default_tolerance(pieces: Sequence[Piece]) -> float:
+    """Chaining tolerance: the document's continuity tolerance times the drawing's size."""
+    pts = np.array([point_at(p.segment, e) for p in pieces for e in (False, True)])
+    size = float(np.max(np.ptp(pts, axis=0))) if len(pts) else 1.0
+    return DEFAULT_TOLERANCES.closure_rel * max(size, 1e-12)

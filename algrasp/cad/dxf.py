@@ -1,0 +1,148 @@
+"""DXF drawings (ezdxf) → exact part documents.
+
+LINE, ARC, CIRCLE, ELLIPSE, LWPOLYLINE/POLYLINE (bulges become exact arcs), SPLINE (split
+exactly into rational Bezier segments) and INSERT (block references, expanded with their
+transformation by ezdxf). Annotation (text, dimensions, hatches, points) is skipped;
+any other entity is refused by name. Entities must lie in the XY plane (extrusion ±Z).
+"""
+
+from __future__ import annotations
+
+import io
+import math
+from typing import Any
+
+import numpy as np
+
+from algrasp.cad.chain import Piece, Segment
+from algrasp.cad.nurbs import nurbs_to_beziers
+from algrasp.errors import PartDocumentError
+
+SKIPPED = {"TEXT", "MTEXT", "DIMENSION", "ARC_DIMENSION", "LEADER", "MLEADER", "MULTILEADER", "ATTRIB", "ATTDEF",
+           "POINT", "HATCH", "VIEWPORT", "IMAGE", "WIPEOUT", "TOLERANCE"}
+INSUNITS = {1: ("in", 1.0), 2: ("mm", 304.8), 4: ("mm", 1.0), 5: ("cm", 1.0), 6: ("m", 1.0), 8: ("um", 0.0254),
+            10: ("mm", 914.4), 13: ("um", 1.0), 14: ("mm", 100.0)}
+"""$INSUNITS code → (document unit, factor applied to coordinates). Units the part
+document has no name for (feet, yards, decimetres) are converted to millimetres."""
+
+
+def read_dxf(data: bytes) -> Any:
+    import ezdxf
+
+    try:
+        return ezdxf.read(io.StringIO(data.decode("utf-8", errors="replace")))
+    except Exception as exc:  # noqa: BLE001 - ezdxf raises several types for a malformed file
+        raise PartDocumentError("dxf", f"not a readable DXF drawing: {exc}") from None
+
+
+def _xy(v: Any) -> list[float]:
+    return [float(v[0]), float(v[1])]
+
+
+def _normal_sign(e: Any) -> float:
+    z = e.dxf.extrusion if e.dxf.hasattr("extrusion") else (0.0, 0.0, 1.0)
+    if abs(abs(z[2]) - 1.0) > 1e-12:
+        raise PartDocumentError(_origin(e), "not in the XY plane (extrusion is not ±Z)")
+    return 1.0 if z[2] > 0 else -1.0
+
+
+def _origin(e: Any) -> str:
+    return f"{e.dxftype()} #{e.dxf.handle}" if e.dxf.hasattr("handle") else e.dxftype()
+
+
+def _arc(e: Any, full: bool) -> Segment:
+    sign = _normal_sign(e)
+    c = e.ocs().to_wcs(e.dxf.center)
+    a0 = 0.0 if full else float(e.dxf.start_angle)
+    sweep = 360.0 if full else (float(e.dxf.end_angle) - a0) % 360.0 or 360.0
+    start = a0 if sign > 0 else 180.0 - a0  # OCS with −Z extrusion mirrors x
+    return {"type": "arc", "center": _xy(c), "radius": float(e.dxf.radius), "start_deg": start,
+            "end_deg": start + sign * sweep}
+
+
+def _ellipse(e: Any) -> Segment:
+    sign = _normal_sign(e)
+    major = e.dxf.major_axis
+    rx = math.hypot(major[0], major[1])
+    t0, t1 = float(e.dxf.start_param), float(e.dxf.end_param)
+    sweep = (t1 - t0) % (2 * math.pi) or 2 * math.pi
+    # minor axis = extrusion × major · ratio: with −Z the parameter runs clockwise
+    return {"type": "ellipse_arc", "center": _xy(e.dxf.center), "rx": rx, "ry": rx * float(e.dxf.ratio),
+            "rotation_deg": math.degrees(math.atan2(major[1], major[0])),
+            "start_deg": sign * math.degrees(t0), "end_deg": sign * math.degrees(t0 + sweep)}
+
+
+def bulge_segment(p1: list[float], p2: list[float], bulge: float) -> Segment:
+    """The exact segment between two polyline vertices: a line (bulge 0) or the arc of
+    included angle 4·atan(bulge), counter-clockwise for a positive bulge."""
+    if bulge == 0.0:
+        return {"type": "line", "start": p1, "end": p2}
+    theta = 4.0 * math.atan(bulge)
+    v = np.subtract(p2, p1)
+    L = float(np.hypot(*v))
+    c = (np.add(p1, p2) / 2 + np.array([-v[1], v[0]]) / L * (L / (2 * math.tan(theta / 2)))) if L > 0 else np.array(p1)
+    start = math.degrees(math.atan2(p1[1] - c[1], p1[0] - c[0]))
+    return {"type": "arc", "center": _xy(c), "radius": L / (2 * abs(math.sin(theta / 2))), "start_deg": start,
+            "end_deg": start + math.degrees(theta)}
+
+
+def _polyline(e: Any) -> list[Segment]:
+    sign = _normal_sign(e)
+    ocs = e.ocs()
+    if e.dxftype() == "LWPOLYLINE":
+        verts = [(_xy(ocs.to_wcs((x, y, 0.0))), sign * b) for x, y, b in e.get_points("xyb")]
+        closed = bool(e.closed)
+    elif e.is_2d_polyline:
+        verts = [(_xy(ocs.to_wcs(v.dxf.location)), sign * float(v.dxf.bulge)) for v in e.vertices]
+        closed = bool(e.is_closed)
+    else:
+        verts = [(_xy(v.dxf.location), 0.0) for v in e.vertices]
+        closed = bool(e.is_closed)
+    pairs = list(zip(verts, verts[1:] + (verts[:1] if closed else [])))
+    return [bulge_segment(a, b, bulge) for (a, bulge), (b, _) in pairs if a != b]
+
+
+def _spline(e: Any) -> list[Segment]:
+    _normal_sign(e)
+    bs = e.construction_tool()
+    ctrl = np.array([_xy(p) for p in bs.control_points])
+    w = np.array(bs.weights(), float) if bs.is_rational else np.ones(len(ctrl))
+    segs = nurbs_to_beziers(bs.degree, ctrl, w, np.array(bs.knots(), float), _origin(e))
+    out = []
+    for P, W in segs:
+        seg: Segment = {"type": "bezier", "points": P.tolist()}
+        if bs.is_rational:
+            seg["weights"] = W.tolist()
+        out.append(seg)
+    return out
+
+
+def entity_pieces(e: Any) -> list[Piece]:
+    """The exact segments of one entity (INSERT: of its expanded block)."""
+    t = e.dxftype()
+    if t in SKIPPED:
+        return []
+    if t == "INSERT":
+        return [p for v in e.virtual_entities() for p in entity_pieces(v)]
+    handlers = {"LINE": lambda: [{"type": "line", "start": _xy(e.dxf.start), "end": _xy(e.dxf.end)}],
+                "ARC": lambda: [_arc(e, False)], "CIRCLE": lambda: [_arc(e, True)], "ELLIPSE": lambda: [_ellipse(e)],
+                "LWPOLYLINE": lambda: _polyline(e), "POLYLINE": lambda: _polyline(e), "SPLINE": lambda: _spline(e)}
+    if t not in handlers:
+        raise PartDocumentError(_origin(e), f"unsupported DXF entity {t} on layer {e.dxf.layer!r} "
+                                "(supported: LINE, ARC, CIRCLE, ELLIPSE, LWPOLYLINE, POLYLINE, SPLINE, INSERT)")
+    return [Piece(s, _origin(e)) for s in handlers[t]()]
+
+
+def dxf_pieces(doc: Any, layer: str | None) -> tuple[list[Piece], str, float]:
+    """Pieces of the model space (only ``layer`` if given), the unit and the coordinate
+    scale from the header's $INSUNITS (unitless drawings are taken as millimetres)."""
+    msp = doc.modelspace()
+    layers = sorted({e.dxf.layer for e in msp})
+    chosen = [e for e in msp if layer is None or e.dxf.layer.lower() == layer.lower()]
+    pieces = [p for e in chosen for p in entity_pieces(e)]
+    if not pieces:
+        where = f"layer {layer!r}" if layer is not None else "the drawing"
+        raise PartDocumentError("layer" if layer else "dxf",
+                                f"{where} has no outline geometry (layers: {', '.join(layers) or 'none'})")
+    units, k = INSUNITS.get(int(doc.header.get("$INSUNITS", 0)), ("mm", 1.0))
+    return pieces, units, k

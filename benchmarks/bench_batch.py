@@ -1,0 +1,70 @@
+"""Batch fixture design of a generated catalogue (default 200 parts: random polygons,
+rectangles, regular polygons, pies, Bezier blobs, disks with flats, and disks and
+Reuleaux triangles that cannot be oriented) with ``algrasp batch`` on the local pool.
+Prints throughput in parts per minute, with and without Drake validation.
+
+    python benchmarks/bench_batch.py [--parts 200] [--samples 0 2] [--workers 2]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+from algrasp.cli import main as algrasp
+from algrasp.shapes import bezier_blob, disk, disk_with_flats, pie, random_polygon, rectangle, regular_polygon, reuleaux
+
+
+def catalogue(n: int) -> list[dict[str, Any]]:
+    """``n`` generated parts, in millimetres, each with a unique name."""
+    makers = [
+        lambda i: random_polygon(6 + i % 10, seed=i),
+        lambda i: rectangle(10.0 + i % 17, 3.0 + i % 5),
+        lambda i: regular_polygon(3 + i % 6, 5.0 + i % 7),
+        lambda i: pie(5.0 + i % 3, 10.0 + i % 40),
+        lambda i: bezier_blob(4 + i % 4, seed=i),
+        lambda i: disk_with_flats(5.0, 5.0 + i % 30),
+        lambda i: disk(3.0 + i % 4) if i % 2 else reuleaux(4.0),
+    ]
+    return [dict(makers[i % len(makers)](i), name=f"part-{i:03d}", units="mm") for i in range(n)]
+
+
+def run(parts: list[dict[str, Any]], samples: int, workers: int) -> None:
+    with tempfile.TemporaryDirectory() as tmp:
+        cat = Path(tmp) / "catalogue"
+        cat.mkdir()
+        for p in parts:
+            (cat / f"{p['name']}.json").write_text(json.dumps(p))
+        out = Path(tmp) / "out"
+        t0 = time.perf_counter()
+        code = algrasp(["batch", str(cat), "--out", str(out), "--workers", str(workers), "--validate-samples", str(samples),
+                        "--record-dir", str(Path(tmp) / "logs")])
+        wall = time.perf_counter() - t0
+        spec = json.loads((out / "gripper_spec.json").read_text())
+        agreements = [json.loads(x)["result"]["validation"]["agreement"] for x in (out / "results.jsonl").read_text().splitlines()
+                      if samples and json.loads(x)["status"] == "done" and json.loads(x)["result"].get("validation")]
+        extra = f", mean agreement {sum(agreements) / len(agreements):.3f}" if agreements else ""
+        print(f"== {len(parts)} parts, {samples} Drake samples each, {workers} workers: exit {code}, {wall:.1f} s, "
+              f"{60 * len(parts) / wall:.1f} parts/min; oriented {spec['oriented']}, not oriented {len(spec['not_oriented'])}"
+              f"{extra}")
+        print("   report.md head:")
+        print("   " + "\n   ".join((out / "report.md").read_text().splitlines()[:16]))
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--parts", type=int, default=200)
+    ap.add_argument("--samples", type=int, nargs="+", default=[0, 2])
+    ap.add_argument("--workers", type=int, default=2)
+    args = ap.parse_args()
+    parts = catalogue(args.parts)
+    for s in args.samples:
+        run(parts, s, args.workers)
+
+
+if __name__ == "__main__":
+    main()
