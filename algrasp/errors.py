@@ -100,6 +100,16 @@ class ConfigError(AlgraspError):
         return out
 
 
+class SimulationError(AlgraspError):
+    """The physics engine could not simulate the part (``detail``: the engine's message)."""
+
+    kind = "simulation_error"
+
+    def __init__(self, detail: str, hint: str = "") -> None:
+        super().__init__(f"the simulation failed: {detail}{'; ' + hint if hint else ''}")
+        self.detail = detail
+
+
 class TimeLimitError(AlgraspError):
     """A stage of a request ran past its time limit (``stage``, ``limit_s``)."""
 

@@ -19,6 +19,11 @@ from algrasp.cli import main as algrasp
 from algrasp.shapes import bezier_blob, disk, disk_with_flats, pie, random_polygon, rectangle, regular_polygon, reuleaux
 
 
+def _scaled(doc: dict[str, Any], k: float) -> dict[str, Any]:
+    """A Bezier-loop document scaled by ``k`` (control points only)."""
+    return {**doc, "boundary": [{**s, "points": [[k * x, k * y] for x, y in s["points"]]} for s in doc["boundary"]]}
+
+
 def catalogue(n: int) -> list[dict[str, Any]]:
     """``n`` generated parts, in millimetres, each with a unique name."""
     makers = [
@@ -26,7 +31,7 @@ def catalogue(n: int) -> list[dict[str, Any]]:
         lambda i: rectangle(10.0 + i % 17, 3.0 + i % 5),
         lambda i: regular_polygon(3 + i % 6, 5.0 + i % 7),
         lambda i: pie(5.0 + i % 3, 10.0 + i % 40),
-        lambda i: bezier_blob(4 + i % 4, seed=i),
+        lambda i: _scaled(bezier_blob(4 + i % 4, seed=i), 10.0),  # ~20 mm across, like the other parts
         lambda i: disk_with_flats(5.0, 5.0 + i % 30),
         lambda i: disk(3.0 + i % 4) if i % 2 else reuleaux(4.0),
     ]

@@ -83,15 +83,15 @@ def figure_task(record_path: str) -> bytes:
     from algrasp.part import load_part
     from algrasp.plan import make_plan
     from algrasp.plots import plan_figure
-    from algrasp.record.replay import read_record
+    from algrasp.record.replay import plan_options, read_record
 
     rec = read_record(Path(record_path), {"/request", "/plan"})
     if "/plan" not in rec:
         raise AlgraspError("run: this run has no plan to draw (an analysis, or a failed request)")
     request, plan_doc = rec["/request"][0], rec["/plan"][0]
+    options = plan_options(request["options"], plan_doc)
     analysis = analyse_part(load_part(request["part"]))
-    margin = request["options"].get("min_margin_deg") or request["options"].get("design", {}).get("min_margin_deg", 0.0)
-    plan = make_plan(analysis, plan_doc["action"], margin)
+    plan = make_plan(analysis, options["action"], options["min_margin_deg"])
     with tempfile.TemporaryDirectory() as tmp:
         return plan_figure(analysis, plan, Path(tmp) / "figure.svg").read_bytes()
 

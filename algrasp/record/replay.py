@@ -80,16 +80,27 @@ def replay(path: Path) -> dict[str, Any]:
         diffs += _compare("analysis", rec["/analysis"][0], analysis.to_dict())
     steps: list[Any] = []
     if "/plan" in rec:
-        plan = make_plan(analysis, options["action"], options.get("min_margin_deg", 0.0))
-        doc: dict[str, Any] = plan.to_dict()
         recorded = rec["/plan"][0]
-        if options.get("optimise"):
+        options = plan_options(options, recorded)
+        plan = make_plan(analysis, options["action"], options["min_margin_deg"])
+        doc: dict[str, Any] = plan.to_dict()
+        if options["optimise"]:
             doc = _optimised(analysis, plan, options, doc)
         diffs += _compare("plan", recorded, doc)
         steps = recorded["steps"]
     run = rec.get("/run", [{}])[-1]
-    return {"run_id": request["run_id"], "action": options.get("action"), "steps": steps, "differences": diffs,
+    return {"run_id": request["run_id"], "action": options.get("action") or run.get("action"), "steps": steps, "differences": diffs,
             "summary": run, "request": request, "validation": rec.get("/validation", [None])[0]}
+
+
+def plan_options(options: dict[str, Any], plan_doc: dict[str, Any]) -> dict[str, Any]:
+    """The options that made a recorded plan: a CLI/API request's own, or for a batch
+    design run (``{"design": ..}``) the chosen action, always optimised."""
+    design = options.get("design") or {}
+    return {**options, "action": options.get("action") or plan_doc["action"],
+            "min_margin_deg": options.get("min_margin_deg", design.get("min_margin_deg", 0.0)),
+            "optimise": options.get("optimise", bool(design)),
+            "gripper_profile": options.get("gripper_profile", design.get("gripper_profile"))}
 
 
 def _optimised(analysis: Any, plan: Any, options: dict[str, Any], doc: dict[str, Any]) -> dict[str, Any]:

@@ -37,6 +37,7 @@ class Recording:
         if self._rec:
             self._rec.write("/plan", doc)
             self._rec.summary.update({"steps": len(doc["steps"]), "cycle_time_s": doc.get("cycle_time_s"),
+                                      "action": self._rec.summary.get("action") or doc.get("action"),
                                       "timings_s": {k: float(v) for k, v in doc.get("timings_s", {}).items()}})
 
     def validation(self, doc: dict[str, Any], trajectories: Any, outline_m: Any, jaw_size_m: tuple[float, float]) -> None:

@@ -20,6 +20,7 @@ from typing import Any, Literal
 import numpy as np
 
 from algrasp.analysis import Analysis
+from algrasp.errors import SimulationError
 from algrasp.plan import Plan
 from algrasp.sim.config import DEFAULT_SIM, SimConfig, SimSchedule, schedule
 from algrasp.sim.geometry import Geometry, part_geometry
@@ -102,8 +103,13 @@ def simulate_one(task: SimTask) -> tuple[float, list[float], float, list[tuple[f
     if key not in _SIMS:
         _SIMS[key] = PlanarGripperSim(load_part(task.doc), task.cfg)
     sch = task.schedule
-    phi, pushed, traj = _SIMS[key].run(list(sch.phases), task.phi0, task.offset_m, task.alpha0, sch.half_open_m,
-                                       record=task.record, centring=task.centring, checkpoints=sch.push_ends_s)
+    try:
+        phi, pushed, traj = _SIMS[key].run(list(sch.phases), task.phi0, task.offset_m, task.alpha0, sch.half_open_m,
+                                           record=task.record, centring=task.centring, checkpoints=sch.push_ends_s)
+    except RuntimeError as exc:  # Drake's own errors (e.g. degenerate contact faces on a millimetre-sized part)
+        raise SimulationError(str(exc).splitlines()[0][:300],
+                              f"part reach {1e3 * _SIMS[key].geom.reach_m:.3g} mm; parts of a few mm and below are under the "
+                              "contact model's resolution") from None
     return phi, pushed, sch.phases[-1].t1, traj
 
 

@@ -32,7 +32,8 @@ def _spec(out: Path) -> dict[str, object]:
 def test_batch_directory_reports_and_resumes(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     cat = _catalogue(tmp_path / "cat")
     out = tmp_path / "out"
-    assert main(["batch", str(cat), "--out", str(out), "--workers", "1"]) == 0
+    args = ["batch", str(cat), "--out", str(out), "--workers", "1", "--record-dir", str(tmp_path / "records")]
+    assert main(args) == 0
     assert {p.name for p in out.iterdir()} >= {"report.md", "results.jsonl", "summary.csv", "gripper_spec.json", "batch.db"}
     spec = _spec(out)
     assert spec["oriented"] == 3 and spec["not_oriented"] == []
@@ -40,10 +41,13 @@ def test_batch_directory_reports_and_resumes(tmp_path: Path, capsys: pytest.Capt
     lines = [json.loads(x) for x in (out / "results.jsonl").read_text().splitlines()]
     assert [r["name"] for r in lines] == ["rect0", "rect1", "tri"]
     capsys.readouterr()
-    assert main(["batch", str(cat), "--out", str(out), "--workers", "1"]) == 0  # same catalogue: nothing recomputed
+    assert main(args) == 0  # the same catalogue again: nothing recomputed
     assert "3 of 3 parts already finished" in capsys.readouterr().out
     rows = Store(f"sqlite:///{out / 'batch.db'}").results(_job(out))
     assert [r["attempts"] for r in rows] == [1, 1, 1]
+    record = next(iter(sorted((tmp_path / "records").glob("*.mcap"))))
+    assert main(["replay", str(record), "--json"]) == 0  # a batch design run replays without differences
+    assert json.loads(capsys.readouterr().out)["differences"] == []
 
 
 def _job(out: Path) -> str:

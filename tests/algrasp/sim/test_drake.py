@@ -93,3 +93,18 @@ def test_optimised_push_distance_is_tight() -> None:
         if scale == 1.0:
             assert v.push_agreement == 1.0 and v.agreement_clear == 1.0
     assert errors[0.5] > 5 * errors[1.0] and errors[0.5] > 1.0
+
+
+def test_engine_failure_is_a_clean_error(tmp_path: object, capsys: pytest.CaptureFixture[str]) -> None:
+    """A millimetre-sized curved part is below Drake's contact resolution: the user gets
+    one line naming the problem, not a traceback (found by the 200-part batch)."""
+    import json
+    from pathlib import Path
+
+    from algrasp.cli import main
+
+    part = Path(str(tmp_path)) / "blob.json"
+    part.write_text(json.dumps(dict(shapes.bezier_blob(5, seed=81), units="mm")))
+    assert main(["validate", str(part), "--samples", "1", "--workers", "1", "--no-record"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("algrasp: error: the simulation failed") and "Traceback" not in err and "reach 0.96" in err
