@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from typing import Annotated, Any
 
 from cachetools import LRUCache
-from fastapi import Depends, FastAPI, File, Form, Header, HTTPException, Path, Request, UploadFile
+from fastapi import APIRouter, Depends, FastAPI, File, Form, Header, HTTPException, Path, Request, UploadFile
 from fastapi.responses import FileResponse, JSONResponse, PlainTextResponse, Response
 from prometheus_client import CONTENT_TYPE_LATEST, generate_latest
 
@@ -119,111 +119,112 @@ def create_app(settings: Settings | None = None, warmup: dict[str, Any] | None =
     install_error_handlers(app)
     app.add_middleware(BodyLimit, max_bytes=settings.max_body_bytes)  # type: ignore[arg-type]
     app.add_middleware(MetricsMiddleware, metrics=metrics)  # type: ignore[arg-type]
-    add_routes(app)
+    app.include_router(router)
     from service.routes_jobs import router as jobs_router
 
     app.include_router(jobs_router, dependencies=[Depends(require_key)])
     return app
 
 
-def add_routes(app: FastAPI) -> None:
-    auth = [Depends(require_key)]
+router = APIRouter()
+AUTH = [Depends(require_key)]
 
-    @app.get("/healthz", tags=["service"])
-    async def healthz(request: Request) -> dict[str, Any]:
-        svc = state(request)
-        return {"status": "ok", "version": VERSION, "executor": svc.runner.executor.name}
 
-    @app.get("/metrics", tags=["service"], dependencies=auth, response_class=PlainTextResponse)
-    async def metrics(request: Request) -> Response:
-        svc = state(request)
-        counts = await asyncio.to_thread(svc.store.counts)
-        for k, n in counts["jobs"].items():
-            svc.metrics.jobs.labels(k).set(n)
-        for k, n in counts["parts"].items():
-            svc.metrics.parts.labels(k).set(n)
-        return Response(generate_latest(svc.metrics.registry), media_type=CONTENT_TYPE_LATEST)
+@router.get("/healthz", tags=["service"])
+async def healthz(request: Request) -> dict[str, Any]:
+    svc = state(request)
+    return {"status": "ok", "version": VERSION, "executor": svc.runner.executor.name}
 
-    @app.post("/v1/analyses", tags=["plans"], dependencies=auth)
-    async def analyses(request: Request, part: dict[str, Any]) -> JSONResponse:
-        """Part document → the analysis object of ``algrasp analyze --json``."""
-        svc = state(request)
-        key = canonical_hash(["analysis", VERSION, part])
-        cached = key in svc.cache
-        if not cached:
-            svc.cache[key] = await run_task(svc, analysis_task, part, str(svc.settings.log_dir),
-                                            timeout_s=svc.settings.analysis_time_limit_s, stage="analysis")
-        svc.metrics.analyses.labels(str(cached).lower()).inc()
-        return JSONResponse(svc.cache[key], headers={"X-Cache": "hit" if cached else "miss"})
+@router.get("/metrics", tags=["service"], dependencies=AUTH, response_class=PlainTextResponse)
+async def metrics(request: Request) -> Response:
+    svc = state(request)
+    counts = await asyncio.to_thread(svc.store.counts)
+    for k, n in counts["jobs"].items():
+        svc.metrics.jobs.labels(k).set(n)
+    for k, n in counts["parts"].items():
+        svc.metrics.parts.labels(k).set(n)
+    return Response(generate_latest(svc.metrics.registry), media_type=CONTENT_TYPE_LATEST)
 
-    @app.post("/v1/plans", tags=["plans"], dependencies=auth)
-    async def plans(request: Request, body: PlanBody) -> JSONResponse:
-        """The shortest plan (plus optimised execution and Drake validation when asked
-        for) and its ``run_id``; a same-input request is answered from the cache."""
-        svc = state(request)
-        _limits(svc, body)
-        key = canonical_hash(["plan", VERSION, body.model_dump(by_alias=True)])
-        cached = key in svc.cache
-        if not cached:
-            limit = svc.settings.plan_time_limit_s + (svc.settings.validation_time_limit_s if body.validate_ else 0.0)
-            svc.cache[key] = await run_task(svc, plan_task, body.part, body.request(), str(svc.settings.log_dir),
-                                            svc.settings.sim_workers, timeout_s=limit, stage="plan")
-            if body.validate_ is not None:
-                svc.metrics.validations.inc()
-                svc.metrics.samples.inc(body.validate_.samples)
-        svc.metrics.plans.labels(body.action, str(cached).lower()).inc()
-        return JSONResponse(svc.cache[key], headers={"X-Cache": "hit" if cached else "miss"})
+@router.post("/v1/analyses", tags=["plans"], dependencies=AUTH)
+async def analyses(request: Request, part: dict[str, Any]) -> JSONResponse:
+    """Part document → the analysis object of ``algrasp analyze --json``."""
+    svc = state(request)
+    key = canonical_hash(["analysis", VERSION, part])
+    cached = key in svc.cache
+    if not cached:
+        svc.cache[key] = await run_task(svc, analysis_task, part, str(svc.settings.log_dir),
+                                        timeout_s=svc.settings.analysis_time_limit_s, stage="analysis")
+    svc.metrics.analyses.labels(str(cached).lower()).inc()
+    return JSONResponse(svc.cache[key], headers={"X-Cache": "hit" if cached else "miss"})
 
-    @app.post("/v1/imports", tags=["plans"], dependencies=auth)
-    async def imports(request: Request, file: Annotated[UploadFile, File(description="DXF, SVG or STL/OBJ/PLY/OFF/GLB file")],
-                      layer: Annotated[str | None, Form(max_length=256)] = None,
-                      id: Annotated[str | None, Form(max_length=256)] = None,  # noqa: A002
-                      pose: Annotated[int | None, Form(ge=0, le=10_000)] = None) -> dict[str, Any]:
-        """A CAD file → its part document (exact curves; meshes give an approximate
-        polygon), ready for ``/v1/plans``. Only the file name's suffix is used."""
-        from algrasp.cad import CAD_SUFFIXES, is_cad
+@router.post("/v1/plans", tags=["plans"], dependencies=AUTH)
+async def plans(request: Request, body: PlanBody) -> JSONResponse:
+    """The shortest plan (plus optimised execution and Drake validation when asked
+    for) and its ``run_id``; a same-input request is answered from the cache."""
+    svc = state(request)
+    _limits(svc, body)
+    key = canonical_hash(["plan", VERSION, body.model_dump(by_alias=True)])
+    cached = key in svc.cache
+    if not cached:
+        limit = svc.settings.plan_time_limit_s + (svc.settings.validation_time_limit_s if body.validate_ else 0.0)
+        svc.cache[key] = await run_task(svc, plan_task, body.part, body.request(), str(svc.settings.log_dir),
+                                        svc.settings.sim_workers, timeout_s=limit, stage="plan")
+        if body.validate_ is not None:
+            svc.metrics.validations.inc()
+            svc.metrics.samples.inc(body.validate_.samples)
+    svc.metrics.plans.labels(body.action, str(cached).lower()).inc()
+    return JSONResponse(svc.cache[key], headers={"X-Cache": "hit" if cached else "miss"})
 
-        svc = state(request)
-        name = (file.filename or "upload").replace("\\", "/").rsplit("/", 1)[-1]
-        if not is_cad(name):
-            raise ConfigError("file", f"unsupported file type: use {', '.join(CAD_SUFFIXES)}")
-        options = {k: v for k, v in (("layer", layer), ("element_id", id), ("pose", pose)) if v is not None}
-        data = await file.read()
-        return await run_task(svc, import_task, name, data, options,  # type: ignore[no-any-return]
-                              timeout_s=svc.settings.analysis_time_limit_s, stage="import")
+@router.post("/v1/imports", tags=["plans"], dependencies=AUTH)
+async def imports(request: Request, file: Annotated[UploadFile, File(description="DXF, SVG or STL/OBJ/PLY/OFF/GLB file")],
+                  layer: Annotated[str | None, Form(max_length=256)] = None,
+                  id: Annotated[str | None, Form(max_length=256)] = None,  # noqa: A002
+                  pose: Annotated[int | None, Form(ge=0, le=10_000)] = None) -> dict[str, Any]:
+    """A CAD file → its part document (exact curves; meshes give an approximate
+    polygon), ready for ``/v1/plans``. Only the file name's suffix is used."""
+    from algrasp.cad import CAD_SUFFIXES, is_cad
 
-    @app.get("/v1/runs", tags=["runs"], dependencies=auth)
-    async def runs(request: Request, limit: int = LIMIT, offset: int = OFFSET) -> dict[str, Any]:
-        total, rows = await asyncio.to_thread(state(request).store.runs, limit, offset)
-        return {"total": total, "limit": limit, "offset": offset, "runs": rows}
+    svc = state(request)
+    name = (file.filename or "upload").replace("\\", "/").rsplit("/", 1)[-1]
+    if not is_cad(name):
+        raise ConfigError("file", f"unsupported file type: use {', '.join(CAD_SUFFIXES)}")
+    options = {k: v for k, v in (("layer", layer), ("element_id", id), ("pose", pose)) if v is not None}
+    data = await file.read()
+    return await run_task(svc, import_task, name, data, options,  # type: ignore[no-any-return]
+                          timeout_s=svc.settings.analysis_time_limit_s, stage="import")
 
-    @app.get("/v1/runs/{run_id}", tags=["runs"], dependencies=auth)
-    async def run(request: Request, run_id: str = Path(pattern=RUN_ID)) -> dict[str, Any]:
-        from algrasp.record.replay import summary
+@router.get("/v1/runs", tags=["runs"], dependencies=AUTH)
+async def runs(request: Request, limit: int = LIMIT, offset: int = OFFSET) -> dict[str, Any]:
+    total, rows = await asyncio.to_thread(state(request).store.runs, limit, offset)
+    return {"total": total, "limit": limit, "offset": offset, "runs": rows}
 
-        row, path = _run_file(request, run_id)
+@router.get("/v1/runs/{run_id}", tags=["runs"], dependencies=AUTH)
+async def run(request: Request, run_id: str = Path(pattern=RUN_ID)) -> dict[str, Any]:
+    from algrasp.record.replay import summary
+
+    row, path = _run_file(request, run_id)
+    try:
+        return {**row, "record": await asyncio.to_thread(summary, path)}
+    except AlgraspError:
+        return {**row, "record": None}
+
+@router.get("/v1/runs/{run_id}/record", tags=["runs"], dependencies=AUTH, response_class=FileResponse)
+async def record(request: Request, run_id: str = Path(pattern=RUN_ID)) -> FileResponse:
+    _, path = _run_file(request, run_id)
+    return FileResponse(path, media_type="application/octet-stream", filename=path.name)
+
+@router.get("/v1/runs/{run_id}/figure.svg", tags=["runs"], dependencies=AUTH, response_class=Response)
+async def figure(request: Request, run_id: str = Path(pattern=RUN_ID)) -> Response:
+    svc = state(request)
+    _, path = _run_file(request, run_id)
+    key = canonical_hash(["figure", VERSION, run_id])
+    if key not in svc.cache:
         try:
-            return {**row, "record": await asyncio.to_thread(summary, path)}
-        except AlgraspError:
-            return {**row, "record": None}
-
-    @app.get("/v1/runs/{run_id}/record", tags=["runs"], dependencies=auth, response_class=FileResponse)
-    async def record(request: Request, run_id: str = Path(pattern=RUN_ID)) -> FileResponse:
-        _, path = _run_file(request, run_id)
-        return FileResponse(path, media_type="application/octet-stream", filename=path.name)
-
-    @app.get("/v1/runs/{run_id}/figure.svg", tags=["runs"], dependencies=auth, response_class=Response)
-    async def figure(request: Request, run_id: str = Path(pattern=RUN_ID)) -> Response:
-        svc = state(request)
-        _, path = _run_file(request, run_id)
-        key = canonical_hash(["figure", VERSION, run_id])
-        if key not in svc.cache:
-            try:
-                svc.cache[key] = await run_task(svc, figure_task, str(path), timeout_s=svc.settings.plan_time_limit_s,
-                                                stage="figure")
-            except AlgraspError as exc:
-                raise HTTPException(404, exc.message) from None
-        return Response(svc.cache[key], media_type="image/svg+xml")
+            svc.cache[key] = await run_task(svc, figure_task, str(path), timeout_s=svc.settings.plan_time_limit_s,
+                                            stage="figure")
+        except AlgraspError as exc:
+            raise HTTPException(404, exc.message) from None
+    return Response(svc.cache[key], media_type="image/svg+xml")
 
 
 def _run_file(request: Request, run_id: str) -> tuple[dict[str, Any], Any]:

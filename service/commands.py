@@ -18,11 +18,11 @@ def cmd_serve(args: argparse.Namespace) -> int:
     import uvicorn
 
     from service.app import create_app
-    from service.settings import Settings
+    from service.settings import load_settings
 
     warmup = None if args.no_example else json.loads(resources.files("algrasp").joinpath("examples", EXAMPLE).read_text())
     url = f"http://{args.host}:{args.port}"
-    app = create_app(Settings(), warmup=warmup, url=url)
+    app = create_app(load_settings(), warmup=warmup, url=url)
     uvicorn.run(app, host=args.host, port=args.port, log_level=args.log_level)
     return 0
 
@@ -47,10 +47,10 @@ def cmd_batch(args: argparse.Namespace) -> int:
     from service.catalogue import catalogue_hash, read_catalogue
     from service.executor import make_executor
     from service.jobs import JobRunner, RunnerConfig
-    from service.settings import Settings
+    from service.settings import load_settings
     from service.store import Store
 
-    settings = Settings(**({"scheduler": args.scheduler} if args.scheduler else {}), workers=args.workers)
+    settings = load_settings(**({"scheduler": args.scheduler} if args.scheduler else {}), workers=args.workers)
     entries = read_catalogue(Path(args.source), settings.max_batch_parts, settings.max_body_bytes * 100)
     options = _options(args)
     out = Path(args.out)

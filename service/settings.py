@@ -65,3 +65,16 @@ class Settings(BaseSettings):
                 raise ConfigError("ALGRASP_API_KEYS_FILE", f"cannot read {self.api_keys_file}: {exc.strerror}") from None
             keys |= {ln.strip() for ln in lines if ln.strip() and not ln.lstrip().startswith("#")}
         return frozenset(keys)
+
+
+def load_settings(**overrides: object) -> Settings:
+    """Settings from the environment (and ``overrides``); a bad value is a ConfigError
+    naming the environment variable, not a traceback."""
+    from pydantic import ValidationError
+
+    try:
+        return Settings(**overrides)  # type: ignore[arg-type]
+    except ValidationError as exc:
+        e = exc.errors()[0]
+        name = "ALGRASP_" + "_".join(str(x) for x in e["loc"]).upper()
+        raise ConfigError(name, f"{e['msg']} (got {e.get('input')!r})") from None

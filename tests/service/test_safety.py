@@ -1,4 +1,5 @@
-"""API keys: with keys configured every endpoint but /healthz needs a valid bearer key."""
+"""Safety: API keys (every endpoint but /healthz needs a valid bearer key when keys are
+configured) and time limits (work past its limit is killed; the service goes on)."""
 
 from __future__ import annotations
 
@@ -31,3 +32,18 @@ def test_keys_are_required(keyed: Server, tmp_path: Path) -> None:
         for key in ("k1", "k2", "file-key"):
             assert c.get("/v1/runs", headers={"Authorization": f"Bearer {key}"}).status_code == 200
         assert c.post("/v1/plans", json={}).status_code == 401  # auth before validation
+
+
+def test_time_limits_kill_the_work_and_the_service_goes_on(tmp_path: Path) -> None:
+    from algrasp.shapes import bezier_blob, rectangle
+
+    s = start_server(tmp_path, ALGRASP_ANALYSIS_TIME_LIMIT_S="0.2")
+    try:
+        with s.client() as c:
+            slow = c.post("/v1/analyses", json=bezier_blob(400, 3))  # ~1 s of exact analysis
+            assert slow.status_code == 422, slow.text
+            err = slow.json()["error"]
+            assert err["type"] == "time_limit_exceeded" and err["stage"] == "analysis" and err["limit_s"] == 0.2
+            assert c.post("/v1/analyses", json=rectangle(3.0, 1.0)).status_code == 200  # a fresh worker answers
+    finally:
+        s.kill()
