@@ -167,3 +167,17 @@ def test_cad_upload_and_cad_files_in_a_job_archive(server: Server) -> None:
     by_name = {p["name"]: p for p in done["parts"]}
     assert by_name["rect-5x2"]["status"] == "done"
     assert by_name["drawing"]["status"] == "failed" and "open contour" in by_name["drawing"]["error"]["message"]
+
+
+@pytest.mark.sim
+def test_plan_with_drake_validation(server: Server, pie: dict[str, Any]) -> None:
+    body = {"part": pie, "action": "push_grasp", "optimise": True, "validate": {"samples": 4, "seed": 3}}
+    with server.client() as c:
+        r = c.post("/v1/plans", json=body)
+        assert r.status_code == 200, r.text
+        v = r.json()["validation"]
+        run = c.get(f"/v1/runs/{r.json()['run_id']}").json()
+    assert len(v["samples"]) == 4 and v["optimised"] is True
+    # the paper's pie under an optimised push-grasp plan: every clear sample ends at the predicted orientation
+    assert v["agreement_clear"] == 1.0
+    assert run["command"] == "validate" and run["agreement"] == v["agreement"]
