@@ -162,3 +162,17 @@ def test_clear_errors() -> None:
         import_bytes("x.dxf", data, element_id="a")
     with pytest.raises(PartDocumentError, match="not a readable DXF"):
         import_bytes("x.dxf", b"\x00garbage")
+
+
+@pytest.mark.parametrize(("p", "n", "seed"), [(2, 5, 1), (3, 8, 2), (3, 6, 3)])
+def test_unclamped_nurbs_split_matches_de_boor(p: int, n: int, seed: int) -> None:
+    from algrasp.cad.nurbs import nurbs_to_beziers
+
+    rng = np.random.default_rng(seed)
+    P, w, U = rng.uniform(-5, 5, (n, 2)), rng.uniform(0.5, 2.0, n), np.sort(rng.uniform(0, 3, n + p + 1))
+    spans = [u for u in np.unique(U) if U[p] <= u <= U[n]]
+    segs = nurbs_to_beziers(p, P, w, U)
+    assert len(segs) == len(spans) - 1
+    err = max(float(np.linalg.norm(_bezier(B, W, t) - _de_boor(p, U, P, w, spans[j] + t * (spans[j + 1] - spans[j]))))
+              for j, (B, W) in enumerate(segs) for t in np.linspace(0, 1, 11)[:-1])
+    assert err < 1e-9
