@@ -286,21 +286,14 @@ def build_parser() -> argparse.ArgumentParser:
     _record_options(p)
     p.set_defaults(func=cmd_analyze)
     p = sub.add_parser("plan", help="shortest sensorless plan (Algorithm A′) for a part")
-    p.add_argument("part", metavar="PART.json")
-    _cad_options(p)
-    p.add_argument("--action", choices=["squeeze", "push-grasp"], default="squeeze")
-    p.add_argument("--min-margin-deg", type=_non_negative, default=0.0, metavar="M",
-                   help="every transition must tolerate M degrees of gripper error")
+    _plan_arguments(p)
     p.add_argument("--json", action="store_true", help="print the plan document as JSON")
     p.add_argument("--figure", metavar="OUT.svg|png", help="draw functions, intervals and plan traces")
     _optimise_options(p)
     _record_options(p)
     p.set_defaults(func=cmd_plan)
     p = sub.add_parser("validate", help="simulate the plan in Drake from many initial orientations")
-    p.add_argument("part", metavar="PART.json")
-    _cad_options(p)
-    p.add_argument("--action", choices=["squeeze", "push-grasp"], default="squeeze")
-    p.add_argument("--min-margin-deg", type=_non_negative, default=0.0, metavar="M")
+    _plan_arguments(p)
     p.add_argument("--samples", type=int, default=36)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--placement", choices=["centred", "random"], default="centred",
@@ -319,6 +312,15 @@ def build_parser() -> argparse.ArgumentParser:
     add_commands(sub)
     add_service_commands(sub)
     return parser
+
+
+def _plan_arguments(p: argparse.ArgumentParser) -> None:
+    """The part and what to plan: shared by ``plan`` and ``validate``."""
+    p.add_argument("part", metavar="PART.json")
+    _cad_options(p)
+    p.add_argument("--action", choices=["squeeze", "push-grasp"], default="squeeze")
+    p.add_argument("--min-margin-deg", type=_non_negative, default=0.0, metavar="M",
+                   help="every transition must tolerate M degrees of gripper error")
 
 
 def _cad_options(p: argparse.ArgumentParser) -> None:

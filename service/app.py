@@ -9,10 +9,9 @@ from __future__ import annotations
 
 import asyncio
 import importlib.metadata
-import re
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Annotated, Any
 
 from cachetools import LRUCache
@@ -31,7 +30,6 @@ from service.store import Store
 from service.work import analysis_task, figure_task, import_task, plan_task
 
 RUN_ID = r"^[0-9]{8}T[0-9]{6}Z-[0-9a-f]{8}$"
-JOB_ID = r"^[0-9a-f]{32}$"
 VERSION = importlib.metadata.version("algrasp")
 
 
@@ -42,8 +40,7 @@ class ServiceState:
     executor: Executor  # interactive requests
     runner: JobRunner  # batch jobs, on their own executor
     metrics: Metrics
-    cache: LRUCache[str, Any] = field(default_factory=lambda: LRUCache(maxsize=4096))
-    ready_message: str | None = None
+    cache: LRUCache[str, Any]
 
 
 def state(request: Request) -> ServiceState:
@@ -86,9 +83,8 @@ def build_state(settings: Settings, metrics: Metrics) -> ServiceState:
     job_exec = make_executor(settings.scheduler, settings.workers)
     limit = settings.plan_time_limit_s + settings.validation_time_limit_s
     runner = JobRunner(store, job_exec, RunnerConfig(str(settings.log_dir), settings.sim_workers, limit, 2 * settings.workers))
-    svc = ServiceState(settings, store, make_executor("", settings.workers), runner, metrics)
-    svc.cache = LRUCache(maxsize=max(1, settings.cache_entries))
-    return svc
+    return ServiceState(settings, store, make_executor("", settings.workers), runner, metrics,
+                        LRUCache(maxsize=max(1, settings.cache_entries)))
 
 
 def create_app(settings: Settings | None = None, warmup: dict[str, Any] | None = None, url: str | None = None) -> FastAPI:
@@ -233,6 +229,6 @@ def _run_file(request: Request, run_id: str) -> tuple[dict[str, Any], Any]:
     svc = state(request)
     row = svc.store.run(run_id)
     path = svc.settings.log_dir / f"{run_id}.mcap"
-    if row is None or not re.match(RUN_ID, run_id) or not path.is_file():
+    if row is None or not path.is_file():
         raise HTTPException(404, f"no run {run_id!r}")
     return row, path

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from dataclasses import asdict
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -37,8 +38,7 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
         profile = load_profile(args.gripper).to_dict()
     if args.validate_samples < 0:
         raise ConfigError("--validate-samples", "must be ≥ 0")
-    opts = DesignOptions(args.min_margin_deg, args.validate_samples, args.seed, args.placement, profile)
-    return {k: getattr(opts, k) for k in ("min_margin_deg", "samples", "seed", "placement", "gripper_profile")}
+    return asdict(DesignOptions(args.min_margin_deg, args.validate_samples, args.seed, args.placement, profile))
 
 
 def cmd_batch(args: argparse.Namespace) -> int:

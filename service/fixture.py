@@ -35,9 +35,14 @@ class DesignOptions:
     gripper_profile: dict[str, Any] | None = None
 
 
+def _min_margin(plan: Plan) -> float | None:
+    """The plan's smallest transition margin (rad); None for a one-step plan."""
+    return min((s.margin for s in plan.steps if s.margin is not None), default=None)
+
+
 def _score(plan: Plan) -> tuple[bool, int, float]:
-    margins = [s.margin for s in plan.steps if s.margin is not None]
-    return (len(plan.final_orientations) != 1, len(plan.steps), -min(margins, default=math.inf))
+    m = _min_margin(plan)
+    return (len(plan.final_orientations) != 1, len(plan.steps), -math.inf if m is None else -m)
 
 
 def choose_plan(analysis: Analysis, min_margin_deg: float) -> tuple[Plan | None, dict[str, Any]]:
@@ -48,18 +53,13 @@ def choose_plan(analysis: Analysis, min_margin_deg: float) -> tuple[Plan | None,
     for action in ACTIONS:
         try:
             plans[action] = make_plan(analysis, action, min_margin_deg)  # type: ignore[arg-type]
-            p = plans[action]
+            p, m = plans[action], _min_margin(plans[action])
             compared[action] = {"steps": len(p.steps), "final_orientations": len(p.final_orientations),
-                                "min_margin_deg": _margin_deg(p)}
+                                "min_margin_deg": None if m is None else math.degrees(m)}
         except NotOrientableError as exc:
             compared[action] = {"error": exc.to_dict()}
     best = min(plans.values(), key=_score) if plans else None
     return best, compared
-
-
-def _margin_deg(plan: Plan) -> float | None:
-    margins = [s.margin for s in plan.steps if s.margin is not None]
-    return math.degrees(min(margins)) if margins else None
 
 
 def max_diameter(analysis: Analysis) -> float:

@@ -64,11 +64,6 @@ class JobRunner:
         self._cancel.setdefault(job_id, threading.Event()).set()
         return True
 
-    def wait(self, job_id: str, timeout_s: float | None = None) -> None:
-        t = self._threads.get(job_id)
-        if t is not None:
-            t.join(timeout_s)
-
     def run(self, job_id: str) -> None:
         """Dispatch the pending parts, at most ``window`` at a time, and store outcomes."""
         job = self.store.job(job_id)

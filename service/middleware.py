@@ -20,8 +20,6 @@ from algrasp.errors import AlgraspError, LimitExceededError
 
 ASGIApp = Callable[[dict[str, Any], Callable[[], Awaitable[dict[str, Any]]], Callable[[dict[str, Any]], Awaitable[None]]],
                    Awaitable[None]]
-STATUS = {"limit_exceeded": 413}
-"""HTTP status per error kind; every other AlgraspError is the request's fault: 422."""
 
 
 def error_response(status: int, error: dict[str, Any], headers: dict[str, str] | None = None) -> JSONResponse:
@@ -31,10 +29,10 @@ def error_response(status: int, error: dict[str, Any], headers: dict[str, str] |
 def install_error_handlers(app: FastAPI) -> None:
     @app.exception_handler(AlgraspError)
     async def _algrasp(_: Request, exc: AlgraspError) -> JSONResponse:
-        status = STATUS.get(exc.kind, 422)
-        if isinstance(exc, LimitExceededError) and not exc.field.startswith(("body", "archive")):
-            status = 422  # a document beyond a segment/degree limit is a validation failure
-        return error_response(status, exc.to_dict())
+        # Every AlgraspError is the request's fault (422), except a body or archive too
+        # large (413); a document past a segment/degree limit is a validation failure.
+        too_large = isinstance(exc, LimitExceededError) and exc.field.startswith(("body", "archive"))
+        return error_response(413 if too_large else 422, exc.to_dict())
 
     @app.exception_handler(RequestValidationError)
     async def _invalid(_: Request, exc: RequestValidationError) -> JSONResponse:

@@ -67,7 +67,7 @@ def design_task(doc: dict[str, Any], options: dict[str, Any], record_dir: str, s
     try:
         with recording(True, Path(record_dir), "design", doc, {"design": options}) as rec:
             analysis = analyse_part(load_part(doc))
-            if analysis.squeeze.steps == () and analysis.push_grasp.steps == ():
+            if not (analysis.squeeze.steps or analysis.push_grasp.steps):
                 rec.analysis(analysis.to_dict())  # no plan follows; else plan_part records the analysis
             out = design_part(doc, opts, rec, analysis, sim_workers)
     except AlgraspError as exc:
