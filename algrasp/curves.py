@@ -301,21 +301,14 @@ class Piece:
         return np.arctan2(-tan[..., 0], tan[..., 1])
 
     @cached_property
-    def curvature_poly(self) -> FloatArray:
-        """Polynomial with the sign of the curvature: det[P, P′, P″] (P homogeneous).
+    def curvature_list(self) -> list[float]:
+        """Polynomial T × T′ (T the tangent numerator), with the sign of the curvature.
 
-        For a polynomial curve (W ≡ w) this is w·(X′Y″ − Y′X″)."""
-        X, Y, W, _, _ = self._lists
-        if len(W) == 1:
-            dX, dY = _lder(X), _lder(Y)
-            return _readonly(np.array([W[0] * c for c in _ladd(_lmul(dX, _lder(dY)), _lmul(dY, _lder(dX)), -1.0)]))
-        P = [X, Y, W]
-        d1 = [_lder(c) for c in P]
-        d2 = [_lder(c) for c in d1]
-        det = [0.0]
-        for i, j, k, sgn in ((0, 1, 2, 1), (1, 2, 0, 1), (2, 0, 1, 1), (0, 2, 1, -1), (1, 0, 2, -1), (2, 1, 0, -1)):
-            det = _ladd(det, _lmul(_lmul(P[i], d1[j]), d2[k]), float(sgn))
-        return _readonly(np.array(det))
+        T × T′ = W·det[P, P′, P″] for the homogeneous curve P = (X, Y, W), so the
+        curvature is κ = (T × T′)·W² / |T|³ (W > 0 for positive weights).
+        """
+        TX, TY, dTX, dTY = self.tangent_lists
+        return _ladd(_lmul(TX, dTY), _lmul(TY, dTX), -1.0)
 
     def tangent_dot_poly(self, direction: FloatArray) -> FloatArray:
         """Polynomial ⟨T(t), v⟩: its roots are where the tangent is normal to ``v``."""
@@ -327,34 +320,21 @@ class Piece:
         ey = padd(self.Y, -a[1] * self.W)
         return padd(pmul(self.TX, ey), -pmul(self.TY, ex))
 
-    def split(self, ts: list[float]) -> list[Piece]:
-        """Split at the sorted interior parameters ``ts`` (exact de Casteljau)."""
-        out: list[Piece] = []
-        hom = np.column_stack([self.points * self.weights[:, None], self.weights])
-        prev = 0.0
-        rest = hom
-        for t in ts:
-            local = (t - prev) / (1.0 - prev)
-            left, rest = _de_casteljau(rest, local)
-            out.append(self._from_hom(left))
-            prev = t
-        out.append(self._from_hom(rest))
-        return out
-
     def restrict(self, a: float, b: float) -> Piece:
         """The sub-piece for parameters [a, b], reparametrised to [0, 1] (exact)."""
         if a <= 0.0 and b >= 1.0:
             return self
-        hom = np.column_stack([self.points * self.weights[:, None], self.weights])
+        hom = [[x * w, y * w, w] for (x, y), w in zip(self.points.tolist(), self.weights.tolist())]
         if b < 1.0:
             hom, _ = _de_casteljau(hom, b)
         if a > 0.0:
             _, hom = _de_casteljau(hom, a / b)
         return self._from_hom(hom)
 
-    def _from_hom(self, hom: FloatArray) -> Piece:
-        w = hom[:, 2]
-        return Piece(hom[:, :2] / w[:, None], w / np.max(w), self.circle, self.source)
+    def _from_hom(self, hom: list[list[float]]) -> Piece:
+        top = max(h[2] for h in hom)
+        return Piece(np.array([[h[0] / h[2], h[1] / h[2]] for h in hom]), np.array([h[2] / top for h in hom]),
+                     self.circle, self.source)
 
     def reversed(self) -> Piece:
         return Piece(self.points[::-1], self.weights[::-1], self.circle, self.source)
@@ -366,12 +346,11 @@ class Piece:
         return float(cands[int(np.argmax(vals))])
 
 
-def _de_casteljau(hom: FloatArray, t: float) -> tuple[FloatArray, FloatArray]:
-    """Split homogeneous control points (k+1, 3) at ``t``; returns (left, right).
+def _de_casteljau(pts: list[list[float]], t: float) -> tuple[list[list[float]], list[list[float]]]:
+    """Split homogeneous control points (k+1 lists [wx, wy, w]) at ``t``; (left, right).
 
     Plain floats: for the small degrees here this beats array operations tenfold.
     """
-    pts = hom.tolist()
     s = 1.0 - t
     left = [pts[0]]
     right = [pts[-1]]
@@ -379,7 +358,7 @@ def _de_casteljau(hom: FloatArray, t: float) -> tuple[FloatArray, FloatArray]:
         pts = [[s * a[0] + t * b[0], s * a[1] + t * b[1], s * a[2] + t * b[2]] for a, b in zip(pts[:-1], pts[1:])]
         left.append(pts[0])
         right.append(pts[-1])
-    return np.array(left), np.array(right[::-1])
+    return left, right[::-1]
 
 
 def conic_arc_pieces(

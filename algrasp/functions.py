@@ -15,7 +15,8 @@ breakpoints of both terms; in a cell the two contact features F (at ψ) and G (a
   the centre of mass). This is decided from the geometry, not from samples.
 * Otherwise (a curve piece is involved) f′ = 0 is Lemma 1's system: the chord is
   normal to both curves. Roots are isolated by sign changes of f′ on a grid no
-  coarser than ``root_grid_rad`` and refined by Brent's method to machine precision.
+  coarser than ``root_grid_rad`` and refined (all cells together, by Illinois regula
+  falsi) to machine precision.
 
 The result is a cyclic list of monotone *runs* (sign of dd/dθ: +1, −1 or 0) whose
 boundaries are the extrema, classified as in Appendix A.
@@ -28,8 +29,8 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from scipy.optimize import brentq
 
+from algrasp.bank import IntArray
 from algrasp.curves import FloatArray
 from algrasp.hull import TWO_PI, ConvexHull, HullFeature, unit
 from algrasp.tolerances import Tolerances
@@ -125,27 +126,9 @@ def _cells(kind: Kind, hull: ConvexHull, tol: Tolerances) -> list[tuple[float, f
     return [(float(a), float(b)) for a, b in zip(edges[:-1], edges[1:]) if b - a > tol.angle_rad]
 
 
-def _derivative(F: HullFeature, G: HullFeature, psi: FloatArray | np.float64) -> FloatArray:
-    """f′(ψ) = ⟨c_F(ψ) − c_G(ψ + π), u′(ψ)⟩, vectorised."""
-    chord = F.support_point(psi) - G.support_point(psi + np.pi)
-    return -chord[..., 0] * np.sin(psi) + chord[..., 1] * np.cos(psi)
-
-
 def _grid(a: float, b: float, tol: Tolerances) -> FloatArray:
     """Sign-change grid of a cell: spacing ≤ root_grid_rad, at least 9 points."""
     return np.linspace(a, b, max(8, int(np.ceil((b - a) / tol.root_grid_rad))) + 1)
-
-
-def _cell_roots(F: HullFeature, G: HullFeature, grid: FloatArray, vals: FloatArray) -> list[float]:
-    """Zeros of f′ inside a cell with a curve piece: sign changes of f′ on the grid,
-    each refined by Brent's method to machine precision."""
-    roots = []
-    for i in range(len(grid) - 1):
-        if vals[i] * vals[i + 1] < 0.0:
-            def fprime(x: float) -> float:
-                return float(_derivative(F, G, np.float64(x)))
-            roots.append(float(brentq(fprime, grid[i], grid[i + 1], xtol=1e-15, rtol=1e-15)))
-    return roots
 
 
 def _point_like_runs(F: HullFeature, G: HullFeature, a: float, b: float, size: float, tol: Tolerances) -> list[Run]:
@@ -166,37 +149,95 @@ def _point_like_runs(F: HullFeature, G: HullFeature, a: float, b: float, size: f
     return runs
 
 
-def _curve_runs(F: HullFeature, G: HullFeature, grid: FloatArray, vals: FloatArray, tol: Tolerances) -> list[Run]:
-    """Monotone ψ-runs of a cell with a curve piece, from f′ sampled on its grid."""
-    a, b = float(grid[0]), float(grid[-1])
-    edges = [a, *_cell_roots(F, G, grid, vals), b]
-    signs = [math.copysign(1.0, float(_derivative(F, G, np.float64(0.5 * (x + y))))) if y > x else 0.0
-             for x, y in zip(edges[:-1], edges[1:])]
-    return [Run(x, y, int(s)) for x, y, s in zip(edges[:-1], edges[1:], signs) if y - x > tol.angle_rad]
+@dataclass(frozen=True)
+class _Derivative:
+    """f′(ψ) = ⟨c_F(ψ) − c_G(ψ + π), u′(ψ)⟩ for many (F, G, ψ) at once.
+
+    ``near``/``far`` index the hull's features; near index −1 is the centre of mass.
+    Every call is one vectorised pass over all features (support points by Newton on
+    the exact curves, :class:`~algrasp.bank.FeatureTable`).
+    """
+
+    hull: ConvexHull
+    com: FloatArray
+
+    def __call__(self, near: IntArray, far: IntArray, psi: FloatArray) -> FloatArray:
+        # One pass for both ends of every chord (the centre of mass needs none).
+        own = near >= 0
+        pts = self.hull.table.points(np.concatenate([far, near[own]]), np.concatenate([psi + np.pi, psi[own]]))
+        chord = -pts[: len(psi)]
+        chord[own] += pts[len(psi):]
+        chord[~own] += self.com
+        return np.asarray(-chord[:, 0] * np.sin(psi) + chord[:, 1] * np.cos(psi))
 
 
-def _batched_derivatives(pairs: list[tuple[HullFeature, HullFeature, FloatArray]]) -> list[FloatArray]:
-    """f′ on every curve cell's grid, evaluating each feature's support points in one
-    vectorised call (per-call overhead, not arithmetic, dominates small grids)."""
-    wanted: dict[int, list[FloatArray]] = {}
-    feats: dict[int, HullFeature] = {}
-    for F, G, grid in pairs:
-        for feat, psi in ((F, grid), (G, grid + np.pi)):
-            feats[id(feat)] = feat
-            wanted.setdefault(id(feat), []).append(psi)
-    points: dict[int, list[FloatArray]] = {}
-    for key, chunks in wanted.items():
-        pts = feats[key].support_point(np.concatenate(chunks))
-        points[key] = np.split(pts, np.cumsum([len(c) for c in chunks])[:-1])
-    taken = {key: 0 for key in wanted}
-    out = []
-    for F, G, grid in pairs:
-        cf = points[id(F)][taken[id(F)]]
-        taken[id(F)] += 1
-        cg = points[id(G)][taken[id(G)]]
-        taken[id(G)] += 1
-        chord = cf - cg
-        out.append(-chord[:, 0] * np.sin(grid) + chord[:, 1] * np.cos(grid))
+def _refine(f: _Derivative, near: IntArray, far: IntArray, lo: FloatArray, hi: FloatArray,
+            flo: FloatArray, fhi: FloatArray) -> FloatArray:
+    """Roots of f′ in the brackets [lo, hi] (opposite signs at the ends), all at once.
+
+    Dekker's method, vectorised: each pass takes the secant step through the last two
+    iterates when it lands inside the bracket (superlinear at a simple root), else the
+    bracket's regula-falsi point, else its midpoint, and shrinks the bracket. Stops when
+    the bracket or the last step is below rounding (1e-15 rad) or f′ = 0; ≤ 100 passes,
+    each one evaluation for all unfinished roots.
+    """
+    lo, hi, flo, fhi = lo.copy(), hi.copy(), flo.copy(), fhi.copy()
+    first = np.abs(flo) < np.abs(fhi)  # the better end is the current iterate
+    x, fx = np.where(first, lo, hi), np.where(first, flo, fhi)
+    xp, fp = np.where(first, hi, lo), np.where(first, fhi, flo)
+    active = np.ones(lo.shape, dtype=bool)
+    for _ in range(100):
+        a = np.nonzero(active)[0]
+        if not a.size:
+            break
+        xn = _next_point(lo[a], hi[a], flo[a], fhi[a], x[a], fx[a], xp[a], fp[a])
+        fn = f(near[a], far[a], xn)
+        step = np.abs(xn - x[a])
+        xp[a], fp[a], x[a], fx[a] = x[a], fx[a], xn, fn
+        left = fn * fhi[a] > 0.0  # the root lies left of xn: xn is the new right end
+        hi[a[left]], fhi[a[left]] = xn[left], fn[left]
+        lo[a[~left]], flo[a[~left]] = xn[~left], fn[~left]
+        tiny = 1e-15 + 4e-16 * np.abs(xn)
+        active[a[(fn == 0.0) | (step <= tiny) | (hi[a] - lo[a] <= tiny)]] = False
+    return x
+
+
+def _next_point(lo: FloatArray, hi: FloatArray, flo: FloatArray, fhi: FloatArray,
+                x: FloatArray, fx: FloatArray, xp: FloatArray, fp: FloatArray) -> FloatArray:
+    """Secant point if strictly inside the bracket, else regula falsi, else the midpoint."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        secant = x - fx * (x - xp) / (fx - fp)
+        falsi = (lo * fhi - hi * flo) / (fhi - flo)
+    falsi = np.where((falsi > lo) & (falsi < hi), falsi, 0.5 * (lo + hi))
+    return np.where((secant > lo) & (secant < hi), secant, falsi)
+
+
+def _curve_cell_runs(f: _Derivative, cells: list[tuple[int, int, float, float]], tol: Tolerances) -> list[list[Run]]:
+    """Monotone ψ-runs of every cell with a curve piece: f′ on each cell's grid (one
+    batch), sign changes refined together (:func:`_refine`), run signs read at the run
+    midpoints (one batch). O(g) for g grid points in all, independent of the cell count."""
+    grids = [_grid(a, b, tol) for _, _, a, b in cells]
+    cell = np.repeat(np.arange(len(cells)), [len(g) for g in grids])
+    cell_near = np.array([c[0] for c in cells], dtype=np.intp)
+    cell_far = np.array([c[1] for c in cells], dtype=np.intp)
+    near, far = cell_near[cell], cell_far[cell]
+    psi = np.concatenate(grids)
+    vals = f(near, far, psi)
+    change = np.nonzero((vals[:-1] * vals[1:] < 0.0) & (cell[:-1] == cell[1:]))[0]
+    roots = _refine(f, near[change], far[change], psi[change], psi[change + 1], vals[change], vals[change + 1])
+    edges: list[list[float]] = [[a] for _, _, a, _ in cells]
+    for k, r in zip(cell[change].tolist(), roots.tolist()):
+        edges[k].append(r)
+    for k, (_, _, _, b) in enumerate(cells):
+        edges[k].append(b)
+    spans = [(k, x, y) for k, e in enumerate(edges) for x, y in zip(e[:-1], e[1:])]
+    ks = np.array([k for k, _, _ in spans], dtype=np.intp)
+    mids = np.array([0.5 * (x + y) for _, x, y in spans])
+    signs = np.copysign(1.0, f(cell_near[ks], cell_far[ks], mids))
+    out: list[list[Run]] = [[] for _ in cells]
+    for (k, x, y), sgn in zip(spans, signs.tolist()):
+        if y - x > tol.angle_rad:
+            out[k].append(Run(x, y, int(sgn)))
     return out
 
 
@@ -218,25 +259,28 @@ def _merge(runs: list[Run], sliver: float) -> list[Run]:
 
 
 def theta_runs(kind: Kind, hull: ConvexHull, com: tuple[float, float], size: float, tol: Tolerances) -> list[Run]:
-    """Cyclic θ-runs of d or r over one turn. O(c · g) for c cells, g grid points/cell."""
-    psi_runs: list[Run] = []
+    """Cyclic θ-runs of d or r over one turn. O(c + g) array work for c cells and g
+    grid points in all (the cells with curves are handled in one batch)."""
     cells = _cells(kind, hull, tol)
     mids = np.array([(a + b) / 2 for a, b in cells])
-    base = hull.features[0].psi0
-    near = np.searchsorted(hull.breakpoints, base + (mids - base) % TWO_PI, side="right") - 1
-    far = np.searchsorted(hull.breakpoints, base + (mids + np.pi - base) % TWO_PI, side="right") - 1
+    near, _ = hull.table.feature_index(mids)
+    far, _ = hull.table.feature_index(mids + np.pi)
     com_feature = HullFeature("point", -np.inf, np.inf, center=com)
-    pairs = [(com_feature if kind == "radius" else hull.features[max(i, 0)], hull.features[max(j, 0)])
-             for i, j in zip(near.tolist(), far.tolist())]
-    curved = [(F, G, _grid(a, b, tol)) for (F, G), (a, b) in zip(pairs, cells) if not (F.point_like and G.point_like)]
-    curve_vals = iter(_batched_derivatives(curved))
-    curved_iter = iter(curved)
-    for (F, G), (a, b) in zip(pairs, cells):
-        if F.point_like and G.point_like:
-            psi_runs.extend(_point_like_runs(F, G, a, b, size, tol))
+    near_ids = [-1] * len(cells) if kind == "radius" else near.tolist()
+    keyed = [(i, j, a, b) for i, j, (a, b) in zip(near_ids, far.tolist(), cells)]
+    feats = hull.features
+
+    def point_like(i: int) -> bool:
+        return i < 0 or feats[i].point_like
+
+    curved = [c for c in keyed if not (point_like(c[0]) and point_like(c[1]))]
+    curve_runs = iter(_curve_cell_runs(_Derivative(hull, np.asarray(com, dtype=float)), curved, tol) if curved else [])
+    psi_runs: list[Run] = []
+    for i, j, a, b in keyed:
+        if point_like(i) and point_like(j):
+            psi_runs.extend(_point_like_runs(com_feature if i < 0 else feats[i], feats[j], a, b, size, tol))
         else:
-            _, _, grid = next(curved_iter)
-            psi_runs.extend(_curve_runs(F, G, grid, next(curve_vals), tol))
+            psi_runs.extend(next(curve_runs))
     merged = _merge(psi_runs, tol.sliver_rad)
     # θ = π/2 − ψ reverses the order and the sign of the derivative.
     return [Run(np.pi / 2 - r.end, np.pi / 2 - r.start, -r.sign) for r in reversed(merged)]

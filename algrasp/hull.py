@@ -22,7 +22,8 @@ from typing import Literal
 import numpy as np
 from scipy.spatial import ConvexHull as Qhull
 
-from algrasp.curves import FloatArray, Piece, horner, horner_float, horner_rows
+from algrasp.bank import NEWTON_STEPS, FeatureTable
+from algrasp.curves import FloatArray, Piece, horner_float
 from algrasp.errors import GeometryError
 from algrasp.hull_loop import (
     Contact,
@@ -36,7 +37,6 @@ from algrasp.segments import Segment, gauss_legendre_01
 from algrasp.tolerances import Tolerances
 
 TWO_PI = 2.0 * np.pi
-_NEWTON_STEPS = 6  # from an interpolated start: quadratic convergence reaches rounding in 3–4
 
 
 def unit(psi: FloatArray | float) -> FloatArray:
@@ -78,36 +78,17 @@ class HullFeature:
         psis = self.psi0 + (self.piece.normal_angle(ts) - self.psi0 + np.pi) % TWO_PI - np.pi
         return np.maximum.accumulate(psis), ts
 
-    def param_at(self, psi: FloatArray) -> FloatArray:
+    def param_at(self, psi: float) -> float:
         """Curve parameter whose outward normal is ψ: Newton on ⟨T(t), u(ψ)⟩ = 0 from an
-        interpolated start, kept inside [s0, s1] (the normal is monotone on a piece)."""
-        assert self.piece is not None
-        psis, ts = self._normal_table
-        if np.ndim(psi) == 0:
-            return np.asarray(self._param_at_scalar(float(psi)))
-        psi = np.asarray(psi, dtype=float)
-        local = self.psi0 + (psi - self.psi0 + np.pi) % TWO_PI - np.pi
-        t = np.interp(local, psis, ts)
-        c, s = np.cos(psi), np.sin(psi)
-        for _ in range(_NEWTON_STEPS):
-            tx, ty, dtx, dty = horner_rows(self.piece.TANGENTS, t)
-            q = tx * c + ty * s
-            dq = dtx * c + dty * s
-            step = np.divide(q, dq, out=np.zeros_like(q), where=dq != 0.0)
-            t = np.clip(t - step, self.s0, self.s1)
-            if float(np.max(np.abs(step), initial=0.0)) < 1e-15:
-                break
-        return t
-
-    def _param_at_scalar(self, psi: float) -> float:
-        """Scalar twin of :meth:`param_at` in plain floats (root refinement calls it often)."""
+        interpolated start, kept inside [s0, s1] (the normal is monotone on a piece).
+        Plain floats: the scalar twin of :meth:`algrasp.bank.FeatureTable.params`."""
         assert self.piece is not None
         psis, ts = self._normal_table
         local = self.psi0 + (psi - self.psi0 + np.pi) % TWO_PI - np.pi
         t = float(np.interp(local, psis, ts))
         c, s = np.cos(psi), np.sin(psi)
         TX, TY, dx, dy = self.piece.tangent_lists
-        for _ in range(_NEWTON_STEPS):
+        for _ in range(NEWTON_STEPS):
             q = horner_float(TX, t) * c + horner_float(TY, t) * s
             dq = horner_float(dx, t) * c + horner_float(dy, t) * s
             if dq == 0.0:
@@ -118,28 +99,13 @@ class HullFeature:
                 break
         return t
 
-    def support_point(self, psi: FloatArray | float) -> FloatArray:
-        """Point of the feature touched by the support line of normal ψ; shape (..., 2)."""
+    def support_point(self, psi: float) -> FloatArray:
+        """Point of the feature touched by the support line of normal ψ; shape (2,).
+        (Arrays of normals: :meth:`ConvexHull.feature_points`.)"""
         if self.kind == "curve":
             assert self.piece is not None
-            if np.ndim(psi) == 0:  # scalar hot path of root refinement: plain floats
-                return self.piece.point(self._param_at_scalar(float(psi)))
-            return self.piece.point(self.param_at(np.asarray(psi, dtype=float)))
-        return np.asarray(self.center) + self.radius * unit(np.asarray(psi, dtype=float))
-
-    def length(self) -> float:
-        """Arc length of the feature (0 for a point)."""
-        if self.kind == "point":
-            return 0.0
-        if self.kind == "circle":
-            return self.radius * (self.psi1 - self.psi0)
-        assert self.piece is not None
-        # Composite Gauss-Legendre (8 panels × 24 nodes, cached) in one evaluation.
-        t01, w01 = gauss_legendre_01(24, 8)
-        t = self.s0 + (self.s1 - self.s0) * t01
-        W = horner(self.piece.W, t)
-        speed = np.hypot(*self.piece.tangent(t).T) / (W * W)
-        return float((self.s1 - self.s0) * (w01 @ speed))
+            return self.piece.point(self.param_at(float(psi)))
+        return np.asarray(self.center) + self.radius * unit(float(psi))
 
 
 @dataclass(frozen=True, eq=False)
@@ -150,16 +116,18 @@ class ConvexHull:
         features: the Gauss-map features (read-only tuple).
         edges: straight edges as ((ax, ay), (bx, by)), counter-clockwise.
         perimeter: exact perimeter (edges + arc lengths; unit).
+        table: the features as arrays, for vectorised support points.
     """
 
     features: tuple[HullFeature, ...]
     edges: tuple[tuple[tuple[float, float], tuple[float, float]], ...]
     perimeter: float
+    table: FeatureTable
 
     @property
     def breakpoints(self) -> FloatArray:
         """Normal angles where the feature changes (the psi0 of each feature)."""
-        return np.array([f.psi0 for f in self.features])
+        return self.table.breakpoints
 
     def index_at(self, psi: float) -> int:
         """Index of the feature whose normal range holds ψ (right-open ranges)."""
@@ -174,17 +142,15 @@ class ConvexHull:
         return float(f.support_point(psi) @ unit(psi))
 
     def support_points(self, psi: FloatArray) -> FloatArray:
-        """Support points for an array of normals ψ (shape (m,) → (m, 2)), vectorised
-        per feature; O(m log n)."""
+        """Support points for an array of normals ψ (shape (m,) → (m, 2)), in one
+        vectorised pass over all features; O(m (log n + L))."""
+        idx, x = self.table.feature_index(np.asarray(psi, dtype=float))
+        return self.table.points(idx, x)
+
+    def feature_points(self, i: int, psi: FloatArray) -> FloatArray:
+        """Support points (m, 2) of feature ``i`` for normals ψ (m,) in its range."""
         psi = np.asarray(psi, dtype=float)
-        base = self.features[0].psi0
-        x = base + (psi - base) % TWO_PI
-        idx = np.clip(np.searchsorted(self.breakpoints, x, side="right") - 1, 0, len(self.features) - 1)
-        out = np.empty(psi.shape + (2,))
-        for i in np.unique(idx):
-            sel = idx == i
-            out[sel] = self.features[i].support_point(x[sel])
-        return out
+        return self.table.points(np.full(psi.shape, i, dtype=np.intp), psi)
 
     def support_many(self, psi: FloatArray) -> FloatArray:
         """h(ψ) for an array of normals, vectorised per feature; O(m log n)."""
@@ -203,9 +169,9 @@ class ConvexHull:
     def outline(self, step_rad: float = 0.02) -> FloatArray:
         """A closed polyline of the hull boundary for drawings only; shape (N, 2)."""
         pts = []
-        for f in self.features:
+        for i, f in enumerate(self.features):
             n = 1 if f.kind == "point" else max(2, int(np.ceil((f.psi1 - f.psi0) / step_rad)) + 1)
-            pts.append(f.support_point(np.linspace(f.psi0, f.psi1, n)).reshape(-1, 2))
+            pts.append(self.feature_points(i, np.linspace(f.psi0, f.psi1, n)))
         out = np.concatenate(pts)
         return np.vstack([out, out[:1]])
 
@@ -344,6 +310,9 @@ def exact_hull(boundary: list[Segment], size: float, tol: Tolerances) -> ConvexH
     elems = _elements(loop, order, links, contacts, size)
     feats = _features(loop, elems, tol)
     edges = tuple((tuple(map(float, e[1])), tuple(map(float, e[2]))) for e in elems if e[0] == "edge")
+    table = FeatureTable.build(feats)
     perimeter = sum(float(np.hypot(*(np.asarray(b) - np.asarray(a)))) for a, b in edges)
-    perimeter += sum(f.length() for f in feats)
-    return ConvexHull(tuple(feats), edges, perimeter)  # type: ignore[arg-type]
+    perimeter += sum(f.radius * (f.psi1 - f.psi0) for f in feats if f.kind == "circle")
+    # Composite Gauss-Legendre (8 panels × 24 nodes) converges to rounding on these arcs.
+    perimeter += float(np.sum(table.curve_lengths(*gauss_legendre_01(24, 8))))
+    return ConvexHull(tuple(feats), edges, perimeter, table)  # type: ignore[arg-type]

@@ -11,14 +11,15 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
-from scipy.optimize import root as solve_root
 
-from algrasp.curves import FloatArray, Piece, horner, real_roots_in
+from algrasp.bank import coefficient_stack, normal_angles, points
+from algrasp.curves import FloatArray, Piece, horner_float, real_roots_in
 from algrasp.errors import GeometryError
 from algrasp.segments import Line, Segment
 from algrasp.tolerances import Tolerances
 
 TWO_PI = 2.0 * np.pi
+_SAMPLE_GRID = 33  # uniform parameters per piece before refining by turn
 
 
 # --------------------------------------------------------------------------- pieces
@@ -41,30 +42,36 @@ class Loop:
         sizes = [len(p.points) for p in self.pieces]
         return np.concatenate([p.points for p in self.pieces]), np.concatenate([[0], np.cumsum(sizes)[:-1]])
 
+    @cached_property
+    def coef(self) -> FloatArray:
+        """Stacked coefficient rows (P, 7, L) of the pieces (:mod:`algrasp.bank`)."""
+        return coefficient_stack(self.pieces)
+
 
 def _convex_split(piece: Piece, size: float) -> list[Piece]:
     """Sub-pieces of ``piece`` that turn left, each with a tangent turn < 90°.
 
     Cuts at the roots of the curvature polynomial (inflections) and of the tangent's
     coordinates (quadrant changes); the curvature sign of each part is read from the
-    parent's polynomial at the part's middle, so only kept parts are built.
+    parent's polynomial at the part's middle, so only kept parts are built. Scalar
+    work is in plain floats: per-call numpy overhead would dominate these small degrees.
     """
-    K = piece.curvature_poly
+    K = piece.curvature_list
+    _, _, W, TX, TY = piece._lists
     inflections = [c for c in real_roots_in(K, 0.0, 1.0) if 1e-9 < c < 1.0 - 1e-9]
     # Quadrant cuts only bound the turn of a piece; one a hair from another cut would
     # leave a sliver whose tangent is lost to cancellation, so those are skipped.
     edges = sorted({0.0, 1.0, *inflections})
-    for c in sorted(real_roots_in(piece.TX, 0.0, 1.0) + real_roots_in(piece.TY, 0.0, 1.0)):
+    for c in sorted(real_roots_in(TX, 0.0, 1.0) + real_roots_in(TY, 0.0, 1.0)):
         if min(abs(c - e) for e in edges) > 1e-4:
             edges = sorted([*edges, c])
     kept = []
     for a, b in zip(edges[:-1], edges[1:]):
         m = 0.5 * (a + b)
-        W = float(horner(piece.W, m)) if len(piece.W) > 1 else float(piece.W[0])
-        speed = float(np.hypot(*piece.tangent(m)))
+        speed = math.hypot(horner_float(TX, m), horner_float(TY, m))
         if speed == 0.0:
             continue
-        kappa = float(horner(K, m)) * W**3 / speed**3
+        kappa = horner_float(K, m) * horner_float(W, m) ** 2 / speed**3
         if kappa * size > 1e-9:  # left turn; straight or right-turning parts never touch the hull
             kept.append(piece.restrict(a, b))
     return kept
@@ -92,24 +99,31 @@ def build_loop(boundary: list[Segment], size: float) -> Loop:
         vertex(seg.start)
         for raw in seg.pieces(i):
             for p in _convex_split(raw, size):
-                starts.append(vertex(p.point(0.0)))
-                ends.append(vertex(p.point(1.0)))
+                # A Bezier piece interpolates its end control points (exact).
+                starts.append(vertex(p.points[0]))
+                ends.append(vertex(p.points[-1]))
                 pieces.append(p)
     return Loop(np.array(verts), tuple(pieces), tuple(starts), tuple(ends))
 
 
-def _samples(p: Piece, max_turn: float) -> FloatArray:
-    """Interior parameters of ``p`` with a tangent turn of about ≤ max_turn between them.
+def _samples(coef: FloatArray, max_turn: float) -> tuple[FloatArray, FloatArray]:
+    """Interior parameters of all pieces (stacked rows ``coef``, (P, 7, L)) with a tangent
+    turn of about ≤ max_turn between them: 33 uniform parameters per piece, then each
+    cell that turns more is subdivided evenly (the normal is monotone on a piece, so the
+    turn per cell is known). One batch for all pieces.
 
-    One pass: 33 uniform parameters, then each cell that turns more is subdivided
-    evenly (the normal is monotone on a piece, so the turn per cell is known).
+    Returns (piece index, parameter) of every sample, grouped by piece in order.
     """
-    ts = np.linspace(0.0, 1.0, 33)
-    turn = np.diff(np.unwrap(p.normal_angle(ts)))
-    k = np.maximum(np.ceil(np.abs(turn) / max_turn).astype(int), 1)
+    u = np.linspace(0.0, 1.0, _SAMPLE_GRID)
+    ang = normal_angles(coef, np.broadcast_to(u, (coef.shape[0], u.size)))
+    turn = np.diff(np.unwrap(ang, axis=1), axis=1)
+    k = np.maximum(np.ceil(np.abs(turn) / max_turn).astype(int), 1).ravel()
     cell = np.repeat(np.arange(k.size), k)
     j = np.arange(cell.size) - np.repeat(np.cumsum(k) - k, k)
-    return (ts[cell] + (ts[cell + 1] - ts[cell]) * j / k[cell])[1:]
+    c = cell % (_SAMPLE_GRID - 1)
+    t = u[c] + (u[c + 1] - u[c]) * j / k[cell]
+    interior = (c > 0) | (j > 0)  # each piece's t = 0 is its start vertex
+    return cell[interior] // (_SAMPLE_GRID - 1), t[interior]
 
 
 # --------------------------------------------------------------------------- contacts
@@ -132,19 +146,44 @@ def _vertex_tangent(loop: Loop, a: FloatArray, pid: int, t_guess: float, size: f
     return min(roots, key=lambda t: abs(t - t_guess))
 
 
+def _frame(p: Piece, t: float) -> tuple[float, float, float, float, float, float, float]:
+    """Point (x, y), tangent numerator (tx, ty), its derivative and W at t, in floats."""
+    X, Y, W, _, _ = p._lists
+    TX, TY, dTX, dTY = p.tangent_lists
+    w = horner_float(W, t)
+    return (horner_float(X, t) / w, horner_float(Y, t) / w, horner_float(TX, t), horner_float(TY, t),
+            horner_float(dTX, t), horner_float(dTY, t), w)
+
+
 def _bitangent(loop: Loop, fa: int, sa: float, fb: int, sb: float) -> tuple[float, float] | None:
+    """Parameters (s, t) of the line touching pieces fa and fb: Newton on the 2×2
+    system cross(T_a(s), e) = cross(T_b(t), e) = 0, e = B(t) − A(s), with the exact
+    Jacobian (a point moves along its tangent T/W², so d e/ds = −T_a/W_a²)."""
     pa, pb = loop.pieces[fa], loop.pieces[fb]
-
-    def eqs(x: FloatArray) -> list[float]:
-        e = pb.point(x[1]) - pa.point(x[0])
-        ta, tb = pa.tangent(x[0]), pb.tangent(x[1])
-        ta, tb = ta / np.hypot(*ta), tb / np.hypot(*tb)
-        return [float(ta[0] * e[1] - ta[1] * e[0]), float(tb[0] * e[1] - tb[1] * e[0])]
-
-    sol = solve_root(eqs, [sa, sb], method="hybr", tol=1e-14)
-    # hybr may report "no further improvement" at machine precision: judge the residual.
-    if np.all(np.isfinite(sol.x)) and float(np.max(np.abs(sol.fun))) <= 1e-12:
-        return float(sol.x[0]), float(sol.x[1])
+    s, t = sa, sb
+    for _ in range(40):
+        ax, ay, tax, tay, dax, day, wa = _frame(pa, s)
+        bx, by, tbx, tby, dbx, dby, wb = _frame(pb, t)
+        ex, ey = bx - ax, by - ay
+        f1, f2 = tax * ey - tay * ex, tbx * ey - tby * ex
+        j11, j12 = dax * ey - day * ex, (tax * tby - tay * tbx) / (wb * wb)
+        j21, j22 = -(tbx * tay - tby * tax) / (wa * wa), dbx * ey - dby * ex
+        det = j11 * j22 - j12 * j21
+        if det == 0.0 or not math.isfinite(det):
+            break
+        ds, dt = (f1 * j22 - f2 * j12) / det, (j11 * f2 - j21 * f1) / det
+        s, t = s - ds, t - dt
+        if abs(ds) + abs(dt) < 1e-15:
+            break
+    # Judge the residual with unit tangents, as the hull's length tolerance does.
+    if math.isfinite(s) and math.isfinite(t):
+        ax, ay, tax, tay, _, _, _ = _frame(pa, s)
+        bx, by, tbx, tby, _, _, _ = _frame(pb, t)
+        ex, ey = bx - ax, by - ay
+        r1 = abs(tax * ey - tay * ex) / math.hypot(tax, tay)
+        r2 = abs(tbx * ey - tby * ex) / math.hypot(tbx, tby)
+        if max(r1, r2) <= 1e-12:
+            return s, t
     return _alternating_bitangent(loop, fa, sa, fb, sb)
 
 
@@ -271,18 +310,19 @@ def candidate_points(loop: Loop, tol: Tolerances) -> tuple[FloatArray, list[list
     """
     n_v = len(loop.vertices)
     vmembers: list[list[tuple[int, int]]] = [[] for _ in range(n_v)]
-    pts = [loop.vertices]
-    owners, params, index = [np.full(n_v, -1)], [np.zeros(n_v)], [np.zeros(n_v, dtype=int)]
-    for k, p in enumerate(loop.pieces):
-        ts = _samples(p, tol.hull_sample_turn_rad)
+    if not loop.pieces:
+        empty = np.zeros(0, dtype=int)
+        return loop.vertices, _Members(n_v, vmembers, empty, empty), _Contacts(n_v, empty, np.zeros(0))  # type: ignore[return-value]
+    owner, param = _samples(loop.coef, tol.hull_sample_turn_rad)
+    counts = np.bincount(owner, minlength=len(loop.pieces))
+    j = np.arange(owner.size) - np.repeat(np.cumsum(counts) - counts, counts) + 1
+    for k, n in enumerate(counts.tolist()):
         vmembers[loop.start_vertex[k]].append((k, 0))
-        vmembers[loop.end_vertex[k]].append((k, len(ts) + 1))
-        pts.append(p.point(ts).reshape(-1, 2))
-        owners.append(np.full(len(ts), k))
-        params.append(ts)
-        index.append(np.arange(1, len(ts) + 1))
-    owner, param, j = np.concatenate(owners), np.concatenate(params), np.concatenate(index)
-    return np.concatenate(pts), _Members(n_v, vmembers, owner, j), _Contacts(n_v, owner, param)  # type: ignore[return-value]
+        vmembers[loop.end_vertex[k]].append((k, n + 1))
+    pts = points(loop.coef[owner], param)
+    owner = np.concatenate([np.full(n_v, -1), owner])
+    return (np.concatenate([loop.vertices, pts]), _Members(n_v, vmembers, owner, np.concatenate([np.zeros(n_v, dtype=int), j])),  # type: ignore[return-value]
+            _Contacts(n_v, owner, np.concatenate([np.zeros(n_v), param])))
 
 
 class _Members:

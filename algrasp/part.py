@@ -22,7 +22,8 @@ from algrasp.document import number, parse_loops
 from algrasp.errors import PartDocumentError
 from algrasp.hull import ConvexHull, exact_hull
 from algrasp.limits import DEFAULT_LIMITS, Limits
-from algrasp.segments import Bezier, Line, Segment, line_moments
+from algrasp.moments import loop_moments
+from algrasp.segments import Bezier, Line, Segment, loop_polyline
 from algrasp.tolerances import DEFAULT_TOLERANCES, Tolerances
 
 _TESSELLATION_TURN_RAD = np.radians(2.0)  # only for the simplicity check, never for analysis
@@ -67,36 +68,29 @@ def load_part(doc: Mapping[str, Any], tol: Tolerances = DEFAULT_TOLERANCES, limi
     _check_loop(boundary, field, size, tol)
     for i, hole in enumerate(holes):
         _check_loop(hole, f"holes[{i}]", size, tol)
-    moments = _moments(boundary)
+    moments = loop_moments(boundary)
     if abs(moments[0]) <= tol.zero_area_rel * size * size:
         raise PartDocumentError(field, f"the boundary encloses zero area ({moments[0]:.3g})")
     _check_simple(boundary, holes, field)
     if moments[0] < 0.0:
         boundary = [s.reversed() for s in reversed(boundary)]
-        moments = tuple(-m for m in moments)  # type: ignore[assignment]
-    area, sx, sy = moments
+        moments = -moments
     oriented_holes = []
     for hole in holes:
-        hm = _moments(hole)
+        hm = loop_moments(hole)
         if hm[0] > 0.0:
             hole = [s.reversed() for s in reversed(hole)]
-            hm = tuple(-m for m in hm)  # type: ignore[assignment]
-        area, sx, sy = area + hm[0], sx + hm[1], sy + hm[2]
+            hm = -hm
+        moments = moments + hm
         oriented_holes.append(tuple(hole))
+    area, sx, sy, ixx, iyy = (float(m) for m in moments)
     if area <= tol.zero_area_rel * size * size:
         raise PartDocumentError("holes", "the holes leave the part with zero area")
     hull = exact_hull(boundary, size, tol)
     com, given = _center_of_mass(doc, (sx / area, sy / area), hull)
-    ixx, iyy = _second_moments(boundary, oriented_holes)
     polar = ixx + iyy - area * (com[0] ** 2 + com[1] ** 2)
     return Part(str(doc.get("name", "part")), str(doc.get("units", "mm")), tuple(boundary), tuple(oriented_holes),
                 float(area), com, given, size, hull, doc, float(polar))
-
-
-def _second_moments(boundary: list[Segment], holes: list[tuple[Segment, ...]]) -> tuple[float, float]:
-    """(∬ x² dA, ∬ y² dA) of boundary minus holes (loops already oriented)."""
-    m = np.sum([s.second_moments() for loop in [boundary, *holes] for s in loop], axis=0)
-    return float(m[0]), float(m[1])
 
 
 def _center_of_mass(doc: Mapping[str, Any], centroid: tuple[float, float],
@@ -162,19 +156,11 @@ def _check_loop(loop: list[Segment], field: str, size: float, tol: Tolerances) -
                                     f"open loop: gap of {gap:.6g} between the end of segment {i} and the start of segment {j}", i)
 
 
-def _moments(loop: list[Segment]) -> tuple[float, float, float]:
-    if all(isinstance(s, Line) for s in loop):  # polygons: one vectorised pass
-        return line_moments(np.array([s.start for s in loop]), np.array([s.end for s in loop]))
-    m = np.sum([s.moments() for s in loop], axis=0)
-    return float(m[0]), float(m[1]), float(m[2])
-
-
 def _polyline(loop: list[Segment]) -> tuple[FloatArray, list[FloatArray]]:
     if all(isinstance(s, Line) for s in loop):
         starts = np.array([s.start for s in loop])
         return starts, list(starts[:, None, :])
-    parts = [s.polyline(_TESSELLATION_TURN_RAD)[:-1] for s in loop]
-    return np.concatenate(parts), parts
+    return loop_polyline(loop, _TESSELLATION_TURN_RAD)
 
 
 def _check_simple(boundary: list[Segment], holes: list[list[Segment]], field: str) -> None:

@@ -21,12 +21,13 @@ from algrasp.analysis import Analysis  # noqa: E402
 from algrasp.curves import FloatArray  # noqa: E402
 from algrasp.errors import AlgraspError  # noqa: E402
 from algrasp.plan import Plan  # noqa: E402
+from algrasp.segments import loop_polyline  # noqa: E402
 
 MAX_TRACE_ROWS = 8
 
 
 def _outline(analysis: Analysis) -> FloatArray:
-    pts = np.concatenate([s.polyline(np.radians(3.0))[:-1] for s in analysis.part.boundary])
+    pts, _ = loop_polyline(analysis.part.boundary, np.radians(3.0))
     return np.vstack([pts, pts[:1]]) - np.asarray(analysis.part.center_of_mass)
 
 

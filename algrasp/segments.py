@@ -7,13 +7,13 @@ validity checks and drawings — never for the analysis.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
 
 import numpy as np
 
-from algrasp.curves import FloatArray, Piece, _readonly, conic_arc_pieces, horner_rows
+from algrasp.curves import FloatArray, Piece, _bernstein_matrix, _readonly, conic_arc_pieces
 
 Moments = tuple[float, float, float]
 
@@ -31,15 +31,6 @@ def gauss_legendre_01(n: int, panels: int) -> tuple[FloatArray, FloatArray]:
 """(∮ x dy, ½ ∮ x² dy, −½ ∮ y² dx): area and first moments of the enclosed region."""
 
 
-def line_moments(p: FloatArray, q: FloatArray) -> Moments:
-    """Summed Green's moments of straight segments p[i] → q[i] (arrays (N, 2)), exact."""
-    (px, py), (qx, qy) = p.T, q.T
-    a = float(np.sum((px + qx) / 2.0 * (qy - py)))
-    sx = float(np.sum((qy - py) * (px * px + px * qx + qx * qx))) / 6.0
-    sy = -float(np.sum((qx - px) * (py * py + py * qy + qy * qy))) / 6.0
-    return a, sx, sy
-
-
 @dataclass(frozen=True)
 class Line:
     start: tuple[float, float]
@@ -51,16 +42,6 @@ class Line:
 
     def reversed(self) -> Line:
         return Line(self.end, self.start)
-
-    def moments(self) -> Moments:
-        return line_moments(np.array([self.start]), np.array([self.end]))
-
-    def second_moments(self) -> tuple[float, float]:
-        """(⅓∮ x³ dy, −⅓∮ y³ dx) = (∬ x² dA, ∬ y² dA) contributions."""
-        (px, py), (qx, qy) = self.start, self.end
-        ixx = (qy - py) * (px**3 + px * px * qx + px * qx * qx + qx**3) / 12.0
-        iyy = -(qx - px) * (py**3 + py * py * qy + py * qy * qy + qy**3) / 12.0
-        return ixx, iyy
 
     def polyline(self, max_turn_rad: float) -> FloatArray:
         return np.array([self.start, self.end], dtype=float)
@@ -202,29 +183,6 @@ class Bezier:
     def reversed(self) -> Bezier:
         return Bezier(self.points[::-1], self.weights[::-1])
 
-    def _quadrature(self, poly_nodes: int) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
-        """Weights w and x, y, dx/dt, dy/dt at Gauss-Legendre nodes: ``poly_nodes`` nodes
-        (exact for polynomial integrands of degree < 2·poly_nodes) for polynomial curves;
-        composite 16 × 24 nodes, converged to rounding, for rational ones."""
-        p = self._piece
-        t, w = gauss_legendre_01(24, 16) if self.is_rational else gauss_legendre_01(poly_nodes, 1)
-        x, y, W = horner_rows(p.XYW, t)
-        tx, ty = horner_rows(p.TANGENTS[:2], t)
-        return w, x / W, y / W, tx / (W * W), ty / (W * W)
-
-    def moments(self) -> Moments:
-        # x² y′ has degree 3k − 1.
-        w, x, y, dx, dy = self._quadrature((3 * self._piece.degree) // 2 + 1)
-        return float(w @ (x * dy)), float(w @ (0.5 * x * x * dy)), float(w @ (-0.5 * y * y * dx))
-
-    def second_moments(self) -> tuple[float, float]:
-        """(⅓∮ x³ dy, −⅓∮ y³ dx); x³ y′ has degree 4k − 1."""
-        w, x, y, dx, dy = self._quadrature(2 * self._piece.degree + 1)
-        return float(w @ (x**3 * dy)) / 3.0, -float(w @ (y**3 * dx)) / 3.0
-
-    def polyline(self, max_turn_rad: float) -> FloatArray:
-        return self._piece.point(np.linspace(0.0, 1.0, 8 * self.points.shape[0] + 1))
-
     def to_dict(self) -> dict[str, object]:
         out: dict[str, object] = {"type": "bezier", "points": self.points.tolist()}
         if self.is_rational:
@@ -233,3 +191,30 @@ class Bezier:
 
 
 Segment = Line | EllipseArc | Bezier
+
+
+def loop_polyline(loop: Sequence[Segment], max_turn_rad: float) -> tuple[FloatArray, list[FloatArray]]:
+    """A closed polyline through the loop, for validity checks and drawings only.
+
+    Returns all points (N, 2) (each segment without its end point, which is the next
+    one's start) and the per-segment parts. Bezier segments get 8(k + 1) chords each,
+    evaluated for all segments of one degree in a single batch.
+    """
+    parts: list[FloatArray | None] = [None] * len(loop)
+    groups: dict[int, list[int]] = {}
+    for i, seg in enumerate(loop):
+        if isinstance(seg, Bezier):
+            groups.setdefault(seg.points.shape[0] - 1, []).append(i)
+        else:
+            parts[i] = seg.polyline(max_turn_rad)[:-1]
+    for degree, idx in groups.items():
+        u = np.linspace(0.0, 1.0, 8 * (degree + 1) + 1)[:-1]
+        basis = (u[:, None] ** np.arange(degree + 1)) @ _bernstein_matrix(degree)
+        segs = [loop[i] for i in idx]
+        hom = np.stack([np.column_stack([s.points * s.weights[:, None], s.weights]) for s in segs])  # type: ignore[union-attr]
+        H = np.einsum("nk,skc->snc", basis, hom)
+        pts = H[..., :2] / H[..., 2:]
+        for j, i in enumerate(idx):
+            parts[i] = pts[j]
+    done = [p for p in parts if p is not None]
+    return np.concatenate(done), done

@@ -8,6 +8,7 @@ import numpy as np
 
 from algrasp.curves import FloatArray
 from algrasp.part import Part
+from algrasp.segments import loop_polyline
 from algrasp.sim.config import SimConfig, meters_per_unit
 
 
@@ -64,12 +65,12 @@ def collision_outline(part: Part, turn_rad: float, min_chord: float) -> tuple[Fl
     pts: list[FloatArray] = []
     corners: list[FloatArray] = []
     worst = 0.0
-    for f in part.hull.features:
+    for i, f in enumerate(part.hull.features):
         if f.kind == "point":
             pts.append(np.asarray(f.center)[None, :])
             corners.append(np.array([True]))
             continue
-        dense = f.support_point(np.linspace(f.psi0, f.psi1, max(2, int(np.ceil((f.psi1 - f.psi0) / 0.002)) + 1)))
+        dense = part.hull.feature_points(i, np.linspace(f.psi0, f.psi1, max(2, int(np.ceil((f.psi1 - f.psi0) / 0.002)) + 1)))
         keep = [0]
         for i in range(1, len(dense) - 1):
             chord = float(np.hypot(*(dense[i] - dense[keep[-1]])))
@@ -109,11 +110,11 @@ def mean_radius(part: Part) -> float:
     """Mean distance of the region's points from the centre of mass (uniform grid)."""
     from matplotlib.path import Path
 
-    pts = np.concatenate([s.polyline(0.05)[:-1] for s in part.boundary])
+    pts, _ = loop_polyline(part.boundary, 0.05)
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     xs, ys = np.meshgrid(np.linspace(lo[0], hi[0], 120), np.linspace(lo[1], hi[1], 120))
     grid = np.column_stack([xs.ravel(), ys.ravel()])
     inside = Path(pts).contains_points(grid)
     for hole in part.holes:
-        inside &= ~Path(np.concatenate([s.polyline(0.05)[:-1] for s in hole])).contains_points(grid)
+        inside &= ~Path(loop_polyline(hole, 0.05)[0]).contains_points(grid)
     return float(np.mean(np.hypot(*(grid[inside] - np.asarray(part.center_of_mass)).T)))
