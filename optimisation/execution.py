@@ -64,6 +64,7 @@ class StepExecution:
     higher: FloatArray
     centre_at_s: float | None  # squeeze: when the jaws start closing (simulation centring)
     push_end_s: float | None  # push-grasp: when the push ends
+    settle_at_s: float | None = None  # when the hold ends (the simulation waits for the part to settle)
 
 
 @dataclass(frozen=True, eq=False)
@@ -95,7 +96,7 @@ class Execution:
         steps, ends, t0 = [], [], 0.0
         for st in self.steps:
             steps.append((st.t_s.tolist(), st.gripper_angle_rad.tolist(), (st.lower * s).tolist(),
-                          (st.higher * s).tolist(), st.centre_at_s))
+                          (st.higher * s).tolist(), st.centre_at_s, st.settle_at_s))
             if st.push_end_s is not None:
                 ends.append(t0 + st.push_end_s)
             t0 += st.duration_s
@@ -232,8 +233,10 @@ def _sample(pf: GripperProfile, moves: list[Move], alpha0: float, push: PushResu
     """Samples at ``sample_hz`` plus every move boundary; state carried across moves."""
     W = g.d_max / 2 + pf.open_clearance_m + pf.placement_tolerance_m
     state = np.array([alpha0, -W, W])
-    ts, rows, t, centre, push_end = [0.0], [state.copy()], 0.0, None, None
+    ts, rows, t, centre, push_end, settle = [0.0], [state.copy()], 0.0, None, None, None
     for m in moves:
+        if m.axis == "dwell":
+            settle = t + max(m.duration_s, 0.0)
         if m.duration_s <= 0.0:
             continue
         if m.axis == "jaws" and m.profile is not None and m.profile.q[0] > m.profile.q[-1] and centre is None:
@@ -249,7 +252,7 @@ def _sample(pf: GripperProfile, moves: list[Move], alpha0: float, push: PushResu
         t += m.duration_s
     arr = np.array(rows)
     return StepExecution(push, t, np.array(ts), arr[:, 0], arr[:, 1] / scale, arr[:, 2] / scale,
-                         centre if push is None else None, push_end)
+                         centre if push is None else None, push_end, settle)
 
 
 def _state_at(m: Move, base: FloatArray, tau: float) -> FloatArray:

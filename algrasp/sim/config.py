@@ -10,6 +10,12 @@ Model (stated for users and the README):
   the centre of mass; below ``stiction_speed_m_s`` the force is regularised (viscous).
 - Jaws: two frictionless boxes on prismatic joints of a gripper turned to α; each jaw is
   PD-tracked along its schedule with its force capped at ``jaw_force_n``.
+- Grasp detection: at the end of each squeeze (the hold), the gripper keeps its targets
+  until the part has settled — its speed below ``settle_speed_m_s`` / ``settle_rate_rad_s``
+  for ``settle_quiet_s`` — at most ``settle_max_s``, as a gripper that reports "object
+  gripped" when its jaws stop. Support friction makes a squeeze through a region where
+  d(θ) is nearly flat slow (the turning torque F·d′(θ) barely exceeds the friction
+  moment), so a fixed hold would release parts mid-turn.
 - Contact: hydroelastic (compliant part, rigid jaws), discrete SAP, ``time_step_s``.
 """
 
@@ -46,6 +52,10 @@ class SimConfig:
     hunt_crossley_s_m: float = 10.0
     tessellation_turn_rad: float = 0.03
     record_hz: float = 50.0
+    settle_speed_m_s: float = 1e-3
+    settle_rate_rad_s: float = 0.01
+    settle_quiet_s: float = 0.05
+    settle_max_s: float = 1.0
 
 
 DEFAULT_SIM = SimConfig()
@@ -73,6 +83,8 @@ class Phase:
     """At the start of this phase (ideal placement only) the jaws' paths are shifted so
     both touch the part together (Assumption 7): the shift is the midpoint of the part's
     extent along the closing axis, kept until the action ends."""
+    settle: bool = False
+    """At the end of this phase (a squeeze's hold) the targets stay until the part settles."""
 
     def at(self, t: float) -> tuple[float, float, float]:
         s = 0.0 if self.t1 <= self.t0 else min(max((t - self.t0) / (self.t1 - self.t0), 0.0), 1.0)
@@ -90,18 +102,26 @@ class SimSchedule:
     half_open_m: float
     push_ends_s: tuple[float, ...] = ()
 
+    @property
+    def settle_s(self) -> tuple[float, ...]:
+        """Schedule times at which the simulation waits for the part to settle."""
+        return tuple(p.t1 for p in self.phases if p.settle)
 
-def sampled_schedule(steps: list[tuple[list[float], list[float], list[float], list[float], float | None]],
-                     half_open_m: float, push_ends_s: tuple[float, ...]) -> SimSchedule:
+
+SampledStep = tuple[list[float], list[float], list[float], list[float], float | None, float | None]
+
+
+def sampled_schedule(steps: list[SampledStep], half_open_m: float, push_ends_s: tuple[float, ...]) -> SimSchedule:
     """Phases that interpolate sampled trajectories linearly. ``steps`` holds per action
-    (t_s, gripper angle rad, lower m, higher m, centring time or None), times from the
-    action's start; actions follow each other."""
+    (t_s, gripper angle rad, lower m, higher m, centring time or None, settle time or
+    None), times from the action's start; actions follow each other."""
     phases: list[Phase] = []
     t0 = 0.0
-    for k, (t, g, lo, hi, centre) in enumerate(steps):
+    for k, (t, g, lo, hi, centre, settle) in enumerate(steps):
         for i in range(len(t) - 1):
             phases.append(Phase(t0 + t[i], t0 + t[i + 1], (g[i], g[i + 1]), (lo[i], lo[i + 1]), (hi[i], hi[i + 1]), k,
-                                centre=centre is not None and abs(t[i] - centre) < 1e-12))
+                                centre=centre is not None and abs(t[i] - centre) < 1e-12,
+                                settle=settle is not None and abs(t[i + 1] - settle) < 1e-12))
         t0 += t[-1]
     return SimSchedule(tuple(phases), half_open_m, push_ends_s)
 
@@ -120,9 +140,9 @@ def schedule(angles: list[float], action: str, half_open_m: float, push_m: float
     phases: list[Phase] = []
 
     def add(duration: float, gripper: tuple[float, float], lower: tuple[float, float],
-            higher: tuple[float, float], k: int) -> None:
+            higher: tuple[float, float], k: int, settle: bool = False) -> None:
         nonlocal t
-        phases.append(Phase(t, t + duration, gripper, lower, higher, k))
+        phases.append(Phase(t, t + duration, gripper, lower, higher, k, settle=settle))
         t += duration
 
     for k, alpha in enumerate(angles):
@@ -133,12 +153,12 @@ def schedule(angles: list[float], action: str, half_open_m: float, push_m: float
             phases.append(Phase(t, t + (W - R) / fast, (g, g), (-W, -R), (W, R), k, centre=True))
             t += (W - R) / fast
             add(R / v, (g, g), (-R, 0.0), (R, 0.0), k)
-            add(cfg.hold_s, (g, g), (0.0, 0.0), (0.0, 0.0), k)
+            add(cfg.hold_s, (g, g), (0.0, 0.0), (0.0, 0.0), k, settle=True)
             lower_end = higher_end = 0.0
         else:
             add((W + push_m) / v, (g, g), (-W, push_m), (W, W + push_m), k)
             add(W / v, (g, g), (push_m, push_m), (W + push_m, push_m), k)
-            add(cfg.hold_s, (g, g), (push_m, push_m), (push_m, push_m), k)
+            add(cfg.hold_s, (g, g), (push_m, push_m), (push_m, push_m), k, settle=True)
             add(push_m / v, (g, g), (push_m, 0.0), (push_m, 0.0), k)
             lower_end, higher_end = 0.0, 0.0
         # Release slowly until the targets pass the part's reach (the PD force fades over

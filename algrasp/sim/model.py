@@ -61,11 +61,20 @@ class _Controller(LeafSystem):
         self._phases = phases
         self._starts = [p.t0 for p in phases]
         self._shift: dict[int, float] = {}
+        self.delay = 0.0  # simulated time spent waiting for the part to settle so far
+        self.hold_at: float | None = None  # schedule time whose targets are held, while waiting
+
+    def schedule_time(self, t: float) -> float:
+        return self.hold_at if self.hold_at is not None else t - self.delay
+
+    def phase(self, t: float) -> Phase:
+        """The phase at simulated time ``t``."""
+        return self._phases[max(bisect.bisect_right(self._starts, self.schedule_time(t)) - 1, 0)]
 
     def targets(self, t: float, x: FloatArray | None = None) -> tuple[float, float, float]:
-        i = max(bisect.bisect_right(self._starts, t) - 1, 0)
-        ph = self._phases[i]
-        g, lo, hi = ph.at(t)
+        """Gripper angle and jaw targets at simulated time ``t``."""
+        ph = self.phase(t)
+        g, lo, hi = ph.at(self.schedule_time(t))
         if self.centring and ph.centre and ph.action not in self._shift and x is not None:
             self._shift[ph.action] = self._centre_offset(x, g)
         d = self._shift.get(ph.action, 0.0)
@@ -166,8 +175,9 @@ class PlanarGripperSim:
             checkpoints: tuple[float, ...] = ()) -> tuple[float, list[float], list[tuple[float, ...]]]:
         """Simulate from part orientation φ0 (rad), centred between the jaws of the first
         action up to ``offset_m`` along its closing axis. Returns the final φ (rad,
-        unwrapped), φ at each checkpoint time, and, if asked, samples
-        (t, x, y, φ, α, q_lower, q_higher)."""
+        unwrapped), φ at each checkpoint (schedule time), and, if asked, samples
+        (t, x, y, φ, α, q_lower, q_higher). Simulated time runs ahead of schedule time
+        by the waits for the part to settle (:attr:`sim_seconds` after the run)."""
         self.controller.set_phases(phases)
         self.controller.centring = centring
         ctx = self.simulator.get_mutable_context()
@@ -178,19 +188,82 @@ class PlanarGripperSim:
         # from the previous cycle's last angle); the part is placed for the first action.
         self.joints["gripper"].set_angle(pc, phases[0].gripper[0])
         self.simulator.Initialize()
-        t_end = phases[-1].t1
-        times = np.arange(1.0, math.floor(t_end * self.cfg.record_hz) + 1) / self.cfg.record_hz if record else np.zeros(0)
-        stops = sorted(set(times.tolist()) | {min(c, t_end) for c in checkpoints} | {t_end})
+        self._record = record
         samples: list[tuple[float, ...]] = []
         at: dict[float, float] = {}
-        iphi = self.joints["part"].position_start() + 2
-        for t in stops:
+        settles = {p.t1: p.action for p in phases if p.settle}
+        for s in sorted(set(checkpoints) | set(settles) | {phases[-1].t1}):
+            if s in settles:
+                self._grip(pc, s, settles[s], samples)
+            else:
+                self._advance(pc, s + self.controller.delay, samples)
+            at[s] = self._phi(pc)
+        self.sim_seconds = self.simulator.get_context().get_time()
+        return at[phases[-1].t1], [at[c] for c in checkpoints], samples
+
+    def _advance(self, pc: Any, t: float, samples: list[tuple[float, ...]]) -> None:
+        """Simulate up to time t, sampling at ``record_hz`` on the way if recording."""
+        ctx = self.simulator.get_context()
+        if self._record:
+            step = 1.0 / self.cfg.record_hz
+            k = math.floor(ctx.get_time() / step + 1e-9) + 1
+            while k * step < t - 1e-12:
+                self.simulator.AdvanceTo(k * step)
+                samples.append(self._sample(k * step, self.plant.GetPositions(pc)))
+                k += 1
+        if t > ctx.get_time():
             self.simulator.AdvanceTo(t)
-            q = self.plant.GetPositions(pc)
-            at[t] = float(q[iphi])
-            if record:
-                samples.append(self._sample(t, q))
-        return at[t_end], [at[min(c, t_end)] for c in checkpoints], samples
+            if self._record:
+                samples.append(self._sample(t, self.plant.GetPositions(pc)))
+
+    def _grip(self, pc: Any, s: float, action: int, samples: list[tuple[float, ...]]) -> None:
+        """Squeeze up to the hold ending at schedule time s, the way a gripper with grasp
+        detection does: once, in this action, both jaws press with at least half the grip force and jaws
+        and part have been still for ``settle_quiet_s``, the part is gripped and the
+        schedule jumps to s; if s comes first, its targets are held until that happens
+        (at most ``settle_max_s`` longer).
+
+        Still means moved less than the settle speeds allow over each half of the quiet
+        window: displacement, not instantaneous velocity, since a squeezed compliant
+        contact chatters with a tiny amplitude but a real speed."""
+        cfg, ctl = self.cfg, self.controller
+        chunk, quiet, held = cfg.settle_quiet_s / 2, 0.0, 0.0
+        before = self._pose(pc)
+        while quiet < cfg.settle_quiet_s:
+            t = self.simulator.get_context().get_time()
+            if ctl.hold_at is None and t >= s + ctl.delay - 1e-12:
+                ctl.hold_at = s
+            if ctl.hold_at is not None and held >= cfg.settle_max_s:
+                break
+            end = t + chunk if ctl.hold_at is not None else min(t + chunk, s + ctl.delay)
+            self._advance(pc, end, samples)
+            held += end - t if ctl.hold_at is not None else 0.0
+            now = self._pose(pc)
+            gripping = self.controller.phase(end).action == action
+            quiet = quiet + (end - t) if gripping and self._still(before, now, end - t, end) else 0.0
+            before = now
+        ctl.delay, ctl.hold_at = self.simulator.get_context().get_time() - s, None
+
+    def _pose(self, pc: Any) -> FloatArray:
+        """(x, y, φ) of the part and the two jaw positions."""
+        q = self.plant.GetPositions(pc)
+        i = self.joints["part"].position_start()
+        return np.array([q[i], q[i + 1], q[i + 2], q[self.joints["lower"].position_start()],
+                         q[self.joints["higher"].position_start()]])
+
+    def _still(self, before: FloatArray, now: FloatArray, dt: float, t: float) -> bool:
+        """Part and jaws still over dt, with both jaws pressing (targets ≥ half the
+        grip force's servo travel inside them)."""
+        cfg = self.cfg
+        _, lo, hi = self.controller.targets(t)
+        press = 0.5 * cfg.jaw_force_n / cfg.jaw_stiffness_n_m
+        return bool(math.hypot(*(now[:2] - before[:2])) < cfg.settle_speed_m_s * dt
+                    and abs(now[2] - before[2]) < cfg.settle_rate_rad_s * dt
+                    and np.all(np.abs(now[3:] - before[3:]) < cfg.settle_speed_m_s * dt)
+                    and lo - now[3] >= press and now[4] - hi >= press)
+
+    def _phi(self, pc: Any) -> float:
+        return float(self.plant.GetPositions(pc)[self.joints["part"].position_start() + 2])
 
     def _place(self, pc: Any, phi0: float, offset_m: float, alpha0: float, half_open_m: float) -> None:
         self.plant.SetDefaultState(pc, pc.get_mutable_state())

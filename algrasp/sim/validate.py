@@ -110,7 +110,7 @@ def simulate_one(task: SimTask) -> tuple[float, list[float], float, list[tuple[f
         raise SimulationError(str(exc).splitlines()[0][:300],
                               f"part reach {1e3 * _SIMS[key].geom.reach_m:.3g} mm; parts of a few mm and below are under the "
                               "contact model's resolution") from None
-    return phi, pushed, sch.phases[-1].t1, traj
+    return phi, pushed, _SIMS[key].sim_seconds, traj
 
 
 def _task(task: SimTask) -> tuple[float, list[float], float, list[tuple[float, ...]]]:
