@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from algrasp.curves import FloatArray, Piece, _bernstein_matrix
+from algrasp.curves import FloatArray, Piece, bernstein_matrix
 
 if TYPE_CHECKING:
     from algrasp.hull import HullFeature
@@ -30,9 +30,8 @@ if TYPE_CHECKING:
 IntArray = NDArray[np.intp]
 X, Y, W, TX, TY, DTX, DTY = range(7)
 POINT_ROWS = [X, Y, W]
-TANGENT_ROWS = [TX, TY, DTX, DTY]
 TWO_PI = 2.0 * np.pi
-NEWTON_STEPS = 6  # from an interpolated start: quadratic convergence reaches rounding in 3–4
+_NEWTON_STEPS = 6  # from an interpolated start: quadratic convergence reaches rounding in 3–4
 _TABLE_SIZE = 33  # normal-angle samples per feature that start Newton
 
 
@@ -54,7 +53,7 @@ def _mul(a: FloatArray, b: FloatArray) -> FloatArray:
 def _group_rows(pieces: Sequence[Piece]) -> list[FloatArray]:
     """The seven coefficient rows of pieces sharing degree and rationality, (P, m) each."""
     degree, rational = pieces[0].degree, pieces[0].is_rational
-    M = _bernstein_matrix(degree)
+    M = bernstein_matrix(degree)
     w = np.stack([p.weights for p in pieces])
     pts = np.stack([p.points for p in pieces])
     Xc, Yc = (pts[..., 0] * w) @ M.T, (pts[..., 1] * w) @ M.T
@@ -63,7 +62,7 @@ def _group_rows(pieces: Sequence[Piece]) -> list[FloatArray]:
         dW = _der(Wc)
         TXc = _mul(_der(Xc), Wc) - _mul(Xc, dW)
         TYc = _mul(_der(Yc), Wc) - _mul(Yc, dW)
-    else:  # constant weight: W is exactly that constant, as in Piece._lists
+    else:  # constant weight: W is exactly that constant, as in Piece.lists
         Wc = np.zeros_like(Xc)
         Wc[:, 0] = w[:, 0]
         TXc, TYc = w[:, :1] * _der(Xc), w[:, :1] * _der(Yc)
@@ -103,15 +102,15 @@ def _horner2(coef: FloatArray, t: FloatArray) -> FloatArray:
     return y
 
 
-def points(coef: FloatArray, t: FloatArray) -> FloatArray:
-    """Points of stacked pieces ``coef`` (n, 7, L) at t (n,) → (n, 2)."""
-    x, y, w = horner(coef[:, POINT_ROWS], t)
+def points(coef: FloatArray, idx: IntArray, t: FloatArray) -> FloatArray:
+    """Points of pieces ``idx`` of the stack ``coef`` (P, 7, L) at t (n,) → (n, 2)."""
+    x, y, w = (_horner2(coef[idx, r], t) for r in POINT_ROWS)
     return np.stack([x / w, y / w], axis=-1)
 
 
 def normal_angles(coef: FloatArray, t: FloatArray) -> FloatArray:
-    """Outward-normal angles of pieces (n, 7, L) at t (n, ...) (counter-clockwise loops)."""
-    tx, ty = horner(coef[:, [TX, TY]][:, None] if np.ndim(t) > 1 else coef[:, [TX, TY]], t)
+    """Outward-normal angles (counter-clockwise loops) of pieces (P, 7, L) at t (P, m)."""
+    tx, ty = horner(coef[:, None, [TX, TY]], t)
     return np.arctan2(-tx, ty)
 
 
@@ -178,23 +177,17 @@ class FeatureTable:
         frac = np.minimum(np.maximum(np.divide(local - lo_p, span, out=np.zeros_like(span), where=span > 0.0), 0.0), 1.0)
         t = lo_t + frac * (hi_t - lo_t)
         lo, hi = self.s0[slots], self.s1[slots]
-        rows = self._rows
         c, s = np.cos(psi)[:, None], np.sin(psi)[:, None]
         # ⟨T(t), u(ψ)⟩ and its t-derivative as one polynomial each per query.
-        q_coef = rows[TX][slots] * c + rows[TY][slots] * s
-        dq_coef = rows[DTX][slots] * c + rows[DTY][slots] * s
-        for _ in range(NEWTON_STEPS):
+        q_coef = self.coef[slots, TX] * c + self.coef[slots, TY] * s
+        dq_coef = self.coef[slots, DTX] * c + self.coef[slots, DTY] * s
+        for _ in range(_NEWTON_STEPS):
             q, dq = _horner2(q_coef, t), _horner2(dq_coef, t)
             step = np.divide(q, dq, out=np.zeros_like(q), where=dq != 0.0)
             t = np.minimum(np.maximum(t - step, lo), hi)
             if not np.any(np.abs(step) >= 1e-15):
                 break
         return t
-
-    @cached_property
-    def _rows(self) -> FloatArray:
-        """The coefficient rows as (7, C, L), contiguous per row for cheap gathers."""
-        return np.ascontiguousarray(self.coef.transpose(1, 0, 2))
 
     def points(self, idx: IntArray, psi: FloatArray) -> FloatArray:
         """Support points (n, 2) of features ``idx`` for outward normals ψ (n,)."""
@@ -204,9 +197,7 @@ class FeatureTable:
         curve = slots >= 0
         if np.any(curve):
             sl = slots[curve]
-            t = self.params(sl, psi[curve])
-            x, y, w = (_horner2(self._rows[r][sl], t) for r in POINT_ROWS)
-            out[curve] = np.stack([x / w, y / w], axis=-1)
+            out[curve] = points(self.coef, sl, self.params(sl, psi[curve]))
         return out
 
     def curve_lengths(self, nodes: FloatArray, weights: FloatArray) -> FloatArray:

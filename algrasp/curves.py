@@ -22,19 +22,6 @@ from numpy.typing import NDArray
 FloatArray = NDArray[np.float64]
 
 
-def horner(c: FloatArray, t: FloatArray | float) -> FloatArray:
-    """Evaluate a power-basis polynomial (increasing order) at ``t``; O(k) per point.
-
-    Plain Horner: numpy.polynomial.polyval's argument checking costs more than the
-    arithmetic for the small degrees here.
-    """
-    t = np.asarray(t, dtype=float)
-    y = np.full(t.shape, c[-1], dtype=float)
-    for a in c[-2::-1]:
-        y = y * t + a
-    return y
-
-
 def horner_rows(C: FloatArray, t: FloatArray | float) -> FloatArray:
     """Evaluate the rows of C (m, k+1), each a power-basis polynomial, at ``t``.
 
@@ -87,13 +74,6 @@ def pmul(a: FloatArray, b: FloatArray) -> FloatArray:
     return np.convolve(a, b)
 
 
-def pder(c: FloatArray) -> FloatArray:
-    """Derivative of a power-basis polynomial (the zero polynomial stays [0])."""
-    if len(c) <= 1:
-        return np.zeros(1)
-    return np.asarray(c[1:] * np.arange(1, len(c)), dtype=float)
-
-
 def padd(a: FloatArray, b: FloatArray) -> FloatArray:
     """Sum of power-basis polynomials of any lengths."""
     n = max(len(a), len(b))
@@ -111,11 +91,11 @@ def _readonly(a: FloatArray) -> FloatArray:
 
 @lru_cache(maxsize=64)
 def _bernstein_lists(k: int) -> list[list[float]]:
-    return _bernstein_matrix(k).tolist()  # type: ignore[no-any-return]
+    return bernstein_matrix(k).tolist()  # type: ignore[no-any-return]
 
 
 @lru_cache(maxsize=64)
-def _bernstein_matrix(k: int) -> FloatArray:
+def bernstein_matrix(k: int) -> FloatArray:
     """M with power = M @ bernstein for degree k (integer entries, exact in floats)."""
     M = np.zeros((k + 1, k + 1))
     for i in range(k + 1):
@@ -126,9 +106,14 @@ def _bernstein_matrix(k: int) -> FloatArray:
     return M
 
 
-def bernstein_to_power(coeffs: FloatArray) -> FloatArray:
-    """Convert Bernstein coefficients (k+1,) or (k+1, m) to power basis on [0, 1]. O(k²)."""
-    return np.asarray(_bernstein_matrix(coeffs.shape[0] - 1) @ coeffs, dtype=float)
+def bernstein_values(degree: int, t: FloatArray) -> FloatArray:
+    """The degree-k Bernstein basis at parameters t (N,) → (N, k+1)."""
+    return np.asarray((np.asarray(t, dtype=float)[:, None] ** np.arange(degree + 1)) @ bernstein_matrix(degree))
+
+
+def homogeneous(points: FloatArray, weights: FloatArray) -> FloatArray:
+    """Homogeneous control points (w·x, w·y, w) of a rational Bezier curve, (k+1, 3)."""
+    return np.column_stack([points * weights[:, None], weights])
 
 
 def real_roots_in(poly: FloatArray | list[float], lo: float, hi: float, slack: float = 1e-12) -> list[float]:
@@ -185,14 +170,6 @@ def _companion_roots(c: list[float]) -> list[float]:
     return [float(z.real) for z in ev if abs(z.imag) <= 1e-7 * max(1.0, abs(z.real))]
 
 
-def _trim_tiny_leading(p: FloatArray) -> FloatArray:
-    """Drop leading coefficients that are rounding noise (relative 1e-13)."""
-    n = p.size
-    while n > 1 and abs(p[n - 1]) < 1e-13:
-        n -= 1
-    return p[:n]
-
-
 @dataclass(frozen=True, eq=False)
 class Piece:
     """A rational Bezier curve piece on ``t ∈ [0, 1]``.
@@ -217,7 +194,7 @@ class Piece:
     # never need most of them), in plain float lists: for degrees ≤ 20 this is several
     # times faster than chains of small array operations.
     @cached_property
-    def _lists(self) -> tuple[list[float], list[float], list[float], list[float], list[float]]:
+    def lists(self) -> tuple[list[float], list[float], list[float], list[float], list[float]]:
         """X, Y, W, TX, TY as coefficient lists (increasing order)."""
         w = self.weights.tolist()
         pts = self.points.tolist()
@@ -236,24 +213,24 @@ class Piece:
 
     @cached_property
     def X(self) -> FloatArray:
-        return _readonly(np.array(self._lists[0]))
+        return _readonly(np.array(self.lists[0]))
 
     @cached_property
     def Y(self) -> FloatArray:
-        return _readonly(np.array(self._lists[1]))
+        return _readonly(np.array(self.lists[1]))
 
     @cached_property
     def W(self) -> FloatArray:
-        return _readonly(np.array(self._lists[2]))
+        return _readonly(np.array(self.lists[2]))
 
     @cached_property
     def TX(self) -> FloatArray:
         """x of the tangent numerator X′W − XW′ (direction of B′(t))."""
-        return _readonly(np.array(self._lists[3]))
+        return _readonly(np.array(self.lists[3]))
 
     @cached_property
     def TY(self) -> FloatArray:
-        return _readonly(np.array(self._lists[4]))
+        return _readonly(np.array(self.lists[4]))
 
     @cached_property
     def XYW(self) -> FloatArray:
@@ -262,7 +239,7 @@ class Piece:
     @cached_property
     def tangent_lists(self) -> tuple[list[float], list[float], list[float], list[float]]:
         """TX, TY, TX′, TY′ as coefficient lists: Newton on the tangent condition needs all four."""
-        _, _, _, TX, TY = self._lists
+        _, _, _, TX, TY = self.lists
         return TX, TY, _lder(TX), _lder(TY)
 
     @cached_property
@@ -281,7 +258,7 @@ class Piece:
     def point(self, t: FloatArray | float) -> FloatArray:
         """Points at parameters ``t`` (shape (..., 2))."""
         if isinstance(t, float):
-            X, Y, W, _, _ = self._lists
+            X, Y, W, _, _ = self.lists
             w = horner_float(W, t)
             return np.array([horner_float(X, t) / w, horner_float(Y, t) / w])
         x, y, w = horner_rows(self.XYW, t)
@@ -290,7 +267,7 @@ class Piece:
     def tangent(self, t: FloatArray | float) -> FloatArray:
         """Tangent directions (not normalised, same sense as B'(t)); shape (..., 2)."""
         if isinstance(t, float):
-            _, _, _, TX, TY = self._lists
+            _, _, _, TX, TY = self.lists
             return np.array([horner_float(TX, t), horner_float(TY, t)])
         tx, ty = horner_rows(self.TANGENTS[:2], t)
         return np.stack([tx, ty], axis=-1)

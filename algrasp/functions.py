@@ -15,8 +15,8 @@ breakpoints of both terms; in a cell the two contact features F (at ψ) and G (a
   the centre of mass). This is decided from the geometry, not from samples.
 * Otherwise (a curve piece is involved) f′ = 0 is Lemma 1's system: the chord is
   normal to both curves. Roots are isolated by sign changes of f′ on a grid no
-  coarser than ``root_grid_rad`` and refined (all cells together, by Illinois regula
-  falsi) to machine precision.
+  coarser than ``root_grid_rad`` and refined (all cells together, by a vectorised Dekker
+  iteration) to machine precision.
 
 The result is a cyclic list of monotone *runs* (sign of dd/dθ: +1, −1 or 0) whose
 boundaries are the extrema, classified as in Appendix A.

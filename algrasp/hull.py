@@ -16,14 +16,13 @@ piece (control-polygon bound, then the exact extreme point from a polynomial roo
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
 from typing import Literal
 
 import numpy as np
 from scipy.spatial import ConvexHull as Qhull
 
-from algrasp.bank import NEWTON_STEPS, FeatureTable
-from algrasp.curves import FloatArray, Piece, horner_float
+from algrasp.bank import FeatureTable
+from algrasp.curves import FloatArray, Piece
 from algrasp.errors import GeometryError
 from algrasp.hull_loop import (
     Contact,
@@ -70,43 +69,6 @@ class HullFeature:
         """Whether the support point is ``center + radius·u(ψ)`` (closed forms apply)."""
         return self.kind != "curve"
 
-    @cached_property
-    def _normal_table(self) -> tuple[FloatArray, FloatArray]:
-        """(ψ samples, t samples) to start Newton in param_at by interpolation."""
-        assert self.piece is not None
-        ts = np.linspace(self.s0, self.s1, 33)
-        psis = self.psi0 + (self.piece.normal_angle(ts) - self.psi0 + np.pi) % TWO_PI - np.pi
-        return np.maximum.accumulate(psis), ts
-
-    def param_at(self, psi: float) -> float:
-        """Curve parameter whose outward normal is ψ: Newton on ⟨T(t), u(ψ)⟩ = 0 from an
-        interpolated start, kept inside [s0, s1] (the normal is monotone on a piece).
-        Plain floats: the scalar twin of :meth:`algrasp.bank.FeatureTable.params`."""
-        assert self.piece is not None
-        psis, ts = self._normal_table
-        local = self.psi0 + (psi - self.psi0 + np.pi) % TWO_PI - np.pi
-        t = float(np.interp(local, psis, ts))
-        c, s = np.cos(psi), np.sin(psi)
-        TX, TY, dx, dy = self.piece.tangent_lists
-        for _ in range(NEWTON_STEPS):
-            q = horner_float(TX, t) * c + horner_float(TY, t) * s
-            dq = horner_float(dx, t) * c + horner_float(dy, t) * s
-            if dq == 0.0:
-                break
-            step = q / dq
-            t = min(max(t - step, self.s0), self.s1)
-            if abs(step) < 1e-15:
-                break
-        return t
-
-    def support_point(self, psi: float) -> FloatArray:
-        """Point of the feature touched by the support line of normal ψ; shape (2,).
-        (Arrays of normals: :meth:`ConvexHull.feature_points`.)"""
-        if self.kind == "curve":
-            assert self.piece is not None
-            return self.piece.point(self.param_at(float(psi)))
-        return np.asarray(self.center) + self.radius * unit(float(psi))
-
 
 @dataclass(frozen=True, eq=False)
 class ConvexHull:
@@ -129,17 +91,9 @@ class ConvexHull:
         """Normal angles where the feature changes (the psi0 of each feature)."""
         return self.table.breakpoints
 
-    def index_at(self, psi: float) -> int:
-        """Index of the feature whose normal range holds ψ (right-open ranges)."""
-        base = self.features[0].psi0
-        x = base + (psi - base) % TWO_PI
-        i = int(np.searchsorted(self.breakpoints, x, side="right")) - 1
-        return max(i, 0)
-
     def support(self, psi: float) -> float:
         """Support function h(ψ) = max over the part of ⟨p, u(ψ)⟩ (unit)."""
-        f = self.features[self.index_at(psi)]
-        return float(f.support_point(psi) @ unit(psi))
+        return float(self.support_many(np.array([psi]))[0])
 
     def support_points(self, psi: FloatArray) -> FloatArray:
         """Support points for an array of normals ψ (shape (m,) → (m, 2)), in one

@@ -12,7 +12,7 @@ from functools import cached_property
 
 import numpy as np
 
-from algrasp.bank import coefficient_stack, normal_angles, points
+from algrasp.bank import IntArray, coefficient_stack, normal_angles, points
 from algrasp.curves import FloatArray, Piece, horner_float, real_roots_in
 from algrasp.errors import GeometryError
 from algrasp.segments import Line, Segment
@@ -57,7 +57,7 @@ def _convex_split(piece: Piece, size: float) -> list[Piece]:
     work is in plain floats: per-call numpy overhead would dominate these small degrees.
     """
     K = piece.curvature_list
-    _, _, W, TX, TY = piece._lists
+    _, _, W, TX, TY = piece.lists
     inflections = [c for c in real_roots_in(K, 0.0, 1.0) if 1e-9 < c < 1.0 - 1e-9]
     # Quadrant cuts only bound the turn of a piece; one a hair from another cut would
     # leave a sliver whose tangent is lost to cancellation, so those are skipped.
@@ -106,7 +106,7 @@ def build_loop(boundary: list[Segment], size: float) -> Loop:
     return Loop(np.array(verts), tuple(pieces), tuple(starts), tuple(ends))
 
 
-def _samples(coef: FloatArray, max_turn: float) -> tuple[FloatArray, FloatArray]:
+def _samples(coef: FloatArray, max_turn: float) -> tuple[IntArray, FloatArray]:
     """Interior parameters of all pieces (stacked rows ``coef``, (P, 7, L)) with a tangent
     turn of about ≤ max_turn between them: 33 uniform parameters per piece, then each
     cell that turns more is subdivided evenly (the normal is monotone on a piece, so the
@@ -148,7 +148,7 @@ def _vertex_tangent(loop: Loop, a: FloatArray, pid: int, t_guess: float, size: f
 
 def _frame(p: Piece, t: float) -> tuple[float, float, float, float, float, float, float]:
     """Point (x, y), tangent numerator (tx, ty), its derivative and W at t, in floats."""
-    X, Y, W, _, _ = p._lists
+    X, Y, W, _, _ = p.lists
     TX, TY, dTX, dTY = p.tangent_lists
     w = horner_float(W, t)
     return (horner_float(X, t) / w, horner_float(Y, t) / w, horner_float(TX, t), horner_float(TY, t),
@@ -319,7 +319,7 @@ def candidate_points(loop: Loop, tol: Tolerances) -> tuple[FloatArray, list[list
     for k, n in enumerate(counts.tolist()):
         vmembers[loop.start_vertex[k]].append((k, 0))
         vmembers[loop.end_vertex[k]].append((k, n + 1))
-    pts = points(loop.coef[owner], param)
+    pts = points(loop.coef, owner, param)
     owner = np.concatenate([np.full(n_v, -1), owner])
     return (np.concatenate([loop.vertices, pts]), _Members(n_v, vmembers, owner, np.concatenate([np.zeros(n_v, dtype=int), j])),  # type: ignore[return-value]
             _Contacts(n_v, owner, np.concatenate([np.zeros(n_v), param])))
@@ -328,7 +328,7 @@ def candidate_points(loop: Loop, tol: Tolerances) -> tuple[FloatArray, list[list
 class _Members:
     """members[k]: (piece, sample index) pairs of candidate point k."""
 
-    def __init__(self, n_v: int, vmembers: list[list[tuple[int, int]]], owner: FloatArray, j: FloatArray) -> None:
+    def __init__(self, n_v: int, vmembers: list[list[tuple[int, int]]], owner: IntArray, j: IntArray) -> None:
         self.n_v, self.vmembers, self.owner, self.j = n_v, vmembers, owner, j
 
     def __getitem__(self, k: int) -> list[tuple[int, int]]:
@@ -338,7 +338,7 @@ class _Members:
 class _Contacts:
     """contacts[k]: the initial contact of candidate point k."""
 
-    def __init__(self, n_v: int, owner: FloatArray, param: FloatArray) -> None:
+    def __init__(self, n_v: int, owner: IntArray, param: FloatArray) -> None:
         self.n_v, self.owner, self.param = n_v, owner, param
 
     def __getitem__(self, k: int) -> Contact:

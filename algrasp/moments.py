@@ -20,7 +20,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from algrasp.curves import FloatArray, _bernstein_matrix
+from algrasp.curves import FloatArray, bernstein_values, homogeneous
 from algrasp.segments import Bezier, EllipseArc, Line, Segment, gauss_legendre_01
 
 
@@ -31,11 +31,10 @@ def _basis_at_nodes(degree: int, rational: bool) -> tuple[FloatArray, FloatArray
     Polynomial curves: 2k + 1 nodes integrate x³ y′ (degree 4k − 1) exactly.
     """
     t, w = gauss_legendre_01(24, 16) if rational else gauss_legendre_01(2 * degree + 1, 1)
-    M = _bernstein_matrix(degree)  # power coefficients of each basis function (columns)
-    powers = t[:, None] ** np.arange(degree + 1)
-    dpowers = np.zeros_like(powers)
-    dpowers[:, 1:] = powers[:, :-1] * np.arange(1, degree + 1)
-    B, dB = powers @ M, dpowers @ M
+    # d/dt of the degree-k basis = k·(B_{i−1,k−1} − B_{i,k−1}).
+    lower = bernstein_values(degree - 1, t)
+    dB = degree * (np.pad(lower, ((0, 0), (1, 0))) - np.pad(lower, ((0, 0), (0, 1))))
+    B = bernstein_values(degree, t)
     for a in (B, dB):
         a.setflags(write=False)
     return B, dB, w
@@ -46,7 +45,7 @@ def _bezier_group(segs: list[Bezier]) -> FloatArray:
     degree = segs[0].points.shape[0] - 1
     rational = segs[0].is_rational
     B, dB, w = _basis_at_nodes(degree, rational)
-    hom = np.stack([np.column_stack([s.points * s.weights[:, None], s.weights]) for s in segs])  # (S, k+1, 3)
+    hom = np.stack([homogeneous(s.points, s.weights) for s in segs])  # (S, k+1, 3)
     H = np.einsum("nk,skc->snc", B, hom)
     dH = np.einsum("nk,skc->snc", dB, hom)
     W, dW = H[..., 2], dH[..., 2]

@@ -13,7 +13,7 @@ from functools import cached_property, lru_cache
 
 import numpy as np
 
-from algrasp.curves import FloatArray, Piece, _bernstein_matrix, _readonly, conic_arc_pieces
+from algrasp.curves import FloatArray, Piece, _readonly, bernstein_values, conic_arc_pieces, homogeneous
 
 Moments = tuple[float, float, float]
 
@@ -208,10 +208,8 @@ def loop_polyline(loop: Sequence[Segment], max_turn_rad: float) -> tuple[FloatAr
         else:
             parts[i] = seg.polyline(max_turn_rad)[:-1]
     for degree, idx in groups.items():
-        u = np.linspace(0.0, 1.0, 8 * (degree + 1) + 1)[:-1]
-        basis = (u[:, None] ** np.arange(degree + 1)) @ _bernstein_matrix(degree)
-        segs = [loop[i] for i in idx]
-        hom = np.stack([np.column_stack([s.points * s.weights[:, None], s.weights]) for s in segs])  # type: ignore[union-attr]
+        basis = bernstein_values(degree, np.linspace(0.0, 1.0, 8 * (degree + 1) + 1)[:-1])
+        hom = np.stack([homogeneous(loop[i].points, loop[i].weights) for i in idx])  # type: ignore[union-attr]
         H = np.einsum("nk,skc->snc", basis, hom)
         pts = H[..., :2] / H[..., 2:]
         for j, i in enumerate(idx):

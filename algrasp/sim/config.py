@@ -102,11 +102,6 @@ class SimSchedule:
     half_open_m: float
     push_ends_s: tuple[float, ...] = ()
 
-    @property
-    def settle_s(self) -> tuple[float, ...]:
-        """Schedule times at which the simulation waits for the part to settle."""
-        return tuple(p.t1 for p in self.phases if p.settle)
-
 
 SampledStep = tuple[list[float], list[float], list[float], list[float], float | None, float | None]
 
