@@ -3,10 +3,17 @@
 Target (issue 4): a 36-sample validation of a 3-step plan ≤ 30 s on the 2-core machine.
 Prints agreement for the paper's pie part, a rectangle, an equilateral triangle, a random
 polygon and a Bezier cam (centred placement), random placement, and push-grasp plans.
+
+    python benchmarks/bench_validate.py                       # 36 samples, seed 1, all cases
+    python benchmarks/bench_validate.py --samples 100 --seed 2 --only pie,cam
+
+36 samples resolve agreement only to 3 %: one miss is 97 %. The ≥ 98 % target needs the
+larger runs (100 samples resolve 1 %).
 """
 
 from __future__ import annotations
 
+import argparse
 import time
 
 from algrasp import shapes
@@ -29,17 +36,24 @@ CASES = [
 ]
 
 
-def main(samples: int = 36) -> None:
+def main(samples: int = 36, seed: int = 1, only: tuple[str, ...] = ()) -> None:
     print(f"{'part':24s} {'action':10s} {'placement':9s} {'N':>3s} {'agree':>7s} {'clear':>7s} {'wall s':>7s} {'sim/wall':>8s}")
     for name, doc, action, placement in CASES:
+        if only and not any(key in name.lower() for key in only):
+            continue
         analysis = analyse_part(load_part(doc))
         plan = make_plan(analysis, action)  # type: ignore[arg-type]
         t = time.perf_counter()
-        v = validate_plan(analysis, plan, samples=samples, seed=1, placement=placement)  # type: ignore[arg-type]
+        v = validate_plan(analysis, plan, samples=samples, seed=seed, placement=placement)  # type: ignore[arg-type]
         wall = time.perf_counter() - t
         print(f"{name:24s} {action:10s} {placement:9s} {len(plan.steps):3d} {100 * v.agreement:6.1f}% "
               f"{100 * v.agreement_clear:6.1f}% {wall:7.1f} {v.sim_seconds / v.wall_seconds:8.2f}", flush=True)
 
 
 if __name__ == "__main__":
-    main()
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--samples", type=int, default=36)
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--only", default="", help="comma-separated part-name fragments, e.g. pie,cam")
+    args = parser.parse_args()
+    main(args.samples, args.seed, tuple(k.strip().lower() for k in args.only.split(",") if k.strip()))
