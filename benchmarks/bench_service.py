@@ -62,7 +62,8 @@ def main() -> None:
             for conc in (8, 16):
                 _report(f"cached, concurrency {conc}", *_load(server.url, [small] * 3000, conc))
             for conc in (1, 2):
-                parts = [{"part": random_polygon(8, seed=1000 * conc + i), "action": "squeeze"} for i in range(300)]
+                parts: list[dict[str, Any]] = [{"part": random_polygon(8, seed=1000 * conc + i), "action": "squeeze"}
+                                               for i in range(300)]
                 _report(f"uncached 8-gon plans, concurrency {conc}", *_load(server.url, parts, conc))
             parts = [{"part": random_polygon(8, seed=90_000 + i), "action": "push_grasp", "optimise": True} for i in range(40)]
             _report("uncached push-grasp + optimise, concurrency 2", *_load(server.url, parts, 2))
