@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from algrasp.curves import FloatArray, Piece, bernstein_matrix
+from algrasp.curves import FloatArray, Piece, bernstein_matrix, horner_rows
 
 if TYPE_CHECKING:
     from algrasp.hull import HullFeature
@@ -84,16 +84,6 @@ def coefficient_stack(pieces: Sequence[Piece]) -> FloatArray:
     return out
 
 
-def horner(coef: FloatArray, t: FloatArray) -> FloatArray:
-    """Evaluate coefficient rows (..., R, L) at parameters t broadcasting against (...,):
-    returns (R, ...). One gathered pass: L multiply-adds over the whole batch."""
-    tt = np.asarray(t, dtype=float)[..., None]
-    y = coef[..., -1] + np.zeros_like(tt)  # broadcast even when L == 1
-    for j in range(coef.shape[-1] - 2, -1, -1):
-        y = y * tt + coef[..., j]
-    return np.moveaxis(y, -1, 0)
-
-
 def _horner2(coef: FloatArray, t: FloatArray) -> FloatArray:
     """Row-wise Horner: coef (n, L), t (n,) → (n,)."""
     y = coef[:, -1] + 0.0 * t
@@ -110,7 +100,7 @@ def points(coef: FloatArray, idx: IntArray, t: FloatArray) -> FloatArray:
 
 def normal_angles(coef: FloatArray, t: FloatArray) -> FloatArray:
     """Outward-normal angles (counter-clockwise loops) of pieces (P, 7, L) at t (P, m)."""
-    tx, ty = horner(coef[:, None, [TX, TY]], t)
+    tx, ty = horner_rows(coef[:, None, [TX, TY]], t)
     return np.arctan2(-tx, ty)
 
 
@@ -203,5 +193,5 @@ class FeatureTable:
     def curve_lengths(self, nodes: FloatArray, weights: FloatArray) -> FloatArray:
         """Arc lengths (C,) of the curve features by the quadrature rule (nodes, weights) on [0, 1]."""
         t = self.s0[:, None] + (self.s1 - self.s0)[:, None] * nodes
-        tx, ty, w = horner(self.coef[:, [TX, TY, W]][:, None], t)
+        tx, ty, w = horner_rows(self.coef[:, [TX, TY, W]][:, None], t)
         return np.asarray((self.s1 - self.s0) * ((np.hypot(tx, ty) / (w * w)) @ weights))

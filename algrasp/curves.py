@@ -23,15 +23,15 @@ FloatArray = NDArray[np.float64]
 
 
 def horner_rows(C: FloatArray, t: FloatArray | float) -> FloatArray:
-    """Evaluate the rows of C (m, k+1), each a power-basis polynomial, at ``t``.
-
-    Returns shape (m, *t.shape): one pass for several polynomials of one piece.
-    """
-    t = np.asarray(t, dtype=float)
-    y = np.multiply.outer(C[:, -1], np.ones_like(t))
-    for j in range(C.shape[1] - 2, -1, -1):
-        y = y * t + C[:, j].reshape((-1,) + (1,) * t.ndim)
-    return y
+    """Evaluate power-basis rows C (..., R, L) at parameters ``t``, which broadcast
+    against the leading shape (...): returns (R, ...). For one piece's rows (R, L) that
+    is (R, *t.shape); for stacked pieces (P, 1, R, L) with t (P, m) it is (R, P, m).
+    L multiply-adds over the whole batch."""
+    tt = np.asarray(t, dtype=float)[..., None]
+    y = C[..., -1] + np.zeros_like(tt)  # broadcast even when L == 1
+    for j in range(C.shape[-1] - 2, -1, -1):
+        y = y * tt + C[..., j]
+    return np.moveaxis(y, -1, 0)
 
 
 def stack_polys(*polys: FloatArray) -> FloatArray:

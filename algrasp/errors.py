@@ -12,14 +12,18 @@ class AlgraspError(Exception):
     """Base class of every error algrasp raises on purpose."""
 
     kind = "algrasp_error"
+    public_fields: tuple[str, ...] = ()
+    """Typed fields a subclass reports in :meth:`to_dict` (those that are not None)."""
 
     def __init__(self, message: str) -> None:
         super().__init__(message)
         self.message = message
 
     def to_dict(self) -> dict[str, object]:
-        """JSON-ready ``{"type": .., "message": ..}`` (plus subclass fields)."""
-        return {"type": self.kind, "message": self.message}
+        """JSON-ready ``{"type": .., "message": ..}`` plus :attr:`public_fields`."""
+        out: dict[str, object] = {"type": self.kind, "message": self.message}
+        out.update({name: getattr(self, name) for name in self.public_fields if getattr(self, name) is not None})
+        return out
 
     def __reduce__(self) -> tuple[object, ...]:
         # Subclasses take typed fields, not the message, so the default pickling
@@ -42,19 +46,13 @@ class PartDocumentError(AlgraspError):
     """
 
     kind = "part_document_error"
+    public_fields = ("field", "segment_index")
 
     def __init__(self, field: str, problem: str, segment_index: int | None = None) -> None:
         super().__init__(f"{field}: {problem}")
         self.field = field
         self.problem = problem
         self.segment_index = segment_index
-
-    def to_dict(self) -> dict[str, object]:
-        out = super().to_dict()
-        out["field"] = self.field
-        if self.segment_index is not None:
-            out["segment_index"] = self.segment_index
-        return out
 
 
 class LimitExceededError(PartDocumentError):
@@ -73,31 +71,23 @@ class NotOrientableError(AlgraspError):
     """No plan of the requested kind can orient the part (``reason`` says why)."""
 
     kind = "not_orientable"
+    public_fields = ("reason",)
 
     def __init__(self, reason: str, message: str) -> None:
         super().__init__(message)
         self.reason = reason
-
-    def to_dict(self) -> dict[str, object]:
-        out = super().to_dict()
-        out["reason"] = self.reason
-        return out
 
 
 class ConfigError(AlgraspError):
     """A configuration or request option is invalid (``field`` names it)."""
 
     kind = "config_error"
+    public_fields = ("field",)
 
     def __init__(self, field: str, problem: str) -> None:
         super().__init__(f"{field}: {problem}")
         self.field = field
         self.problem = problem
-
-    def to_dict(self) -> dict[str, object]:
-        out = super().to_dict()
-        out["field"] = self.field
-        return out
 
 
 class SimulationError(AlgraspError):
@@ -114,13 +104,9 @@ class TimeLimitError(AlgraspError):
     """A stage of a request ran past its time limit (``stage``, ``limit_s``)."""
 
     kind = "time_limit_exceeded"
+    public_fields = ("stage", "limit_s")
 
     def __init__(self, stage: str, limit_s: float) -> None:
         super().__init__(f"{stage} took longer than its {limit_s:g} s time limit")
         self.stage = stage
         self.limit_s = limit_s
-
-    def to_dict(self) -> dict[str, object]:
-        out = super().to_dict()
-        out.update({"stage": self.stage, "limit_s": self.limit_s})
-        return out

@@ -71,14 +71,17 @@ class BodyLimit:
             msg: dict[str, Any] = await receive()
             seen += len(msg.get("body", b""))
             if seen > self.max_bytes:
-                raise LimitExceededError("body", f"request body larger than {self.max_bytes} bytes")
+                raise self._too_large()
             return msg
 
         await self.app(scope, counted, send)
 
+    def _too_large(self) -> LimitExceededError:
+        return LimitExceededError("body", f"request body larger than {self.max_bytes} bytes")
+
     async def _refuse(self, send: Any) -> None:
-        body = json.dumps({"error": {"type": "limit_exceeded", "field": "body",
-                                     "message": f"body: request body larger than {self.max_bytes} bytes"}}).encode()
+        # Before the app runs no exception handler is in place: send the handler's body.
+        body = json.dumps({"error": self._too_large().to_dict()}).encode()
         await send({"type": "http.response.start", "status": 413,
                     "headers": [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode())]})
         await send({"type": "http.response.body", "body": body})

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from algrasp import shapes
-from algrasp.bank import POINT_ROWS, coefficient_stack, horner
-from algrasp.curves import Piece
+from algrasp.bank import POINT_ROWS, coefficient_stack
+from algrasp.curves import Piece, horner_rows
 from algrasp.hull import unit
 from algrasp.part import load_part
 from algrasp.segments import loop_polyline
@@ -33,7 +33,7 @@ def test_stacked_pieces_of_mixed_degree_evaluate_like_de_casteljau() -> None:
     coef = coefficient_stack(pieces)
     t = rng.uniform(0, 1, 40)
     idx = rng.integers(0, len(pieces), 40)
-    x, y, w = horner(coef[idx][:, POINT_ROWS], t)
+    x, y, w = horner_rows(coef[idx][:, POINT_ROWS], t)
     for i, k in enumerate(idx):
         p = pieces[k]
         expected = _de_casteljau_point(p.points, p.weights, t[i])
