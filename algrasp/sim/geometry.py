@@ -21,7 +21,6 @@ class Geometry:
     mean_radius_m: float  # r̄: mean distance of the region's points from the centre of mass
     chord_error_m: float  # tessellation bound ρ_max Δψ² / 8
     polar_per_area_m2: float  # ∬|r|² dA / A
-    min_half_width_m: float  # half the smallest diameter d_min / 2
 
 
 def jaw_size_m(geom: Geometry) -> tuple[float, float]:
@@ -46,11 +45,7 @@ def part_geometry(part: Part, cfg: SimConfig) -> Geometry:
     outline, chord_error = collision_outline(part, cfg.tessellation_turn_rad, max(0.005 * part.size, 50e-6 / s))
     rel = (outline - com) * s
     reach = float(np.max(np.hypot(*rel.T)))
-    theta = np.linspace(0.0, np.pi, 721)
-    psi = np.pi / 2 - theta
-    widths = part.hull.support_many(psi) + part.hull.support_many(psi + np.pi)
-    return Geometry(rel, reach, mean_radius(part) * s, chord_error * s, part.polar_moment / part.area * s * s,
-                    0.5 * float(np.min(widths)) * s)
+    return Geometry(rel, reach, mean_radius(part) * s, chord_error * s, part.polar_moment / part.area * s * s)
 
 
 def collision_outline(part: Part, turn_rad: float, min_chord: float) -> tuple[FloatArray, float]:

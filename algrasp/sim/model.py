@@ -41,6 +41,12 @@ from algrasp.sim.geometry import extent_midpoint, jaw_size_m, part_geometry
 FRICTIONLESS = CoulombFriction(0.0, 0.0)
 
 
+def _contact_material(props: ProximityProperties, cfg: SimConfig) -> None:
+    """Frictionless, with half the dissipation time scale: SAP adds the two geometries'."""
+    AddContactMaterial(None, None, FRICTIONLESS, props)
+    props.AddProperty("material", "relaxation_time", cfg.relaxation_time_s / 2)
+
+
 class _Controller(LeafSystem):
     """Support friction on the part (ellipsoidal limit surface) and the desired state of
     the gripper and jaw actuators along the schedule (their PD loops run implicitly in
@@ -141,7 +147,7 @@ class PlanarGripperSim:
         pts = np.vstack([np.column_stack([g.outline_m, np.full(len(g.outline_m), z)]) for z in (-thick / 2, thick / 2)])
         props = ProximityProperties()
         AddCompliantHydroelasticProperties(g.reach_m, cfg.hydroelastic_modulus_pa, props)
-        AddContactMaterial(cfg.hunt_crossley_s_m, None, FRICTIONLESS, props)
+        _contact_material(props, cfg)
         plant.RegisterCollisionGeometry(part, RigidTransform(), Convex(pts.T, "part_hull"), "part", props)
         gripper = plant.AddRigidBody("gripper", SpatialInertia(0.1, np.zeros(3), UnitInertia(1e-3, 1e-3, 1e-3)))
         jaw_len, jaw_t = jaw_size_m(g)
@@ -150,7 +156,7 @@ class PlanarGripperSim:
             body = plant.AddRigidBody(f"jaw_{name}", SpatialInertia(0.05, np.zeros(3), UnitInertia(1e-3, 1e-3, 1e-3)))
             jp = ProximityProperties()
             AddRigidHydroelasticProperties(jaw_t, jp)
-            AddContactMaterial(cfg.hunt_crossley_s_m, None, FRICTIONLESS, jp)
+            _contact_material(jp, cfg)
             # The jaw's contact face lies at the joint coordinate; its box extends away from the part.
             X = RigidTransform([0.0, side * jaw_t / 2, 0.0])
             plant.RegisterCollisionGeometry(body, X, Box(jaw_len, jaw_t, 2 * thick), f"jaw_{name}", jp)

@@ -122,8 +122,7 @@ def default_schedule(plan: Plan, geom: Geometry, cfg: SimConfig) -> SimSchedule:
     to ``open_margin_factor``·reach, push ``push_distance_factor``·reach past the centre."""
     W = cfg.open_margin_factor * geom.reach_m + 1e-3
     angles = [s.gripper_angle for s in plan.steps]
-    phases = schedule(angles, plan.action, W, cfg.push_distance_factor * geom.reach_m, cfg, reach_m=geom.reach_m,
-                      min_half_width_m=geom.min_half_width_m)
+    phases = schedule(angles, plan.action, W, cfg.push_distance_factor * geom.reach_m, cfg, reach_m=geom.reach_m)
     return SimSchedule(tuple(phases), W)
 
 

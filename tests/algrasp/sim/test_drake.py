@@ -110,17 +110,18 @@ def test_engine_failure_is_a_clean_error(tmp_path: object, capsys: pytest.Captur
     assert err.startswith("algrasp: error: the simulation failed") and "Traceback" not in err and "reach 0.96" in err
 
 
-def test_grasp_detection_completes_a_slow_squeeze() -> None:
-    """The Bezier cam's d(θ) is nearly flat near its maximum (d′ ≈ 0.2 mm/rad at 70°), so
-    the squeeze torque barely beats support friction and the part turns slowly. Γ maps
-    73.2° to 0° (one step from 88.1° − 180° to 88.1°): the squeeze must last until the part
-    has settled there (with a fixed 0.1 s hold it was released at 14.6°)."""
+def test_grasp_detection_ends_a_squeeze_when_the_part_is_gripped() -> None:
+    """The Bezier cam's d(θ) is nearly flat near its maximum (d′ ≈ 0.2 mm/rad at 73°);
+    Γ maps 73.2° and 80° to 0° (one step from 88.1° − 180° to 88.1°). With the default
+    schedule the gripper reports "gripped" before its fixed hold ends; with fast jaws and
+    no hold it must instead wait past the schedule until the part has stopped turning."""
     part = load_part(shapes.bezier_cam())
     analysis = analyse_part(part)
-    phi0 = math.radians(73.2)
-    assert abs(analysis.squeeze(phi0)) < 1e-9
-    sim = PlanarGripperSim(part, SimConfig())
-    phases, W = _one_squeeze(sim, 0.0)
-    final, _, _ = sim.run(phases, phi0, 0.0, 0.0, W)
-    assert abs(math.degrees(final)) < 1.0
-    assert sim.sim_seconds > phases[-1].t1  # it waited beyond the fixed schedule
+    for phi0_deg, cfg, waits in ((73.2, SimConfig(), False), (80.0, SimConfig(hold_s=0.0, jaw_speed_m_s=0.05), True)):
+        phi0 = math.radians(phi0_deg)
+        assert abs(analysis.squeeze(phi0)) < 1e-9
+        sim = PlanarGripperSim(part, cfg)
+        phases, W = _one_squeeze(sim, 0.0)
+        final, _, _ = sim.run(phases, phi0, 0.0, 0.0, W)
+        assert abs(math.degrees(final)) < 1.0
+        assert (sim.sim_seconds > phases[-1].t1 + 0.05) if waits else (sim.sim_seconds < phases[-1].t1 - 0.2)
