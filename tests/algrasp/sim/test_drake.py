@@ -130,7 +130,7 @@ def test_grasp_detection_ends_a_squeeze_when_the_part_is_gripped() -> None:
 def test_squeeze_forces_act_at_the_exact_support_points() -> None:
     """Frictionless jaws push along the closing axis through the part's support points,
     so the squeeze couple is F·d′(θ). Measured on the Bezier cam while it turns through
-    the flat stretch of d near 76°, where the exact support points p(ψ) = h(ψ)u + h′(ψ)u⊥
+    the flat stretch of d near 76°, where the exact support points (``hull.support_points``)
     are only d′ ≈ 0.26 mm apart along the jaws: each jaw's force line passes within 50 µm
     of its support point (36 and 27 µm measured; the patch is ~1 mm long) and the couple
     keeps most of its lever. With Drake's default contact dissipation time (0.2 s a pair)
@@ -158,9 +158,7 @@ def test_squeeze_forces_act_at_the_exact_support_points() -> None:
         assert abs(f[1]) > 0.5 and abs(f[0]) < 1e-4 * abs(f[1])  # a real squeeze, along the closing axis
         lever_m = (r[0] * f[1] - r[1] * f[0] + F.rotational()[2]) / f[1]  # x where the force line crosses
         psi = math.pi / 2 - theta if f[1] < 0 else 3 * math.pi / 2 - theta  # upper jaw pushes −y
-        h = part.hull.support_many(np.array([psi - 1e-5, psi, psi + 1e-5]))
-        dh = (h[2] - h[0]) / 2e-5
-        p = h[1] * np.array([math.cos(psi), math.sin(psi)]) + dh * np.array([-math.sin(psi), math.cos(psi)])
+        p = part.hull.support_points(np.array([psi]))[0]  # exact, on the hull's curves
         x_mm = c * (p[0] - com[0]) - s * (p[1] - com[1])  # world x of the support point from the centre of mass
         assert abs(lever_m * 1e3 - x_mm) < 0.05, (k, lever_m * 1e3, x_mm)
         levers.append(lever_m * 1e3)
