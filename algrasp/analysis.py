@@ -11,14 +11,37 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from algrasp.deadband import DeadBand, Physics, dead_band
+from algrasp.errors import NotOrientableError
 from algrasp.functions import SupportPairFunction, analyse
 from algrasp.part import Part
+from algrasp.setvalued import SetTransfer, set_transfer
 from algrasp.tolerances import DEFAULT_TOLERANCES, Tolerances
 from algrasp.transfer import TransferFunction, describe, from_runs
 
 SYMMETRY_TOL_RAD = 1e-7
 """Tolerance on breakpoints and images when testing F(θ + T) = F(θ) + T: root finding
 places curved breakpoints to ~1e-12 rad, far inside this."""
+
+
+@dataclass(frozen=True, eq=False)
+class RobustAnalysis:
+    """The set-valued functions of conventions §7 under one dead band. A function is
+    None when the part may turn without end under it (``reasons`` says why)."""
+
+    physics: Physics
+    band: DeadBand
+    squeeze: SetTransfer | None
+    push: SetTransfer | None
+    push_grasp: SetTransfer | None
+    reasons: dict[str, str]
+
+    def to_dict(self) -> dict[str, object]:
+        out: dict[str, object] = {"physics": self.physics.to_dict(), "dead_band": self.band.to_dict()}
+        for name in ("squeeze", "push", "push_grasp"):
+            S = getattr(self, name)
+            out[name] = {"orientable": False, "reason": self.reasons[name]} if S is None else set_dict(S)
+        return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -30,6 +53,8 @@ class Analysis:
     push: TransferFunction
     push_grasp: TransferFunction
     tol: Tolerances
+    robust: RobustAnalysis | None = None
+    """None: the paper's exact frictionless model (``--exact``)."""
 
     @property
     def squeeze_orientable(self) -> bool:
@@ -53,6 +78,9 @@ class Analysis:
                 d["reason"] = "constant diameter: no step, so no squeeze plan can orient this part" \
                     if name == "squeeze" else "no step: the function is the identity everywhere"
             out[name] = d
+        out["model"] = "exact" if self.robust is None else "robust"
+        if self.robust is not None:
+            out["robust"] = self.robust.to_dict()
         return out
 
 
@@ -64,11 +92,56 @@ def _function_dict(f: SupportPairFunction) -> dict[str, object]:
     }
 
 
-def analyse_part(part: Part, tol: Tolerances = DEFAULT_TOLERANCES) -> Analysis:
-    """Diameter/radius extrema and all three transfer functions. See module docs."""
+def set_dict(S: SetTransfer) -> dict[str, object]:
+    """JSON summary of a set-valued function (degrees): its dead zones over one natural
+    period and its images over one symmetry period, each piece [start, end) mapping θ
+    into [lower, upper] (null: θ itself)."""
+    cuts = sorted({p.start for p in S.lower.pieces} | {p.start for p in S.upper.pieces})
+    base = cuts[0]
+    edges = [*cuts, base + S.symmetry]
+    pieces = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        m = 0.5 * (a + b)
+        lo, k_lo = S.lower.piece_at(m)
+        hi, k_hi = S.upper.piece_at(m)
+        pieces.append({"start_deg": float(np.degrees(a)), "end_deg": float(np.degrees(b)),
+                       "lower_deg": None if lo.value is None else float(np.degrees(lo.value + k_lo)),
+                       "upper_deg": None if hi.value is None else float(np.degrees(hi.value + k_hi))})
+    return {"orientable": S.orientable, "symmetry_period_deg": float(np.degrees(S.symmetry)),
+            "dead_zones_deg": [[float(np.degrees(a)), float(np.degrees(b))] for a, b in S.rest_zones],
+            "images": pieces}
+
+
+def analyse_part(part: Part, tol: Tolerances = DEFAULT_TOLERANCES, physics: Physics | None = None) -> Analysis:
+    """Diameter/radius extrema and all three transfer functions. See module docs.
+
+    With ``physics`` the set-valued functions of conventions §7 are added (the robust
+    model every interface uses by default); None keeps the paper's exact model.
+    """
     d = analyse("diameter", part.hull, part.center_of_mass, part.size, tol)
     r = analyse("radius", part.hull, part.center_of_mass, part.size, tol)
     squeeze = from_runs(list(d.runs), np.pi, tol.angle_rad)
     push = from_runs(list(r.runs), 2 * np.pi, tol.angle_rad)
     push_grasp = squeeze.compose_after(push, tol.angle_rad) if squeeze.steps else push
-    return Analysis(part, d, r, squeeze, push, push_grasp, tol)
+    robust = None if physics is None else robust_analysis(part, d, r, physics, tol)
+    return Analysis(part, d, r, squeeze, push, push_grasp, tol, robust)
+
+
+def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, physics: Physics,
+                    tol: Tolerances) -> RobustAnalysis:
+    """Dead band and set-valued squeeze, push and push-grasp functions."""
+    band = dead_band(part, physics, tol)
+    reasons: dict[str, str] = {}
+    funcs: dict[str, SetTransfer | None] = {}
+    for name, f, sigma in (("squeeze", d, band.sigma_d), ("push", r, band.sigma_r)):
+        try:
+            funcs[name] = set_transfer(f, band.stall, sigma, band.value_tol, tol.angle_rad)
+        except NotOrientableError as e:
+            funcs[name], reasons[name] = None, str(e)
+    sq, pu = funcs["squeeze"], funcs["push"]
+    if sq is not None and pu is not None:
+        funcs["push_grasp"] = sq.compose_after(pu, tol.angle_rad)
+    else:
+        funcs["push_grasp"] = None
+        reasons["push_grasp"] = reasons.get("push", reasons.get("squeeze", ""))
+    return RobustAnalysis(physics, band, funcs["squeeze"], funcs["push"], funcs["push_grasp"], reasons)

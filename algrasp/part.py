@@ -23,6 +23,7 @@ from algrasp.errors import PartDocumentError
 from algrasp.hull import ConvexHull, exact_hull
 from algrasp.limits import DEFAULT_LIMITS, Limits
 from algrasp.moments import loop_moments
+from algrasp.recognise import exact_circles, snap_tessellations
 from algrasp.segments import Bezier, Line, Segment, loop_polyline
 from algrasp.tolerances import DEFAULT_TOLERANCES, Tolerances
 
@@ -45,6 +46,7 @@ class Part:
         source_document: the document as given (for records and replay).
         polar_moment: ∬ |p − c|² dA over the region, about the centre of mass (unit⁴);
             times the areal density it is the rotational inertia.
+        recognised: what the robust model read into the drawing (tessellated arcs).
     """
 
     name: str
@@ -58,11 +60,25 @@ class Part:
     hull: ConvexHull
     source_document: Mapping[str, Any]
     polar_moment: float
+    recognised: tuple[str, ...] = ()
 
 
-def load_part(doc: Mapping[str, Any], tol: Tolerances = DEFAULT_TOLERANCES, limits: Limits = DEFAULT_LIMITS) -> Part:
-    """Validate a part document and build the :class:`Part`. Raises PartDocumentError."""
+def load_part(doc: Mapping[str, Any], tol: Tolerances = DEFAULT_TOLERANCES, limits: Limits = DEFAULT_LIMITS,
+              snap: bool = False) -> Part:
+    """Validate a part document and build the :class:`Part`. Raises PartDocumentError.
+
+    Rational Beziers and ellipse arcs that are exactly circular become arcs. With
+    ``snap`` (the robust model) polygon runs that tessellate circular arcs become the
+    arcs too (:func:`algrasp.recognise.snap_tessellations`); ``Part.recognised`` says so.
+    """
     boundary, holes = parse_loops(doc, limits)
+    drawn_size = _size([boundary, *holes])
+    # Exact circles in any form (conventions §7): analysed as the arcs they are.
+    boundary = exact_circles(boundary, drawn_size, tol)
+    holes = [exact_circles(h, drawn_size, tol) for h in holes]
+    recognised = 0
+    if snap:
+        boundary, recognised = snap_tessellations(boundary, tol)
     size = _size([boundary, *holes])
     field = "polygon" if "polygon" in doc else "boundary"
     _check_loop(boundary, field, size, tol)
@@ -89,8 +105,9 @@ def load_part(doc: Mapping[str, Any], tol: Tolerances = DEFAULT_TOLERANCES, limi
     hull = exact_hull(boundary, size, tol)
     com, given = _center_of_mass(doc, (sx / area, sy / area), hull)
     polar = ixx + iyy - area * (com[0] ** 2 + com[1] ** 2)
+    notes = (f"{recognised} tessellated arc(s) recognised as circular arcs",) if recognised else ()
     return Part(str(doc.get("name", "part")), str(doc.get("units", "mm")), tuple(boundary), tuple(oriented_holes),
-                float(area), com, given, size, hull, doc, float(polar))
+                float(area), com, given, size, hull, doc, float(polar), notes)
 
 
 def _center_of_mass(doc: Mapping[str, Any], centroid: tuple[float, float],

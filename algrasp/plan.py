@@ -20,7 +20,8 @@ from algrasp.analysis import Analysis
 from algrasp.curves import FloatArray
 from algrasp.errors import AlgraspError, NotOrientableError
 from algrasp.functions import wrap
-from algrasp.planner import algorithm_a_prime, images
+from algrasp.planner import GUARD_RAD, algorithm_a_prime, images, set_a_prime
+from algrasp.setvalued import SetTransfer
 from algrasp.transfer import TransferFunction
 
 Action = Literal["squeeze", "push_grasp"]
@@ -48,14 +49,39 @@ class Plan:
     final_orientations: tuple[float, ...]  # world, [0, 2π)
     verified: bool
     timings_s: dict[str, float] = field(default_factory=dict)
+    bounds: SetTransfer | None = None
+    """The set-valued function the plan was built on (None: the exact model)."""
+    final_uncertainty: float = 0.0
+    """Half-width (radians) of the interval around each final orientation in which the
+    part is guaranteed to end (conventions §7); 0 in the exact model."""
+    robust: dict[str, object] | None = None
+    """Physics and dead band used (JSON-ready), None in the exact model."""
 
     def run(self, phi: FloatArray) -> FloatArray:
         """World orientations after executing the plan from ``phi`` (radians), per the
-        transfer function: φ′ = F(φ − α) + α for each action."""
+        transfer function: φ′ = F(φ − α) + α for each action. A robust plan gives the
+        claimed final orientation the part ends near (within ``final_uncertainty``)."""
         phi = np.asarray(phi, dtype=float)
+        if self.bounds is not None:
+            lo, hi = self.run_set(phi, phi)
+            return self.nearest_final(0.5 * (lo + hi))
         for s in self.steps:
             phi = self.transfer.apply(phi - s.gripper_angle) + s.gripper_angle
         return phi
+
+    def run_set(self, lo: FloatArray, hi: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """Hull of the world orientations after the plan from [lo, hi] (set semantics)."""
+        assert self.bounds is not None
+        for s in self.steps:
+            lo, hi = self.bounds.image(lo - s.gripper_angle, hi - s.gripper_angle)
+            lo, hi = lo + s.gripper_angle, hi + s.gripper_angle
+        return lo, hi
+
+    def nearest_final(self, phi: FloatArray) -> FloatArray:
+        """The claimed final orientation nearest to each φ (radians, [0, 2π))."""
+        want = np.array(self.final_orientations)
+        diff = (np.asarray(phi)[..., None] - want + np.pi) % (2 * np.pi) - np.pi
+        return np.asarray(want[np.argmin(np.abs(diff), axis=-1)])
 
     def trace(self, phi0: float) -> list[float]:
         """World orientation before the plan and after each action (radians)."""
@@ -74,6 +100,9 @@ class Plan:
             "steps": [{"gripper_angle_deg": float(np.degrees(wrap(s.gripper_angle, 2 * np.pi, 1e-12))),
                        "margin_deg": None if s.margin is None else float(np.degrees(s.margin))} for s in self.steps],
             "final_orientations_deg": [float(np.degrees(f)) for f in self.final_orientations],
+            "final_uncertainty_deg": float(np.degrees(self.final_uncertainty)),
+            "model": "exact" if self.bounds is None else "robust",
+            **({} if self.robust is None else {"dead_band": self.robust}),
             "verified": self.verified,
             "timings_s": dict(self.timings_s),
         }
@@ -90,12 +119,17 @@ def transfer_for(analysis: Analysis, action: Action) -> TransferFunction:
     return analysis.push_grasp
 
 
-def gripper_steps(F: TransferFunction, intervals: list[tuple[float, float]]) -> list[PlanStep]:
-    """Execution-order gripper angles (last at 0) and margins from Θ₁ … Θ_N."""
+def gripper_steps(F: TransferFunction, intervals: list[tuple[float, float]],
+                  upper: TransferFunction | None = None, first_image: tuple[float, float] | None = None) -> list[PlanStep]:
+    """Execution-order gripper angles (last at 0) and margins from Θ₁ … Θ_N.
+    ``first_image``: the image of the first action's input when it is the whole circle
+    (set-valued functions: the circular hull of everything the part can end in)."""
     order = intervals[::-1]  # I_1 … I_N
     alphas = [0.0] * len(order)
     margins: list[float | None] = [None] * len(order)
-    imgs = images(F, order)
+    imgs = images(F, order, upper)
+    if first_image is not None and len(order) > 1:
+        imgs[0] = first_image
     for j in range(len(order) - 2, -1, -1):
         lo, hi = imgs[j]
         a, b = order[j + 1]
@@ -145,6 +179,8 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -
     """
     if not (np.isfinite(min_margin_deg) and 0.0 <= min_margin_deg < 180.0):
         raise AlgraspError(f"min_margin_deg must be in [0, 180), got {min_margin_deg}")
+    if analysis.robust is not None:
+        return _robust_plan(analysis, action, np.radians(min_margin_deg))
     F = transfer_for(analysis, action)
     t0 = time.perf_counter()
     T = F.symmetry_period(SYMMETRY_TOL_RAD)
@@ -159,3 +195,71 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -
         raise NotOrientableError("verification_failed", "the plan did not verify: please report this part")
     return Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), True,
                 {"planning": t1 - t0, "verification": t2 - t1})
+
+
+def _set_for(analysis: Analysis, action: Action) -> SetTransfer:
+    assert analysis.robust is not None
+    S: SetTransfer | None = getattr(analysis.robust, action)
+    if S is None:
+        raise NotOrientableError("dead_band", analysis.robust.reasons[action])
+    if not S.orientable:
+        what = "squeeze" if action == "squeeze" else "push-grasp"
+        raise NotOrientableError("constant_width" if action == "squeeze" else "no_step",
+                                 f"with the dead band every orientation may stay where it is: no {what} plan can orient "
+                                 "the part (its diameter/radius slopes never beat the support friction and shape tolerance)")
+    return S
+
+
+def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
+    """The shortest plan on the set-valued function (conventions §7), verified on it."""
+    S = _set_for(analysis, action)
+    F = analysis.squeeze if action == "squeeze" else analysis.push_grasp
+    t0 = time.perf_counter()
+    T = S.symmetry
+    circle = S.circle_image()
+    intervals = set_a_prime(S.lower, S.upper, T, circle[1] - circle[0], margin)
+    steps = gripper_steps(S.lower, intervals, S.upper, circle)
+    lo, hi = images(S.lower, intervals[:1], S.upper)[0]
+    k = int(round(2 * np.pi / T))
+    finals = sorted(wrap(0.5 * (lo + hi) + i * T, 2 * np.pi, 1e-12) for i in range(k))
+    t1 = time.perf_counter()
+    assert analysis.robust is not None
+    plan = Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), False, {}, S,
+                0.5 * (hi - lo) + GUARD_RAD, {**analysis.robust.physics.to_dict(), **analysis.robust.band.to_dict()})
+    ok = verify_set(plan, circle)
+    t2 = time.perf_counter()
+    if not ok:
+        raise NotOrientableError("verification_failed", "the plan did not verify: please report this part")
+    return Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), True,
+                {"planning": t1 - t0, "verification": t2 - t1}, S, plan.final_uncertainty, plan.robust)
+
+
+def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SAMPLES) -> bool:
+    """Set semantics. The first action leaves the part in one of its outcomes, all inside
+    the circular hull ``circle`` (checked); from there, a dense set of orientations of
+    that arc, every piece boundary of the bounds inside it (and its neighbours) and the
+    arc as a whole are run through the remaining actions: the hull of where each can
+    end must lie within ``final_uncertainty`` of a claimed final orientation."""
+    assert plan.bounds is not None
+    S = plan.bounds
+    T = S.symmetry
+    c0, c1 = circle
+    out = np.array(S.outcomes)
+    rel = np.mod(out - c0, T)
+    if np.any(rel[:, 0] + (out[:, 1] - out[:, 0]) > c1 - c0 + FINAL_CLUSTER_RAD):
+        return False
+    a1 = plan.steps[0].gripper_angle
+    starts = np.array([p.start for p in S.lower.pieces] + [p.start for p in S.upper.pieces])
+    cuts = c0 + np.mod(starts - c0, T)
+    inner = cuts[cuts <= c1]
+    pts = np.concatenate([np.linspace(c0, c1, samples), inner - 1e-7, inner, inner + 1e-7])
+    pts = np.clip(pts, c0, c1) + a1
+    lo = np.append(pts, c0 + a1)
+    hi = np.append(pts, c1 + a1)
+    rest = Plan(plan.action, plan.transfer, T, plan.intervals, plan.steps[1:], plan.final_orientations, False,
+                {}, S, plan.final_uncertainty, plan.robust)
+    lo, hi = rest.run_set(lo, hi)
+    mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
+    want = np.array(plan.final_orientations)
+    off = np.min(np.abs((mid[:, None] - want + np.pi) % (2 * np.pi) - np.pi), axis=1)
+    return bool(np.all(off + half <= plan.final_uncertainty + FINAL_CLUSTER_RAD))

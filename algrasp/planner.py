@@ -36,8 +36,8 @@ interval boundary. Costs at most one extra action when the ideal plan fits exact
 
 
 @dataclass(frozen=True, eq=False)
-class _Lifted:
-    """Pieces of F over several periods as arrays (sorted by start)."""
+class _Pieces:
+    """Pieces of one step/ramp function over several periods as arrays (sorted by start)."""
 
     starts: FloatArray
     ends: FloatArray
@@ -46,7 +46,7 @@ class _Lifted:
     keys: FloatArray  # value a piece must stay below to fit (monotone)
 
     @staticmethod
-    def of(F: TransferFunction, periods: range) -> _Lifted:
+    def of(F: TransferFunction, periods: range) -> _Pieces:
         starts, ends, values, ramp = [], [], [], []
         for k in periods:
             for p in F.pieces:
@@ -56,36 +56,59 @@ class _Lifted:
                 ramp.append(p.value is None)
         s, v, r = np.array(starts), np.array(values), np.array(ramp)
         keys = np.maximum.accumulate(np.where(r, s, v + STRICT_RAD))
-        return _Lifted(s, np.array(ends), v, r, keys)
+        return _Pieces(s, np.array(ends), v, r, keys)
+
+
+@dataclass(frozen=True, eq=False)
+class _Lifted:
+    """A (set-valued) transfer function lifted: the image of [a, b) is
+    [lower(a), upper(b⁻)]. For an exact function lower and upper are the same."""
+
+    lower: _Pieces
+    upper: _Pieces
+
+    @staticmethod
+    def of(F: TransferFunction, periods: range, upper: TransferFunction | None = None) -> _Lifted:
+        lo = _Pieces.of(F, periods)
+        return _Lifted(lo, lo if upper is None else _Pieces.of(upper, periods))
+
+    @property
+    def starts(self) -> FloatArray:
+        return self.lower.starts
 
     def value_at(self, a: FloatArray) -> FloatArray:
-        """F(a) (a may lie anywhere inside a piece)."""
-        i = np.searchsorted(self.starts, a, side="right") - 1
-        return np.where(self.ramp[i], a, self.values[i])
+        """lower(a) (a may lie anywhere inside a piece)."""
+        lo = self.lower
+        i = np.searchsorted(lo.starts, a, side="right") - 1
+        return np.where(lo.ramp[i], a, lo.values[i])
 
     def top(self, b: FloatArray) -> tuple[FloatArray, np.ndarray]:
-        """sup F([·, b)) = F(b⁻), and whether it is attained (b⁻ on a step)."""
-        j = np.searchsorted(self.starts, b, side="left") - 1
-        on_ramp = self.ramp[j]
-        return np.where(on_ramp, b, self.values[j]), ~on_ramp
+        """sup upper([·, b)) = upper(b⁻), and whether it is attained (b⁻ on a step)."""
+        up = self.upper
+        j = np.searchsorted(up.starts, b, side="left") - 1
+        on_ramp = up.ramp[j]
+        return np.where(on_ramp, b, up.values[j]), ~on_ramp
 
     def widest_right_end(self, a: FloatArray, room: float) -> FloatArray:
-        """For each left end a, the largest b with F([a, b)) inside [F(a), F(a) + room]."""
+        """For each left end a, the largest b with the image of [a, b) inside
+        [lower(a), lower(a) + room]."""
+        up = self.upper
         y = self.value_at(a) + room
-        j = np.searchsorted(self.keys, y, side="left")  # first piece that cannot fit
+        j = np.searchsorted(up.keys, y, side="left")  # first piece that cannot fit
         prev = j - 1
-        partial = self.ramp[prev] & (self.ends[prev] > y)
-        return np.where(partial, y, self.starts[j])
+        partial = up.ramp[prev] & (up.ends[prev] > y)
+        return np.where(partial, y, up.starts[j])
 
 
 def _candidates(F: TransferFunction, lifted: _Lifted, room: float) -> FloatArray:
     """Left ends to try: piece starts of one period, and points of ramps whose box top
     meets a step value or a ramp start (top-right placements)."""
     base = F.pieces[0].start
-    one = (lifted.starts >= base - 1e-12) & (lifted.starts < base + F.period - 1e-12)
-    out = [lifted.starts[one]]
-    tops = np.unique(lifted.values)
-    for s, e in zip(lifted.starts[one & lifted.ramp], lifted.ends[one & lifted.ramp]):
+    low = lifted.lower
+    one = (low.starts >= base - 1e-12) & (low.starts < base + F.period - 1e-12)
+    out = [low.starts[one]]
+    tops = np.unique(lifted.upper.values)
+    for s, e in zip(low.starts[one & low.ramp], low.ends[one & low.ramp]):
         lo, hi = np.searchsorted(tops, [s + room, e + room])
         out.append(tops[lo:hi] - room)
     return np.concatenate(out)
@@ -107,21 +130,78 @@ def algorithm_a_prime(F: TransferFunction, T: float, min_margin: float = 0.0,
     if not F.steps:
         raise NotOrientableError("no_step", "the transfer function has no step (constant width or "
                                  "constant radius): no plan of this action can orient the part")
-    lifted = _Lifted.of(F, range(-1, 4))
-    intervals = [widest_step(F)]
+    return _grow(F, _Lifted.of(F, range(-1, 4)), T, widest_step(F), min_margin, tol)
+
+
+def _grow(F: TransferFunction, lifted: _Lifted, T: float, first: tuple[float, float], min_margin: float,
+          tol: float, circle: float | None = None) -> list[tuple[float, float]]:
+    """Θ₂, Θ₃, … after ``first``: each the widest interval whose image fits the last.
+    ``circle``: the width of the image of the whole circle (set-valued functions), which
+    ends the plan as soon as it fits."""
+    intervals = [first]
     while intervals[-1][1] - intervals[-1][0] < T - tol:
         room = intervals[-1][1] - intervals[-1][0] - 2.0 * max(min_margin, GUARD_RAD)
         if room <= 0.0:
             raise _margin_error(min_margin, intervals)
-        a = _candidates(F, lifted, room)
-        b = lifted.widest_right_end(a, room)
-        k = int(np.argmax(b - a))
-        if b[k] - a[k] <= intervals[-1][1] - intervals[-1][0] + tol:
+        if circle is not None and circle <= room:
+            intervals.append((intervals[-1][0], intervals[-1][0] + T))
+            break
+        a, b = _widest(F, lifted, room)
+        if b - a <= intervals[-1][1] - intervals[-1][0] + tol:
             raise _margin_error(min_margin, intervals)
-        intervals.append((float(a[k]), float(min(b[k], a[k] + T))))
+        intervals.append((a, min(b, a + T)))
     last = intervals[-1]
     intervals[-1] = (last[0], last[0] + T)
     return intervals
+
+
+def _widest(F: TransferFunction, lifted: _Lifted, room: float) -> tuple[float, float]:
+    """The widest [a, b) whose image fits in a box of height ``room``."""
+    a = _candidates(F, lifted, room)
+    b = lifted.widest_right_end(a, room)
+    k = int(np.argmax(b - a))
+    return float(a[k]), float(b[k])
+
+
+def set_a_prime(lower: TransferFunction, upper: TransferFunction, T: float, circle: float, min_margin: float = 0.0,
+                max_final_rad: float = np.pi, tol: float = 1e-13) -> list[tuple[float, float]]:
+    """Algorithm A′ on a set-valued function (conventions §7): image of [a, b) is
+    [lower(a), upper(b⁻)]; the whole circle's image is ``circle`` wide. Θ₁ is the widest interval whose image is at most w₀ wide,
+    for each candidate w₀ (the image widths of single orientations, the sinks), ≤ 12
+    smallest; the shortest plan with a precise final image (``PRECISE_RAD``) wins, then
+    the narrower image. O(12 · A′)."""
+    lifted = _Lifted.of(lower, range(-1, 4), upper)
+    plans: list[tuple[float, list[tuple[float, float]]]] = []
+    seen: set[float] = set()
+    error = NotOrientableError("no_step", "no interval of orientations collapses to a small set: with this dead "
+                               "band the part cannot be oriented by this action")
+    for w0 in _sink_widths(lower, upper, lifted, max_final_rad):
+        a, b = _widest(lower, lifted, w0 + 2.0 * STRICT_RAD)
+        if b - a <= tol or round(b - a, 12) in seen:
+            continue
+        seen.add(round(b - a, 12))
+        try:
+            plans.append((w0, _grow(lower, lifted, T, (a, b), min_margin, tol, circle)))
+        except NotOrientableError as e:
+            error = e
+    if not plans:
+        raise error
+    return min(plans, key=lambda p: (p[0] > PRECISE_RAD, len(p[1]), p[0]))[1]
+
+
+PRECISE_RAD = np.radians(1.0)
+"""Final images at most this wide count as precise: among them the shortest plan wins
+(then the narrower image); wider ones only when no precise plan exists."""
+MAX_SINKS = 12
+"""How many candidate final-image widths Θ₁ is tried with."""
+
+
+def _sink_widths(lower: TransferFunction, upper: TransferFunction, lifted: _Lifted, max_rad: float) -> list[float]:
+    """Distinct image widths upper(x) − lower(x) at piece starts, smallest first."""
+    xs = np.array([p.start for p in lower.pieces] + [p.start for p in upper.pieces])
+    width = upper.apply(xs) - lifted.value_at(xs)
+    uniq = np.unique(np.round(width[(width >= 0.0) & (width <= max_rad)], 10))
+    return [float(w) for w in uniq[:MAX_SINKS]]
 
 
 def _margin_error(margin: float, intervals: list[tuple[float, float]]) -> NotOrientableError:
@@ -131,9 +211,11 @@ def _margin_error(margin: float, intervals: list[tuple[float, float]]) -> NotOri
                               f"the widest interval that can be collapsed is {width:.6g}°")
 
 
-def images(F: TransferFunction, intervals: list[tuple[float, float]]) -> list[tuple[float, float]]:
-    """[F(a), F(b⁻)] of each [a, b) (radians, lifted); one lifting for all. O((n + m) log n)."""
-    lifted = _Lifted.of(F, range(-1, 4))
+def images(F: TransferFunction, intervals: list[tuple[float, float]],
+           upper: TransferFunction | None = None) -> list[tuple[float, float]]:
+    """[F(a), F(b⁻)] of each [a, b) (radians, lifted; with ``upper``, [F(a), upper(b⁻)]);
+    one lifting for all. O((n + m) log n)."""
+    lifted = _Lifted.of(F, range(-1, 4), upper)
     lo = lifted.value_at(np.array([a for a, _ in intervals]))
     hi, _ = lifted.top(np.array([b for _, b in intervals]))
     return [(float(x), float(y)) for x, y in zip(lo, hi)]

@@ -31,6 +31,17 @@ class Tolerances:
         sliver_rad: hull features and monotone runs narrower than this are rounding
             slivers (e.g. a curve cut a hair from its end) and are absorbed by their
             neighbours; far below any mechanically meaningful angle.
+        circle_fit_rel: a rational Bezier whose points lie this close (relative) to one
+            circle *is* that circle's arc (rounding of written control points).
+        arc_approximation_rel: a polynomial Bezier within this (relative to the radius)
+            of a circle approximates an arc (a cubic 90° arc is 2.7e-4 off).
+        tessellation_turn_rad: polygon vertices turning at most this much, in runs of at
+            least ``tessellation_min_run``, are a tessellated curve (64-gon: 5.6°).
+        snap_turn_rad: polygon vertices turning at most this much (all the same way, in
+            runs of at least ``tessellation_min_run``, on one circle) tessellate an arc and
+            become it in the robust model (a 48-gon turns 7.5°, a 64-gon 5.6°).
+        symmetry_value_rel: values of d or r that agree within this (relative to size),
+            plus the drawing's own value error, are equal when judging symmetry.
     """
 
     closure_rel: float = 1e-6
@@ -42,6 +53,12 @@ class Tolerances:
     root_grid_rad: float = 0.004
     hull_sample_turn_rad: float = 0.05
     sliver_rad: float = 1e-7
+    circle_fit_rel: float = 1e-9
+    arc_approximation_rel: float = 1e-3
+    tessellation_turn_rad: float = 0.2094395102393195  # 12°
+    tessellation_min_run: int = 3
+    snap_turn_rad: float = 0.1308996938995747  # 7.5°
+    symmetry_value_rel: float = 1e-7
 
 
 DEFAULT_TOLERANCES = Tolerances()

@@ -1,0 +1,277 @@
+"""Set-valued transfer functions F_κ (conventions §7): where a real part may come to rest.
+
+For f = d (squeeze) or r (push) and the dead band (s, σ), each orientation θ is
+classified by the drawn slope g = f′(θ) (part units per radian):
+
+* rest is possible where |g| ≤ s + σ, certain where |g| ≤ s − σ;
+* downhill motion (direction −sign g) is possible where |g| > s − σ; uphill too where
+  moreover |g| ≤ σ (the real slope may have either sign).
+
+A part starting at θ rests somewhere in ``[lower(θ), upper(θ)]``: ``upper`` is the end of
+the run of right-movable zones containing θ (it stops at the first zone it cannot cross),
+θ itself where it may stay, or the start of the forced-left run it slides down; ``lower``
+mirrors it. Both are monotone step/ramp functions — :class:`~algrasp.transfer.TransferFunction`
+— so an interval [a, b) maps into [lower(a), upper(b⁻)]. With s = σ = 0 both equal the
+exact function of §3.
+
+The classification is made on cells between nodes: a uniform grid of ``GRID_RAD``, every
+Gauss-map breakpoint (where f′ jumps) and every extremum of the exact analysis. Each cell
+takes the union of the permissions sampled at its two ends and its middle, in every
+copy θ + kT of the symmetry period T judged to tolerance (a tessellated gear has the
+period of its teeth): the union is conservative, so images only grow. O(c·K) for c cells
+and K copies, all in vectorised passes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from algrasp.barriers import barriers
+from algrasp.curves import FloatArray
+from algrasp.errors import NotOrientableError
+from algrasp.functions import SupportPairFunction
+from algrasp.transfer import TransferFunction, TransferPiece, canonical
+
+GRID_RAD = 5e-4
+"""Largest cell of the classification grid (0.029°): dead-zone edges are placed to this."""
+SYMMETRY_SAMPLES = 20160
+"""Samples per natural period for judging symmetry; divisible by every k ≤ 10 and many more."""
+MAX_SYMMETRY_ORDER = 360
+_INSIDE = 1e-6
+"""Relative offset of the end samples inside a cell (kinks sit on cell nodes)."""
+
+
+@dataclass(frozen=True, eq=False)
+class SetTransfer:
+    """F_κ as its lower and upper bounds (both of period ``symmetry``).
+
+    ``rest_zones`` are the dead zones {|f′| ≤ κ} over one natural period (radians,
+    [start, end)); ``period`` is the natural period (π or 2π).
+    """
+
+    lower: TransferFunction
+    upper: TransferFunction
+    period: float
+    symmetry: float
+    rest_zones: tuple[tuple[float, float], ...]
+    outcomes: tuple[tuple[float, float], ...]
+    """Closed intervals (radians, lifted) holding every orientation the part can rest in
+    after the action, from any start: the rest zones and the stops of the steps."""
+
+    @property
+    def orientable(self) -> bool:
+        return bool(self.lower.steps or self.upper.steps)
+
+    def image(self, lo: FloatArray, hi: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """Hull of the images of the closed intervals [lo, hi] (radians, lifted)."""
+        return self.lower.apply(lo), self.upper.apply(hi)
+
+    def circle_image(self) -> tuple[float, float]:
+        """Hull, on the circle of period T, of every orientation the part can end in from
+        any start (``outcomes``): [start, end] lifted, end − start ≤ T — the complement of
+        the largest gap. The image of the whole circle: hulls of single points would fill
+        the gaps that uncertain zones bridge, but a part only ever rests at an outcome."""
+        lo = np.array([a for a, _ in self.outcomes])
+        hi = np.array([b for _, b in self.outcomes])
+        return _circular_hull(lo, hi, self.symmetry)
+
+    def compose_after(self, inner: SetTransfer, tol_rad: float) -> SetTransfer:
+        """self ∘ inner (inner acts first): bounds compose since both are monotone."""
+        lower = self.lower.compose_after(inner.lower, tol_rad)
+        upper = self.upper.compose_after(inner.upper, tol_rad)
+        lo, hi = self.image(np.array([a for a, _ in inner.outcomes]), np.array([b for _, b in inner.outcomes]))
+        return SetTransfer(lower, upper, inner.period, inner.symmetry, inner.rest_zones, tuple(zip(lo.tolist(), hi.tolist())))
+
+
+def _circular_hull(lo: FloatArray, hi: FloatArray, T: float) -> tuple[float, float]:
+    """Complement of the largest gap left by the intervals [lo_i, hi_i] on a circle of
+    circumference T, as a lifted interval (three lifted copies, so intervals reaching
+    past T cover the start)."""
+    if np.max(hi - lo) >= T:
+        return 0.0, T
+    shift = np.floor(lo / T) * T
+    lo, hi = lo - shift, hi - shift
+    L = np.concatenate([lo - T, lo, lo + T])
+    H = np.concatenate([hi - T, hi, hi + T])
+    order = np.argsort(L, kind="stable")
+    L, H = L[order], H[order]
+    reach = np.maximum.accumulate(H)
+    gaps = L[1:] - reach[:-1]
+    valid = (reach[:-1] >= 0.0) & (reach[:-1] < T) & (gaps > 0.0)
+    if not valid.any():
+        return 0.0, T
+    k = int(np.argmax(np.where(valid, gaps, -np.inf)))
+    return float(L[k + 1]), float(reach[k] + T)
+
+
+def slopes(f: SupportPairFunction, theta: FloatArray) -> FloatArray:
+    """f′(θ) (part units per radian) from the exact support points; vectorised.
+
+    With ψ = π/2 − θ and p(ψ) the support point, dd/dθ = −⟨p(ψ) − p(ψ + π), u′(ψ)⟩ and
+    dr/dθ = −⟨c − p(ψ + π), u′(ψ)⟩.
+    """
+    psi = np.pi / 2 - np.asarray(theta, dtype=float)
+    far = f.hull.support_points(psi + np.pi)
+    near = f.hull.support_points(psi) if f.kind == "diameter" else np.asarray(f.com, dtype=float)
+    chord = near - far
+    return np.asarray(-(-chord[..., 0] * np.sin(psi) + chord[..., 1] * np.cos(psi)))
+
+
+def tolerant_symmetry(f: SupportPairFunction, value_tol: float) -> float:
+    """The smallest T = P/k with |f(θ + T) − f(θ)| ≤ value_tol at every sample (radians).
+
+    Shifts so small that the slope alone keeps f within the tolerance (|f′|·T ≤ 4·tol)
+    prove nothing and are not tried."""
+    P = f.period
+    theta = np.linspace(0.0, P, SYMMETRY_SAMPLES, endpoint=False)
+    v = f.values(theta)
+    steepest = float(np.max(np.abs(np.diff(v)))) * SYMMETRY_SAMPLES / P
+    top = min(MAX_SYMMETRY_ORDER, int(P * steepest / (4.0 * value_tol)) if value_tol > 0 else MAX_SYMMETRY_ORDER)
+    for k in range(top, 1, -1):
+        if SYMMETRY_SAMPLES % k == 0 and np.max(np.abs(np.roll(v, -SYMMETRY_SAMPLES // k) - v)) <= value_tol:
+            return P / k
+    return P
+
+
+def _nodes(f: SupportPairFunction, T: float) -> FloatArray:
+    """Cell nodes in [0, T): grid, breakpoints (θ of every Gauss-map breakpoint) and extrema."""
+    grid = np.linspace(0.0, T, max(8, int(np.ceil(T / GRID_RAD))), endpoint=False)
+    bp = f.hull.breakpoints
+    theta_bp = np.concatenate([np.pi / 2 - bp, 1.5 * np.pi - bp]) if f.kind == "diameter" else 1.5 * np.pi - bp
+    runs = np.array([r.start for r in f.runs])
+    nodes = np.sort(np.mod(np.concatenate([grid, theta_bp, runs]), T))
+    keep = np.concatenate([[True], np.diff(nodes) > 1e-12])
+    nodes = nodes[keep]
+    if T - nodes[-1] <= 1e-12:
+        nodes = nodes[:-1]
+    return nodes
+
+
+def _permissions(g: FloatArray, stall: float, sigma: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(right, left, rest) possible, each OR-ed over the last two axes (samples, copies)."""
+    a = np.abs(g)
+    movable = a > stall - sigma
+    either = a <= sigma
+    right = movable & ((g < 0.0) | either)
+    left = movable & ((g > 0.0) | either)
+    rest = a <= stall + sigma
+    axes = tuple(range(1, g.ndim))
+    return right.any(axis=axes), left.any(axis=axes), rest.any(axis=axes)
+
+
+def _run_edges(flags: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For each cell i (cyclic, lifted indices): the first cell of the run of True flags
+    containing it, and the first False cell after it. Vectorised over three copies."""
+    n = len(flags)
+    idx = np.arange(-n, 2 * n)
+    f3 = np.tile(flags, 3)
+    big = 4 * n
+    last_false = np.maximum.accumulate(np.where(~f3, idx, -big))
+    next_false = np.minimum.accumulate(np.where(~f3, idx, big)[::-1])[::-1]
+    return last_false[n:2 * n] + 1, next_false[n:2 * n]
+
+
+@dataclass(frozen=True)
+class _Cells:
+    """Cells [x_i, x_i + width_i) over one period T with their permissions and barriers."""
+
+    x: FloatArray
+    T: float
+    right: np.ndarray
+    left: np.ndarray
+    rest: np.ndarray
+    barrier_right: FloatArray
+    barrier_left: FloatArray
+
+    def at(self, j: np.ndarray) -> FloatArray:
+        """Lifted start of cell j (any integer)."""
+        n = len(self.x)
+        return np.asarray(self.x[np.mod(j, n)] + np.floor_divide(j, n) * self.T)
+
+
+def _bounds(c: _Cells, tol_rad: float) -> tuple[TransferFunction, TransferFunction]:
+    """Lower and upper step/ramp functions from per-cell permissions and barriers."""
+    R, L, S = c.right, c.left, c.rest
+    if R.all() or L.all():
+        raise NotOrientableError("dead_band", "with this dead band the part may turn without end: the slopes of "
+                                 "the drawing are all within the shape tolerance")
+    _, right_end = _run_edges(R)
+    left_start, _ = _run_edges(L)
+    forced_left_start, _ = _run_edges(~R & ~S)
+    _, forced_right_end = _run_edges(~L & ~S)
+    up = np.where(R, np.minimum(c.at(right_end), c.barrier_right), np.where(S, np.nan, c.at(forced_left_start)))
+    lo = np.where(L, np.maximum(c.at(left_start), c.barrier_left), np.where(S, np.nan, c.at(forced_right_end)))
+    ends = np.append(c.x[1:], c.x[0] + c.T)
+    up, lo = _monotone(c.x, ends, up, lo, c.T)
+    return _tf(c.x, ends, lo, c.T, tol_rad), _tf(c.x, ends, up, c.T, tol_rad)
+
+
+def _monotone(x: FloatArray, ends: FloatArray, up: FloatArray, lo: FloatArray, T: float) -> tuple[FloatArray, FloatArray]:
+    """Raise upper (lower lower) where barriers made them dip: both must be monotone.
+    A ramp (NaN: θ itself) spans [x_i, end_i); a dipping ramp becomes a step."""
+    n = len(x)
+    lift = np.repeat(np.arange(-1, 2), n) * T
+    u3 = np.tile(up, 3) + lift
+    top = np.where(np.isnan(u3), np.tile(ends, 3) + lift, u3)
+    bottom = np.where(np.isnan(u3), np.tile(x, 3) + lift, u3)
+    before = np.concatenate([[-np.inf], np.maximum.accumulate(top)[:-1]])[n:2 * n] - 0.0
+    up = np.where(bottom[n:2 * n] < before, np.maximum(before, top[n:2 * n]), up)
+    l3 = np.tile(lo, 3) + lift
+    bot = np.where(np.isnan(l3), np.tile(x, 3) + lift, l3)
+    tp = np.where(np.isnan(l3), np.tile(ends, 3) + lift, l3)
+    after = np.concatenate([np.minimum.accumulate(bot[::-1])[::-1][1:], [np.inf]])[n:2 * n]
+    lo = np.where(tp[n:2 * n] > after, np.minimum(after, bot[n:2 * n]), lo)
+    return up, lo
+
+
+def _tf(starts: FloatArray, ends: FloatArray, values: FloatArray, T: float, tol_rad: float) -> TransferFunction:
+    """Cells → pieces, neighbours with the same value (or both ramps) merged first in
+    one array pass, so only the distinct pieces become objects."""
+    nan = np.isnan(values)
+    same = (nan & np.roll(nan, 1)) | (~nan & ~np.roll(nan, 1) & (np.abs(values - np.roll(values, 1)) <= tol_rad))
+    same[0] = False
+    first = np.nonzero(~same)[0]
+    last = np.append(first[1:], len(values)) - 1
+    pieces = [TransferPiece(float(a), float(b), None if np.isnan(v) else float(v))
+              for a, b, v in zip(starts[first].tolist(), ends[last].tolist(), values[first].tolist())]
+    return TransferFunction(T, tuple(canonical(pieces, T, tol_rad)))
+
+
+def _rest_zones(nodes: FloatArray, T: float, rest: np.ndarray, P: float) -> tuple[tuple[float, float], ...]:
+    """Maximal rest-possible zones over one natural period, [start, end) in radians."""
+    ends = np.append(nodes[1:], T)
+    zones: list[list[float]] = []
+    for k in range(int(round(P / T))):
+        for a, b, r in zip(nodes.tolist(), ends.tolist(), rest.tolist()):
+            if not r:
+                continue
+            if zones and abs(zones[-1][1] - (a + k * T)) <= 1e-12:
+                zones[-1][1] = b + k * T
+            else:
+                zones.append([a + k * T, b + k * T])
+    if len(zones) > 1 and zones[0][0] <= 1e-12 and abs(zones[-1][1] - P) <= 1e-12:
+        zones[0][0] = zones.pop()[0] - P
+    return tuple((a, b) for a, b in zones)
+
+
+def set_transfer(f: SupportPairFunction, stall: float, sigma: float, value_tol: float, tol_rad: float) -> SetTransfer:
+    """F_κ of d or r (see module docs). Raises NotOrientableError when the part may turn
+    without end. O((c + b)·K·log) for c grid cells, b breakpoints, K symmetric copies."""
+    P = f.period
+    T = tolerant_symmetry(f, value_tol)
+    x = _nodes(f, T)
+    widths = np.diff(np.append(x, T))
+    frac = np.array([_INSIDE, 0.5, 1.0 - _INSIDE])
+    copies = np.arange(int(round(P / T))) * T
+    theta = x[:, None, None] + widths[:, None, None] * frac[None, :, None] + copies[None, None, :]
+    g = slopes(f, theta.ravel()).reshape(theta.shape)
+    v = f.values(theta.ravel()).reshape(theta.shape)
+    right, left, rest = _permissions(g, stall, sigma)
+    br, bl = barriers(x, T, v[:, 0, :].T, v.max(axis=1).T, stall, value_tol)
+    cells = _Cells(x, T, right, left, rest, br, bl)
+    lower, upper = _bounds(cells, tol_rad)
+    zones = _rest_zones(x, T, rest, T)
+    stops = [(p.value, p.value) for F in (lower, upper) for p in F.steps if p.value is not None]
+    return SetTransfer(lower, upper, P, T, _rest_zones(x, T, rest, P), (*zones, *stops))

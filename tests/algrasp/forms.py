@@ -1,0 +1,91 @@
+"""Part documents written the ways CAD tools write them: an arc as an ``arc``, an
+``ellipse_arc`` with rx = ry, rational quadratic Beziers (NURBS), degree-elevated rational
+cubics, cubic Bezier approximations (SVG/PDF) and polygons (mesh projections, polylines).
+
+An outline is a list of ("line", start, end) and ("arc", (cx, cy), R, a0_deg, a1_deg).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+Outline = list[tuple[Any, ...]]
+
+
+def _pieces(a0: float, a1: float, max_deg: float = 90.0) -> list[tuple[float, float]]:
+    n = max(1, math.ceil(abs(a1 - a0) / max_deg - 1e-9))
+    return [(a0 + (a1 - a0) * i / n, a0 + (a1 - a0) * (i + 1) / n) for i in range(n)]
+
+
+def _pt(c: tuple[float, float], R: float, a_deg: float) -> list[float]:
+    a = math.radians(a_deg)
+    return [c[0] + R * math.cos(a), c[1] + R * math.sin(a)]
+
+
+def _rational(c: tuple[float, float], R: float, a0: float, a1: float) -> tuple[np.ndarray, np.ndarray]:
+    h = math.radians(a1 - a0) / 2
+    m = math.radians(a1 + a0) / 2
+    mid = [c[0] + R * math.cos(m) / math.cos(h), c[1] + R * math.sin(m) / math.cos(h)]
+    return np.array([_pt(c, R, a0), mid, _pt(c, R, a1)]), np.array([1.0, math.cos(h), 1.0])
+
+
+def _elevate(P: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    H = np.column_stack([P * w[:, None], w])
+    E = np.array([H[0], (H[0] + 2 * H[1]) / 3, (2 * H[1] + H[2]) / 3, H[2]])
+    return E[:, :2] / E[:, 2:], E[:, 2]
+
+
+def arc_segments(form: str, c: tuple[float, float], R: float, a0: float, a1: float) -> list[dict[str, Any]]:
+    """One arc (degrees, a0 → a1) in the given form."""
+    if form == "arc":
+        return [{"type": "arc", "center": list(c), "radius": R, "start_deg": a0, "end_deg": a1}]
+    if form == "ellipse":
+        return [{"type": "ellipse_arc", "center": list(c), "rx": R, "ry": R, "rotation_deg": 17.0,
+                 "start_deg": a0 - 17.0, "end_deg": a1 - 17.0}]
+    out: list[dict[str, Any]] = []
+    if form.endswith("gon"):
+        n = int(form[:-3])
+        step = 360.0 / n
+        k0, k1 = sorted((a0 / step, a1 / step))
+        inner = [k * step for k in range(math.floor(k0) + 1, math.ceil(k1))]
+        angles = [a0, *(inner if a1 > a0 else inner[::-1]), a1]
+        return [{"type": "line", "start": _pt(c, R, x), "end": _pt(c, R, y)} for x, y in zip(angles[:-1], angles[1:])]
+    for x, y in _pieces(a0, a1):
+        if form == "cubic":
+            k = 4.0 / 3.0 * math.tan(math.radians(y - x) / 4)
+            p0, p3 = np.array(_pt(c, R, x)), np.array(_pt(c, R, y))
+            t0 = np.array([-math.sin(math.radians(x)), math.cos(math.radians(x))])
+            t3 = np.array([-math.sin(math.radians(y)), math.cos(math.radians(y))])
+            pts = [p0, p0 + k * R * t0, p3 - k * R * t3, p3]
+            out.append({"type": "bezier", "points": [list(map(float, p)) for p in pts]})
+        else:
+            P, w = _rational(c, R, x, y)
+            if form == "rational_cubic":
+                P, w = _elevate(P, w)
+            out.append({"type": "bezier", "points": P.tolist(), "weights": w.tolist()})
+    return out
+
+
+def document(outline: Outline, form: str, **extra: Any) -> dict[str, Any]:
+    boundary: list[dict[str, Any]] = []
+    for item in outline:
+        if item[0] == "line":
+            boundary.append({"type": "line", "start": list(item[1]), "end": list(item[2])})
+        else:
+            boundary.extend(arc_segments(form, *item[1:]))
+    return {"name": f"part-{form}", "boundary": boundary, **extra}
+
+
+def fig11_outline(R: float = 10.0, z_deg: float = 11.0) -> Outline:
+    s, c = R * math.sin(math.radians(z_deg)), R * math.cos(math.radians(z_deg))
+    return [("line", (s, c), (-s, c)), ("arc", (0.0, 0.0), R, 90 + z_deg, 270 - z_deg),
+            ("line", (-s, -c), (s, -c)), ("arc", (0.0, 0.0), R, -90 + z_deg, 90 - z_deg)]
+
+
+def pie_outline(R: float = 5.0, half_deg: float = 20.0) -> Outline:
+    h = math.radians(half_deg)
+    a, b = (R * math.sin(h), R * math.cos(h)), (-R * math.sin(h), R * math.cos(h))
+    return [("line", (0.0, 0.0), a), ("arc", (0.0, 0.0), R, 90 - half_deg, 90 + half_deg), ("line", b, (0.0, 0.0))]
