@@ -7,14 +7,16 @@ Pure: no I/O; ``to_dict`` gives the JSON object of ``algrasp analyze --json``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields
+from typing import Any
 
 import numpy as np
 
-from algrasp.deadband import DeadBand, Physics, dead_band
-from algrasp.errors import NotOrientableError
+from algrasp.deadband import DEFAULT_PHYSICS, DeadBand, Physics, dead_band
+from algrasp.errors import ConfigError, NotOrientableError
 from algrasp.functions import SupportPairFunction, analyse
-from algrasp.part import Part
+from algrasp.part import Part, load_part
 from algrasp.setvalued import SetTransfer, set_transfer
 from algrasp.tolerances import DEFAULT_TOLERANCES, Tolerances
 from algrasp.transfer import TransferFunction, describe, from_runs
@@ -22,6 +24,51 @@ from algrasp.transfer import TransferFunction, describe, from_runs
 SYMMETRY_TOL_RAD = 1e-7
 """Tolerance on breakpoints and images when testing F(θ + T) = F(θ) + T: root finding
 places curved breakpoints to ~1e-12 rad, far inside this."""
+
+
+@dataclass(frozen=True)
+class Model:
+    """Which model a request analyses and plans with: the robust model of conventions
+    §7 (default: dead band from ``physics``, tessellated arcs recognised) or the paper's
+    exact frictionless model (``exact``, the CLI's ``--exact``)."""
+
+    exact: bool = False
+    physics: Physics = field(default_factory=lambda: DEFAULT_PHYSICS)
+
+    @staticmethod
+    def from_options(options: Mapping[str, Any], legacy_exact: bool = False) -> Model:
+        """From request options ``{"exact": bool, "physics": {...}}``. Records written
+        before the robust model have neither key: ``legacy_exact`` reads them as exact."""
+        exact = options.get("exact", legacy_exact)
+        if not isinstance(exact, bool):
+            raise ConfigError("exact", f"expected true or false, got {exact!r}")
+        raw = options.get("physics") or {}
+        if not isinstance(raw, Mapping):
+            raise ConfigError("physics", "expected an object")
+        known = {f.name for f in fields(Physics)}
+        unknown = sorted(set(raw) - known)
+        if unknown:
+            raise ConfigError(f"physics.{unknown[0]}", f"unknown key (known: {', '.join(sorted(known))})")
+        for k, v in raw.items():
+            if not (v is None and k == "shape_tolerance") and (isinstance(v, bool) or not isinstance(v, (int, float))):
+                raise ConfigError(f"physics.{k}", f"expected a number, got {v!r}")
+        return Model(exact, Physics(**{k: (None if v is None else float(v)) for k, v in raw.items()}))
+
+    @staticmethod
+    def from_record(options: Mapping[str, Any]) -> Model:
+        """The model of a recorded request (a batch design run keeps it under "design";
+        records from before the robust model are exact)."""
+        design = options.get("design")
+        return Model.from_options(design if isinstance(design, Mapping) else options, legacy_exact=True)
+
+    def to_options(self) -> dict[str, Any]:
+        """What a run record keeps (only physics that differ from the defaults)."""
+        diff = {k: v for k, v in self.physics.to_dict().items() if v != getattr(DEFAULT_PHYSICS, k)}
+        return {"exact": self.exact, **({"physics": diff} if diff else {})}
+
+
+ROBUST = Model()
+EXACT = Model(exact=True)
 
 
 @dataclass(frozen=True, eq=False)
@@ -125,6 +172,13 @@ def analyse_part(part: Part, tol: Tolerances = DEFAULT_TOLERANCES, physics: Phys
     push_grasp = squeeze.compose_after(push, tol.angle_rad) if squeeze.steps else push
     robust = None if physics is None else robust_analysis(part, d, r, physics, tol)
     return Analysis(part, d, r, squeeze, push, push_grasp, tol, robust)
+
+
+def analyse_document(doc: Mapping[str, Any], model: Model = ROBUST, tol: Tolerances = DEFAULT_TOLERANCES) -> Analysis:
+    """Parse, validate and analyse a part document under ``model``: the one entry point
+    of every interface (CLI, service, batch, replay, figures)."""
+    part = load_part(doc, tol, snap=not model.exact)
+    return analyse_part(part, tol, None if model.exact else model.physics)
 
 
 def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, physics: Physics,

@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from algrasp.analysis import Analysis, analyse_part
+from algrasp.analysis import Analysis, Model, analyse_document
 from algrasp.errors import AlgraspError, LimitExceededError, PartDocumentError
 from algrasp.limits import DEFAULT_LIMITS
 from algrasp.part import load_part
@@ -123,12 +123,25 @@ def _request(args: argparse.Namespace) -> Any:
         raise AlgraspError("--gripper needs --optimise")
     profile = _gripper_profile(args.gripper).to_dict() if getattr(args, "gripper", None) else None
     extra = {k: getattr(args, k) for k in ("samples", "seed", "placement", "tolerance_deg", "push_scale") if hasattr(args, k)}
-    return PlanRequest(args.action.replace("-", "_"), args.min_margin_deg, args.optimise, profile, **extra)
+    model = model_from_args(args)
+    return PlanRequest(args.action.replace("-", "_"), args.min_margin_deg, args.optimise, profile, **extra,
+                       exact=model.exact, physics=model.physics.to_dict())
+
+
+def model_from_args(args: argparse.Namespace) -> Model:
+    """``--exact`` or the robust model with the ``--friction``/``--grip-force-n``/
+    ``--part-mass-kg``/``--shape-tolerance`` physics."""
+    keys = {"friction": "support_friction", "grip_force_n": "grip_force_n", "part_mass_kg": "part_mass_kg",
+            "shape_tolerance": "shape_tolerance"}
+    physics = {v: getattr(args, k) for k, v in keys.items() if getattr(args, k, None) is not None}
+    return Model.from_options({"exact": bool(getattr(args, "exact", False)), "physics": physics})
 
 
 def _options(args: argparse.Namespace) -> dict[str, Any]:
     """The request options a run record keeps (what replay needs to recompute)."""
-    return _request(args).record_options() if hasattr(args, "action") else {}
+    if hasattr(args, "action"):
+        return _request(args).record_options()
+    return model_from_args(args).to_options()
 
 
 def _recording(args: argparse.Namespace, command: str, doc: dict[str, Any]) -> Any:
@@ -143,8 +156,9 @@ def _with_run(doc: dict[str, Any], rec: Any) -> dict[str, Any]:
 
 def cmd_analyze(args: argparse.Namespace) -> int:
     doc = read_document(args.part, args)
+    model = model_from_args(args)
     with _recording(args, "analyze", doc) as rec:
-        analysis = analyse_part(load_part(doc))
+        analysis = analyse_document(doc, model)
         rec.analysis(analysis.to_dict())
     if args.json:
         print(json.dumps(_with_run(analysis.to_dict(), rec), indent=2))
@@ -174,7 +188,8 @@ def print_plan(plan: Plan) -> None:
         table.add_row(str(i + 1), f"{s['gripper_angle_deg']:.4f}", margin, f"[{a:.4f}, {b:.4f})")
     Console().print(table)
     finals = ", ".join(f"{f:.4f}" for f in d["final_orientations_deg"])
-    print(f"symmetry period {d['symmetry_period_deg']:.6g}°; final orientations (deg): {finals}")
+    print(f"symmetry period {d['symmetry_period_deg']:.6g}°; final orientations (deg): {finals} "
+          f"± {d['final_uncertainty_deg']:.4f} ({d['model']} model)")
     times = ", ".join(f"{k} {1000 * v:.2f} ms" for k, v in d["timings_s"].items())
     print(f"verified: {d['verified']}; {times}")
 
@@ -283,6 +298,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("part", metavar="PART.json")
     _cad_options(p)
     p.add_argument("--json", action="store_true", help="print the analysis object as JSON")
+    model_options(p)
     _record_options(p)
     p.set_defaults(func=cmd_analyze)
     p = sub.add_parser("plan", help="shortest sensorless plan (Algorithm A′) for a part")
@@ -321,6 +337,18 @@ def _plan_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--action", choices=["squeeze", "push-grasp"], default="squeeze")
     p.add_argument("--min-margin-deg", type=_non_negative, default=0.0, metavar="M",
                    help="every transition must tolerate M degrees of gripper error")
+    model_options(p)
+
+
+def model_options(p: argparse.ArgumentParser) -> None:
+    """The model: robust by default (conventions §7), ``--exact`` for the paper's."""
+    g = p.add_argument_group("model (default: robust — dead band from support friction and shape tolerance)")
+    g.add_argument("--exact", action="store_true", help="the paper's exact frictionless model (no dead band)")
+    g.add_argument("--friction", type=float, metavar="MU", help="support friction coefficient μ (default 0.3)")
+    g.add_argument("--grip-force-n", type=float, metavar="F", help="grip (and push) force in N (default 2)")
+    g.add_argument("--part-mass-kg", type=float, metavar="M", help="part mass in kg (default 0.02)")
+    g.add_argument("--shape-tolerance", type=float, metavar="SIGMA",
+                   help="slope error σ of the drawing, part units per radian (default: from the drawing)")
 
 
 def _cad_options(p: argparse.ArgumentParser) -> None:

@@ -11,9 +11,8 @@ import time
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
-from algrasp.analysis import Analysis, analyse_part
+from algrasp.analysis import Analysis, Model, analyse_document
 from algrasp.errors import AlgraspError, ConfigError
-from algrasp.part import load_part
 from algrasp.plan import Plan, make_plan
 
 Action = Literal["squeeze", "push_grasp"]
@@ -33,10 +32,17 @@ class PlanRequest:
     seed: int = 0
     placement: Literal["centred", "random"] = "centred"
     tolerance_deg: float = 1.0
+    exact: bool = False
+    physics: dict[str, Any] | None = None
+
+    @property
+    def model(self) -> Model:
+        return Model.from_options({"exact": self.exact, "physics": self.physics})
 
     def record_options(self) -> dict[str, Any]:
         """The options a run record keeps (what replay needs to recompute the run)."""
-        out: dict[str, Any] = {"action": self.action, "min_margin_deg": self.min_margin_deg, "optimise": self.optimise}
+        out: dict[str, Any] = {"action": self.action, "min_margin_deg": self.min_margin_deg, "optimise": self.optimise,
+                               **self.model.to_options()}
         if self.gripper_profile is not None:
             out["gripper_profile"] = self.gripper_profile
         if self.samples:
@@ -66,7 +72,7 @@ def plan_part(doc: dict[str, Any], req: PlanRequest, rec: Any, sim_workers: int 
     if req.gripper_profile is not None and not req.optimise:
         raise ConfigError("gripper", "a gripper profile needs optimise")
     t0 = time.perf_counter()
-    analysis = analyse_part(load_part(doc))
+    analysis = analyse_document(doc, req.model)
     rec.analysis(analysis.to_dict())
     t1 = time.perf_counter()
     plan = make_plan(analysis, req.action, req.min_margin_deg)

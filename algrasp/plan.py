@@ -199,6 +199,7 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -
 
 def _set_for(analysis: Analysis, action: Action) -> SetTransfer:
     assert analysis.robust is not None
+    transfer_for(analysis, action)  # no step even without the dead band: say why (constant width, …)
     S: SetTransfer | None = getattr(analysis.robust, action)
     if S is None:
         raise NotOrientableError("dead_band", analysis.robust.reasons[action])

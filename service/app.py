@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from typing import Annotated, Any
 
 from cachetools import LRUCache
-from fastapi import APIRouter, Depends, FastAPI, File, Form, Header, HTTPException, Path, Request, UploadFile
+from fastapi import APIRouter, Depends, FastAPI, File, Form, Header, HTTPException, Path, Query, Request, UploadFile
 from fastapi.responses import FileResponse, JSONResponse, PlainTextResponse, Response
 from prometheus_client import CONTENT_TYPE_LATEST, generate_latest
 
@@ -142,13 +142,15 @@ async def metrics(request: Request) -> Response:
     return Response(generate_latest(svc.metrics.registry), media_type=CONTENT_TYPE_LATEST)
 
 @router.post("/v1/analyses", tags=["plans"], dependencies=AUTH)
-async def analyses(request: Request, part: dict[str, Any]) -> JSONResponse:
-    """Part document → the analysis object of ``algrasp analyze --json``."""
+async def analyses(request: Request, part: dict[str, Any],
+                   exact: bool = Query(False, description="the paper's exact frictionless model (no dead band)")) -> JSONResponse:
+    """Part document → the analysis object of ``algrasp analyze --json`` (robust model
+    with the default physics, or ``?exact=true``)."""
     svc = state(request)
-    key = canonical_hash(["analysis", VERSION, part])
+    key = canonical_hash(["analysis", VERSION, part, exact])
     cached = key in svc.cache
     if not cached:
-        svc.cache[key] = await run_task(svc, analysis_task, part, str(svc.settings.log_dir),
+        svc.cache[key] = await run_task(svc, analysis_task, part, str(svc.settings.log_dir), {"exact": exact},
                                         timeout_s=svc.settings.analysis_time_limit_s, stage="analysis")
     svc.metrics.analyses.labels(str(cached).lower()).inc()
     return JSONResponse(svc.cache[key], headers={"X-Cache": "hit" if cached else "miss"})

@@ -38,7 +38,11 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
         profile = load_profile(args.gripper).to_dict()
     if args.validate_samples < 0:
         raise ConfigError("--validate-samples", "must be ≥ 0")
-    return asdict(DesignOptions(args.min_margin_deg, args.validate_samples, args.seed, args.placement, profile))
+    from algrasp.cli import model_from_args
+
+    model = model_from_args(args).to_options()
+    return asdict(DesignOptions(args.min_margin_deg, args.validate_samples, args.seed, args.placement, profile,
+                                model["exact"], model.get("physics")))
 
 
 def cmd_batch(args: argparse.Namespace) -> int:
@@ -115,5 +119,8 @@ def add_commands(sub: Any) -> None:
     p.add_argument("--placement", choices=["centred", "random"], default="centred")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--gripper", metavar="PROFILE.yaml|json")
+    from algrasp.cli import model_options
+
+    model_options(p)
     p.add_argument("--record-dir", metavar="DIR", help="run records (default $ALGRASP_LOG_DIR or logs/)")
     p.set_defaults(func=cmd_batch)

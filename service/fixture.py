@@ -15,7 +15,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from algrasp.analysis import Analysis
+from algrasp.analysis import Analysis, Model
 from algrasp.errors import NotOrientableError
 from algrasp.pipeline import PlanRequest, plan_part
 from algrasp.plan import Plan, make_plan
@@ -33,6 +33,12 @@ class DesignOptions:
     seed: int = 0
     placement: Literal["centred", "random"] = "centred"
     gripper_profile: dict[str, Any] | None = None
+    exact: bool = False
+    physics: dict[str, Any] | None = None
+
+    @property
+    def model(self) -> Model:
+        return Model.from_options({"exact": self.exact, "physics": self.physics})
 
 
 def _min_margin(plan: Plan) -> float | None:
@@ -81,7 +87,7 @@ def design_part(doc: dict[str, Any], opts: DesignOptions, rec: Any, analysis: An
         out["reasons"] = {a: c["error"]["message"] for a, c in compared.items()}
         return out
     req = PlanRequest(best.action, opts.min_margin_deg, True, opts.gripper_profile, samples=opts.samples, seed=opts.seed,
-                      placement=opts.placement)
+                      placement=opts.placement, exact=opts.exact, physics=opts.physics)
     res = plan_part(doc, req, rec, sim_workers=sim_workers)
     out["action"] = best.action
     out["plan"] = res.plan_doc

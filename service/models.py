@@ -27,7 +27,30 @@ class ValidateOptions(_Strict):
     tolerance_deg: float = Field(1.0, gt=0.0, le=180.0, description="agreement tolerance on the final orientation")
 
 
-class PlanBody(_Strict):
+class PhysicsBody(_Strict):
+    """The gripper and part physics of the dead band (conventions §7; defaults shared with
+    the Drake simulation)."""
+
+    support_friction: float = Field(0.3, ge=0.0, le=10.0, description="μ between part and support")
+    part_mass_kg: float = Field(0.02, ge=0.0, le=1000.0)
+    grip_force_n: float = Field(2.0, gt=0.0, le=1e5)
+    gravity_m_s2: float = Field(9.81, ge=0.0, le=100.0)
+    shape_tolerance: float | None = Field(None, ge=0.0, le=1e6,
+                                          description="σ: slope error of the drawing, part units per radian "
+                                                      "(default: derived from the drawing)")
+
+
+class ModelOptions(_Strict):
+    """Which model: robust (default) or the paper's exact frictionless one."""
+
+    exact: bool = Field(False, description="the paper's exact frictionless model (no dead band)")
+    physics: PhysicsBody | None = Field(None, description="dead-band physics (robust model)")
+
+    def model_options(self) -> dict[str, Any]:
+        return {"exact": self.exact, "physics": None if self.physics is None else self.physics.model_dump()}
+
+
+class PlanBody(ModelOptions):
     """``POST /v1/plans``."""
 
     part: dict[str, Any] = Field(description="part document (conventions §5)")
@@ -40,13 +63,13 @@ class PlanBody(_Strict):
     def request(self) -> dict[str, Any]:
         """Keyword arguments of :class:`algrasp.pipeline.PlanRequest`."""
         out: dict[str, Any] = {"action": self.action, "min_margin_deg": self.min_margin_deg, "optimise": self.optimise,
-                               "gripper_profile": self.gripper}
+                               "gripper_profile": self.gripper, **self.model_options()}
         if self.validate_ is not None:
             out.update(self.validate_.model_dump())
         return out
 
 
-class JobOptions(_Strict):
+class JobOptions(ModelOptions):
     """Options applied to every part of a job."""
 
     min_margin_deg: float = Field(0.0, ge=0.0, lt=180.0)
@@ -55,7 +78,8 @@ class JobOptions(_Strict):
 
     def design(self) -> dict[str, Any]:
         """Keyword arguments of :class:`service.fixture.DesignOptions`."""
-        out: dict[str, Any] = {"min_margin_deg": self.min_margin_deg, "gripper_profile": self.gripper}
+        out: dict[str, Any] = {"min_margin_deg": self.min_margin_deg, "gripper_profile": self.gripper,
+                               **self.model_options()}
         if self.validate_ is not None:
             v = self.validate_
             out.update(samples=v.samples, seed=v.seed, placement=v.placement)

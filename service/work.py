@@ -25,14 +25,15 @@ def _run_row(rec: Recording, command: str, doc: dict[str, Any], action: str | No
             "status": "error" if error else "ok", "error": error.to_dict() if error else None}
 
 
-def analysis_task(doc: dict[str, Any], record_dir: str) -> TaskResult:
-    """``POST /v1/analyses``: the analysis object of ``algrasp analyze``."""
-    from algrasp.analysis import analyse_part
-    from algrasp.part import load_part
+def analysis_task(doc: dict[str, Any], record_dir: str, options: dict[str, Any] | None = None) -> TaskResult:
+    """``POST /v1/analyses``: the analysis object of ``algrasp analyze``; ``options``
+    ``{"exact", "physics"}`` choose the model (default robust)."""
+    from algrasp.analysis import Model, analyse_document
 
     try:
-        with recording(True, Path(record_dir), "analyze", doc, {}) as rec:
-            out = analyse_part(load_part(doc)).to_dict()
+        model = Model.from_options(options or {})
+        with recording(True, Path(record_dir), "analyze", doc, model.to_options()) as rec:
+            out = analyse_document(doc, model).to_dict()
             rec.analysis(out)
     except AlgraspError as exc:
         return None, _run_row(rec, "analyze", doc, None, exc), exc
@@ -58,15 +59,14 @@ def plan_task(doc: dict[str, Any], request: dict[str, Any], record_dir: str, sim
 
 def design_task(doc: dict[str, Any], options: dict[str, Any], record_dir: str, sim_workers: int) -> TaskResult:
     """One part of a batch job: its fixture design (``service.fixture.design_part``)."""
-    from algrasp.analysis import analyse_part
-    from algrasp.part import load_part
+    from algrasp.analysis import analyse_document
     from service.fixture import DesignOptions, design_part
 
     opts = DesignOptions(**options)
     out: dict[str, Any] = {}
     try:
         with recording(True, Path(record_dir), "design", doc, {"design": options}) as rec:
-            analysis = analyse_part(load_part(doc))
+            analysis = analyse_document(doc, opts.model)
             if not (analysis.squeeze.steps or analysis.push_grasp.steps):
                 rec.analysis(analysis.to_dict())  # no plan follows; else plan_part records the analysis
             out = design_part(doc, opts, rec, analysis, sim_workers)
@@ -79,8 +79,7 @@ def design_task(doc: dict[str, Any], options: dict[str, Any], record_dir: str, s
 
 def figure_task(record_path: str) -> bytes:
     """The plan figure (SVG) of a recorded plan run, recomputed from its request."""
-    from algrasp.analysis import analyse_part
-    from algrasp.part import load_part
+    from algrasp.analysis import Model, analyse_document
     from algrasp.plan import make_plan
     from algrasp.plots import plan_figure
     from algrasp.record.replay import plan_options, read_record
@@ -90,7 +89,7 @@ def figure_task(record_path: str) -> bytes:
         raise AlgraspError("run: this run has no plan to draw (an analysis, or a failed request)")
     request, plan_doc = rec["/request"][0], rec["/plan"][0]
     options = plan_options(request["options"], plan_doc)
-    analysis = analyse_part(load_part(request["part"]))
+    analysis = analyse_document(request["part"], Model.from_record(options))
     plan = make_plan(analysis, options["action"], options["min_margin_deg"])
     with tempfile.TemporaryDirectory() as tmp:
         return plan_figure(analysis, plan, Path(tmp) / "figure.svg").read_bytes()

@@ -65,8 +65,7 @@ def replay(path: Path) -> dict[str, Any]:
     """Recompute analysis and plan from the recorded request and compare them with the
     record. Returns ``{"run_id", "action", "steps", "differences", "summary"}``; a
     difference is ``{"what", "path", "recorded", "recomputed"}``."""
-    from algrasp.analysis import analyse_part
-    from algrasp.part import load_part
+    from algrasp.analysis import Model, analyse_document
     from algrasp.plan import make_plan
 
     rec = read_record(path)
@@ -75,7 +74,7 @@ def replay(path: Path) -> dict[str, Any]:
     request = rec["/request"][0]
     options = request["options"]
     diffs: list[dict[str, Any]] = []
-    analysis = analyse_part(load_part(request["part"]))
+    analysis = analyse_document(request["part"], Model.from_record(options))
     if "/analysis" in rec:
         diffs += _compare("analysis", rec["/analysis"][0], analysis.to_dict())
     steps: list[Any] = []

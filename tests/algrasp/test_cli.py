@@ -18,7 +18,7 @@ EXAMPLE = Path(__file__).resolve().parents[2] / "algrasp" / "examples" / "pie-20
 def test_analyze_json_of_bundled_example(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["analyze", str(EXAMPLE), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert set(out) == {"part", "diameter", "radius", "squeeze", "push", "push_grasp", "run_id", "record_path"}
+    assert set(out) == {"part", "diameter", "radius", "squeeze", "push", "push_grasp", "model", "robust", "run_id", "record_path"}
     sq = out["squeeze"]
     assert sq["period_deg"] == 180 and sorted(round(s["end_deg"] - s["start_deg"], 6) for s in sq["steps"]) == [70, 70]
     assert [round(r["end_deg"] - r["start_deg"], 6) for r in sq["ramps"]] == [40]
@@ -64,10 +64,11 @@ def test_console_script_runs() -> None:
 
 def test_plan_json_and_figure(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     fig = tmp_path / "plan.svg"
-    assert main(["plan", str(EXAMPLE), "--action", "squeeze", "--json", "--figure", str(fig)]) == 0
+    assert main(["plan", str(EXAMPLE), "--exact", "--action", "squeeze", "--json", "--figure", str(fig)]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert set(doc) == {"action", "symmetry_period_deg", "intervals_deg", "steps", "final_orientations_deg",
-                        "verified", "timings_s", "run_id", "record_path"}
+                        "final_uncertainty_deg", "model", "verified", "timings_s", "run_id", "record_path"}
+    assert doc["model"] == "exact" and doc["final_uncertainty_deg"] == 0.0
     assert doc["action"] == "squeeze" and doc["verified"] is True and len(doc["steps"]) == 3
     assert [round(b - a, 6) for a, b in doc["intervals_deg"]] == [70, 140, 180]
     assert doc["steps"][0]["margin_deg"] is None and all(s["margin_deg"] >= 0 for s in doc["steps"][1:])
@@ -77,7 +78,7 @@ def test_plan_json_and_figure(tmp_path: Path, capsys: pytest.CaptureFixture[str]
 
 
 def test_plan_push_grasp_table(capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["plan", str(EXAMPLE), "--action", "push-grasp"]) == 0
+    assert main(["plan", str(EXAMPLE), "--exact", "--action", "push-grasp"]) == 0
     out = capsys.readouterr().out
     assert "3-step push_grasp plan" in out and "verified: True" in out
 
