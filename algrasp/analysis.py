@@ -52,7 +52,8 @@ class Model:
         for k, v in raw.items():
             if not (v is None and k == "shape_tolerance") and (isinstance(v, bool) or not isinstance(v, (int, float))):
                 raise ConfigError(f"physics.{k}", f"expected a number, got {v!r}")
-        return Model(exact, Physics(**{k: (None if v is None else float(v)) for k, v in raw.items()}))
+        values: dict[str, Any] = {k: (None if v is None else float(v)) for k, v in raw.items()}
+        return Model(exact, Physics(**values))
 
     @staticmethod
     def from_record(options: Mapping[str, Any]) -> Model:

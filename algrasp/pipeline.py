@@ -100,12 +100,13 @@ def _optimise(analysis: Analysis, plan: Plan, req: PlanRequest) -> Any:
 
 def _validate(out: PlanOutcome, req: PlanRequest, sim_workers: int, record_sim: bool) -> Any:
     try:
-        from algrasp.sim.config import DEFAULT_SIM
+        from algrasp.sim.config import sim_config
         from algrasp.sim.validate import validate_plan
     except ImportError:  # pragma: no cover - drake is an optional extra
         raise AlgraspError("validation needs Drake: pip install 'algrasp[sim]'") from None
     ex = out.execution
-    sim = {} if ex is None else {"sim_schedule": ex.sim_schedule(), "cfg": ex.sim_config(DEFAULT_SIM)}
+    base = sim_config(req.model.physics)
+    sim = {"cfg": base} if ex is None else {"sim_schedule": ex.sim_schedule(), "cfg": ex.sim_config(base)}
     return validate_plan(out.analysis, out.plan, req.samples, req.seed, req.placement, req.tolerance_deg,
                          workers=sim_workers, record=record_sim, **sim)
 

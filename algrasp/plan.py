@@ -225,14 +225,35 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
     finals = sorted(wrap(0.5 * (lo + hi) + i * T, 2 * np.pi, 1e-12) for i in range(k))
     t1 = time.perf_counter()
     assert analysis.robust is not None
+    uncertainty = 0.5 * (hi - lo) + GUARD_RAD + _edge_tilt(analysis, 0.5 * (lo + hi))
     plan = Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), False, {}, S,
-                0.5 * (hi - lo) + GUARD_RAD, {**analysis.robust.physics.to_dict(), **analysis.robust.band.to_dict()})
+                uncertainty, {**analysis.robust.physics.to_dict(), **analysis.robust.band.to_dict()})
     ok = verify_set(plan, circle)
     t2 = time.perf_counter()
     if not ok:
         raise NotOrientableError("verification_failed", "the plan did not verify: please report this part")
     return Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), True,
                 {"planning": t1 - t0, "verification": t2 - t1}, S, plan.final_uncertainty, plan.robust)
+
+
+EDGE_NORMAL_RAD = 1e-6
+"""A hull edge whose normal is this close to the jaws' normal lies flat on a jaw."""
+
+
+def _edge_tilt(analysis: Analysis, theta: float) -> float:
+    """How far (radians) the final orientation may move because the drawing is only
+    within ε of the part: an edge of length L lying flat on a jaw there can be tilted by
+    up to 2ε/L in the real part (its end points move by ε). 0 when no edge is flat."""
+    assert analysis.robust is not None
+    eps = analysis.robust.band.value_tol
+    psi = np.pi / 2 - theta
+    tilt = 0.0
+    for (ax, ay), (bx, by) in analysis.part.hull.edges:
+        normal = np.arctan2(-(bx - ax), by - ay)
+        off = (normal - psi) % np.pi
+        if min(off, np.pi - off) <= EDGE_NORMAL_RAD:
+            tilt = max(tilt, 2.0 * eps / float(np.hypot(bx - ax, by - ay)))
+    return tilt
 
 
 def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SAMPLES) -> bool:

@@ -78,12 +78,20 @@ class SetTransfer:
         return _circular_hull(lo, hi, self.symmetry)
 
     def compose_after(self, inner: SetTransfer, tol_rad: float) -> SetTransfer:
-        """self ∘ inner (inner acts first): bounds compose since both are monotone."""
+        """self ∘ inner (inner acts first): bounds compose since both are monotone. The
+        outcomes are self's outcomes (where it can leave a part at all) that meet the
+        image of one of inner's outcomes."""
         lower = self.lower.compose_after(inner.lower, tol_rad)
         upper = self.upper.compose_after(inner.upper, tol_rad)
         lo, hi = self.image(np.array([a for a, _ in inner.outcomes]), np.array([b for _, b in inner.outcomes]))
-        return SetTransfer(lower, upper, inner.period, inner.symmetry, inner.rest_zones, tuple(zip(lo.tolist(), hi.tolist())))
-
+        # self's outcomes repeat with its period; the composition has inner's.
+        T = inner.symmetry
+        copies = np.arange(max(1, int(round(T / self.symmetry)))) * self.symmetry
+        mine = (np.array(self.outcomes)[None, :, :] + copies[:, None, None]).reshape(-1, 2)
+        start = np.mod(mine[:, 0] - lo[:, None], T)  # outcome start relative to each image start
+        meets = (start <= (hi - lo)[:, None]) | (start + (mine[:, 1] - mine[:, 0])[None, :] >= T)
+        kept = tuple((float(a), float(b)) for a, b in mine[meets.any(axis=0)])
+        return SetTransfer(lower, upper, inner.period, inner.symmetry, inner.rest_zones, kept)
 
 def _circular_hull(lo: FloatArray, hi: FloatArray, T: float) -> tuple[float, float]:
     """Complement of the largest gap left by the intervals [lo_i, hi_i] on a circle of
@@ -158,7 +166,7 @@ def _permissions(g: FloatArray, stall: float, sigma: float) -> tuple[np.ndarray,
     left = movable & ((g > 0.0) | either)
     rest = a <= stall + sigma
     axes = tuple(range(1, g.ndim))
-    return right.any(axis=axes), left.any(axis=axes), rest.any(axis=axes)
+    return np.asarray(right.any(axis=axes)), np.asarray(left.any(axis=axes)), np.asarray(rest.any(axis=axes))
 
 
 def _run_edges(flags: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

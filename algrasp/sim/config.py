@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from algrasp.deadband import DEFAULT_PHYSICS, Physics
 from algrasp.errors import AlgraspError
 
 UNIT_TO_M = {"mm": 1e-3, "cm": 1e-2, "m": 1.0, "in": 0.0254, "um": 1e-6}
@@ -33,14 +34,15 @@ UNIT_TO_M = {"mm": 1e-3, "cm": 1e-2, "m": 1.0, "in": 0.0254, "um": 1e-6}
 class SimConfig:
     """Physical and numerical parameters (SI units)."""
 
-    part_mass_kg: float = 0.02
-    support_friction: float = 0.3
-    gravity_m_s2: float = 9.81
+    # Shared with the planner's dead band (algrasp.deadband): plan and simulation model one gripper.
+    part_mass_kg: float = DEFAULT_PHYSICS.part_mass_kg
+    support_friction: float = DEFAULT_PHYSICS.support_friction
+    gravity_m_s2: float = DEFAULT_PHYSICS.gravity_m_s2
     stiction_speed_m_s: float = 5e-3
     jaw_speed_m_s: float = 0.01
     open_speed_m_s: float = 0.05
     rotate_speed_rad_s: float = 6.0
-    jaw_force_n: float = 2.0
+    jaw_force_n: float = DEFAULT_PHYSICS.grip_force_n
     jaw_stiffness_n_m: float = 2000.0
     jaw_damping_n_s_m: float = 40.0
     hold_s: float = 0.1
@@ -64,6 +66,14 @@ class SimConfig:
 
 
 DEFAULT_SIM = SimConfig()
+
+
+def sim_config(physics: Physics, base: SimConfig = DEFAULT_SIM) -> SimConfig:
+    """``base`` with the part and gripper physics of the planner's dead band."""
+    from dataclasses import replace
+
+    return replace(base, part_mass_kg=physics.part_mass_kg, support_friction=physics.support_friction,
+                   gravity_m_s2=physics.gravity_m_s2, jaw_force_n=physics.grip_force_n)
 
 
 def meters_per_unit(units: str) -> float:

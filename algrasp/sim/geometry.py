@@ -7,8 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from algrasp.curves import FloatArray
+from algrasp.deadband import mean_radius
 from algrasp.part import Part
-from algrasp.segments import loop_polyline
 from algrasp.sim.config import SimConfig, meters_per_unit
 
 
@@ -99,17 +99,3 @@ def _space(pts: FloatArray, corner: np.ndarray, gap: float) -> FloatArray:
     while len(kept) > 3 and float(np.hypot(*(pts[kept[-1]] - pts[kept[0]]))) < gap and not corner[kept[-1]]:
         kept.pop()
     return pts[kept]
-
-
-def mean_radius(part: Part) -> float:
-    """Mean distance of the region's points from the centre of mass (uniform grid)."""
-    from matplotlib.path import Path
-
-    pts, _ = loop_polyline(part.boundary, 0.05)
-    lo, hi = pts.min(axis=0), pts.max(axis=0)
-    xs, ys = np.meshgrid(np.linspace(lo[0], hi[0], 120), np.linspace(lo[1], hi[1], 120))
-    grid = np.column_stack([xs.ravel(), ys.ravel()])
-    inside = Path(pts).contains_points(grid)
-    for hole in part.holes:
-        inside &= ~Path(loop_polyline(hole, 0.05)[0]).contains_points(grid)
-    return float(np.mean(np.hypot(*(grid[inside] - np.asarray(part.center_of_mass)).T)))

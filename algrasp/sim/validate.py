@@ -200,8 +200,10 @@ def validate_plan(analysis: Analysis, plan: Plan, samples: int = 36, seed: int =
 def _sample(analysis: Analysis, plan: Plan, phi0: float, offset_m: float, predicted: float,
             result: tuple[float, list[float], float, Any], tolerance_deg: float) -> Sample:
     sim_phi, pushed, _, _ = result
+    # A robust plan claims the final orientation within its uncertainty (conventions §7).
+    allowed = tolerance_deg + math.degrees(plan.final_uncertainty)
     sample = Sample(_wrap_deg(phi0), _wrap_deg(predicted), _wrap_deg(sim_phi),
-                    _angle_err_deg(sim_phi, predicted) <= tolerance_deg, _near_unstable(plan, phi0), offset_m * 1e3)
+                    _angle_err_deg(sim_phi, predicted) <= allowed, _near_unstable(plan, phi0), offset_m * 1e3)
     if not pushed:
         return sample
     a1 = plan.steps[0].gripper_angle

@@ -1,8 +1,14 @@
 """Part documents written the ways CAD tools write them: an arc as an ``arc``, an
-``ellipse_arc`` with rx = ry, rational quadratic Beziers (NURBS), degree-elevated rational
-cubics, cubic Bezier approximations (SVG/PDF) and polygons (mesh projections, polylines).
+``ellipse_arc`` with rx = ry, rational quadratic Beziers (NURBS, STEP), degree-elevated
+rational cubics, cubic Bezier approximations (SVG, PDF) and polygons (``"64gon"``: mesh
+projections, polyline exports). For tests and benchmarks of conventions §7: the same
+part in every form must give the same (exact forms) or a safe (approximations) plan.
 
 An outline is a list of ("line", start, end) and ("arc", (cx, cy), R, a0_deg, a1_deg).
+
+>>> doc = document(fig11_outline(), "cubic")
+>>> [s["type"] for s in doc["boundary"]][:3]
+['line', 'bezier', 'bezier']
 """
 
 from __future__ import annotations
@@ -69,7 +75,11 @@ def arc_segments(form: str, c: tuple[float, float], R: float, a0: float, a1: flo
     return out
 
 
+FORMS = ("arc", "ellipse", "rational", "rational_cubic", "cubic", "64gon", "360gon")
+
+
 def document(outline: Outline, form: str, **extra: Any) -> dict[str, Any]:
+    """A part document of ``outline`` with every arc written in ``form`` (see FORMS)."""
     boundary: list[dict[str, Any]] = []
     for item in outline:
         if item[0] == "line":
@@ -80,12 +90,14 @@ def document(outline: Outline, form: str, **extra: Any) -> dict[str, Any]:
 
 
 def fig11_outline(R: float = 10.0, z_deg: float = 11.0) -> Outline:
+    """The paper's Fig. 11 part: a disk with two parallel flats whose chords subtend 2z."""
     s, c = R * math.sin(math.radians(z_deg)), R * math.cos(math.radians(z_deg))
     return [("line", (s, c), (-s, c)), ("arc", (0.0, 0.0), R, 90 + z_deg, 270 - z_deg),
             ("line", (-s, -c), (s, -c)), ("arc", (0.0, 0.0), R, -90 + z_deg, 90 - z_deg)]
 
 
 def pie_outline(R: float = 5.0, half_deg: float = 20.0) -> Outline:
+    """The paper's pie: a circular sector with apex at the origin, symmetric about +y."""
     h = math.radians(half_deg)
     a, b = (R * math.sin(h), R * math.cos(h)), (-R * math.sin(h), R * math.cos(h))
     return [("line", (0.0, 0.0), a), ("arc", (0.0, 0.0), R, 90 - half_deg, 90 + half_deg), ("line", b, (0.0, 0.0))]
