@@ -1,0 +1,44 @@
+"""A real 20-tooth involute gear (koppi/involute-gear-collection, CC0; see
+tests/data/real/SOURCES.md) as its DXF and as an STL of it: the period is the tooth pitch
+(18°) and no plan rides on facets (issue 16)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import shapely
+
+from algrasp.analysis import EXACT, ROBUST, analyse_document
+from algrasp.cad import import_bytes, import_file
+from algrasp.plan import make_plan
+from tests.algrasp.meshes import extrude_stl
+
+GEAR = Path(__file__).parents[1] / "data" / "real" / "koppi-involute-teeth-20.dxf"
+
+
+def _stl_doc() -> dict:
+    doc = import_file(str(GEAR))
+    pts = np.array([s["start"] for s in doc["boundary"]])
+    c, s = np.cos(0.1274), np.sin(0.1274)  # an odd pose: float32 rounding breaks exact symmetry
+    pts = pts @ np.array([[c, s], [-s, c]]) + [3.3, -1.7]
+    return import_bytes("gear.stl", extrude_stl(shapely.Polygon(pts), 5.0))
+
+
+def test_gear_drawing_has_the_tooth_period() -> None:
+    a = analyse_document(import_file(str(GEAR)), ROBUST).to_dict()
+    assert a["robust"]["squeeze"]["symmetry_period_deg"] == 18.0
+
+
+def test_tessellated_gear_stl_gets_18_degrees_and_no_facet_plan() -> None:
+    doc = _stl_doc()
+    exact = make_plan(analyse_document(doc, EXACT), "squeeze").to_dict()
+    # The exact model sees the float32 facets: no symmetry, and margins of micro-degrees.
+    assert exact["symmetry_period_deg"] == 180.0
+    assert min(s["margin_deg"] for s in exact["steps"][1:]) < 1e-3
+    robust = make_plan(analyse_document(doc, ROBUST), "squeeze").to_dict()
+    assert robust["symmetry_period_deg"] == 18.0
+    assert len(robust["final_orientations_deg"]) == 20
+    margins = [s["margin_deg"] for s in robust["steps"][1:]]
+    assert len(robust["steps"]) <= 3 and all(m > 0.5 for m in margins)
+    assert robust["final_uncertainty_deg"] < 1.0
