@@ -84,10 +84,17 @@ class Plan:
         return np.asarray(want[np.argmin(np.abs(diff), axis=-1)])
 
     def trace(self, phi0: float) -> list[float]:
-        """World orientation before the plan and after each action (radians)."""
+        """World orientation before the plan and after each action (radians); for a
+        robust plan the middle of the interval the part can be in after each action."""
         out = [phi0]
+        lo = hi = np.array([phi0])
         for s in self.steps:
-            out.append(float(self.transfer(out[-1] - s.gripper_angle) + s.gripper_angle))
+            if self.bounds is None:
+                out.append(float(self.transfer(out[-1] - s.gripper_angle) + s.gripper_angle))
+                continue
+            lo, hi = self.bounds.image(lo - s.gripper_angle, hi - s.gripper_angle)
+            lo, hi = lo + s.gripper_angle, hi + s.gripper_angle
+            out.append(float(0.5 * (lo[0] + hi[0])))
         return out
 
     def to_dict(self) -> dict[str, object]:

@@ -40,25 +40,43 @@ def _function_panel(ax: Axes, analysis: Analysis, plan: Plan) -> None:
                 color="tab:green" if e.kind == "min" else "tab:red", ms=5)
     for a, b in f.constant_intervals:
         ax.axvspan(np.degrees(a), np.degrees(min(b, f.period)), color="tab:orange", alpha=0.15)
+    dead = "" if plan.bounds is None else "; grey bands: dead zones |f′| ≤ κ"
+    if plan.bounds is not None:
+        P = f.period
+        for a, b in plan.bounds.rest_zones:
+            for k in (-1, 0, 1):  # zones may wrap past 0 or the period
+                lo, hi = max(a + k * P, 0.0), min(b + k * P, P)
+                if hi > lo:
+                    ax.axvspan(np.degrees(lo), np.degrees(hi), color="gray", alpha=0.3, lw=0)
     ax.set_title(f"{'diameter d' if plan.action == 'squeeze' else 'radius r'}(θ) with extrema "
-                 "(▲ max, ▼ min; shaded: constant)", fontsize=9)
+                 f"(▲ max, ▼ min; orange: constant{dead})", fontsize=9)
     ax.set_xlabel("θ (deg)")
     ax.set_xlim(0, np.degrees(f.period))
 
 
 def _transfer_panel(ax: Axes, plan: Plan) -> None:
-    F = plan.transfer
+    F = plan.transfer if plan.bounds is None else plan.bounds.lower
     base = F.pieces[0].start
-    for p in F.pieces:
-        x = np.degrees([p.start - base, p.end - base])
-        y = np.degrees([p.start, p.end]) if p.value is None else np.degrees([p.value, p.value])
-        ax.plot(x, y - np.degrees(base), color="tab:blue" if p.value is not None else "tab:orange", lw=1.5)
+    if plan.bounds is None:
+        for p in F.pieces:
+            x = np.degrees([p.start - base, p.end - base])
+            y = np.degrees([p.start, p.end]) if p.value is None else np.degrees([p.value, p.value])
+            ax.plot(x, y - np.degrees(base), color="tab:blue" if p.value is not None else "tab:orange", lw=1.5)
+    else:  # the set-valued images [lower(θ), upper(θ)] (conventions §7)
+        theta = base + np.linspace(0.0, F.period, 2881)
+        lo, hi = plan.bounds.image(theta, theta)
+        x = np.degrees(theta - base)
+        ax.fill_between(x, np.degrees(lo - base), np.degrees(hi - base), color="tab:green", alpha=0.35, lw=0,
+                        label="image F_κ(θ) = [lower, upper]")
+        ax.plot(x, np.degrees(lo - base), color="tab:blue", lw=1.0)
+        ax.plot(x, np.degrees(hi - base), color="tab:blue", lw=1.0, ls="--")
+        ax.legend(loc="upper left", fontsize=7)
     span = np.degrees(F.period)
     rows = plan.intervals if len(plan.intervals) <= 12 else plan.intervals[:6] + plan.intervals[-6:]
     for i, (a, b) in enumerate(rows):
-        lo = np.degrees((a - base) % F.period)
+        lo_deg = np.degrees((a - base) % F.period)
         y = -span * (0.06 + 0.05 * i)
-        ax.plot([lo, lo + np.degrees(b - a)], [y, y], color="tab:purple", lw=3, solid_capstyle="butt")
+        ax.plot([lo_deg, lo_deg + np.degrees(b - a)], [y, y], color="tab:purple", lw=3, solid_capstyle="butt")
     ax.set_title(f"transfer function ({plan.action}) and intervals Θ₁… (bars, top = Θ₁)", fontsize=9)
     ax.set_xlabel(f"θ − {np.degrees(base):.1f}° (deg)")
 
@@ -89,12 +107,20 @@ def _trace_panel(fig: plt.Figure, grid: object, analysis: Analysis, plan: Plan) 
                     q = side * 0.95 * extent * n
                     ax.plot([q[0] - extent * d[0], q[0] + extent * d[0]], [q[1] - extent * d[1], q[1] + extent * d[1]],
                             color="dimgray", lw=1.2)
+            if r == rows - 1 and plan.final_uncertainty > 0.0:
+                _uncertainty_wedge(ax, phi, plan.final_uncertainty, 0.5 * extent)
             ax.set_xlim(-extent, extent)
             ax.set_ylim(-extent, extent)
             ax.set_aspect("equal")
             ax.axis("off")
             if col == 0:
                 ax.text(-extent, extent * 0.8, "start" if r == 0 else f"{steps[r - 1] + 1}", fontsize=7)
+
+
+def _uncertainty_wedge(ax: Axes, phi: float, half_width: float, radius: float) -> None:
+    """The guaranteed final interval φ ± u around the registration mark."""
+    t = np.linspace(phi - half_width, phi + half_width, 30)
+    ax.fill(np.r_[0.0, radius * np.cos(t)], np.r_[0.0, radius * np.sin(t)], color="crimson", alpha=0.25, lw=0)
 
 
 def plan_figure(analysis: Analysis, plan: Plan, path: str | Path) -> Path:
@@ -107,8 +133,9 @@ def plan_figure(analysis: Analysis, plan: Plan, path: str | Path) -> Path:
     _function_panel(fig.add_subplot(grid[0, 0]), analysis, plan)
     _transfer_panel(fig.add_subplot(grid[1, 0]), plan)
     _trace_panel(fig, grid[:, 1], analysis, plan)
+    u = "" if plan.bounds is None else f" ± {np.degrees(plan.final_uncertainty):.3g}° (robust model)"
     fig.suptitle(f"{analysis.part.name}: {len(plan.steps)}-step {plan.action} plan, "
-                 f"{len(plan.final_orientations)} final orientation(s)", fontsize=11)
+                 f"{len(plan.final_orientations)} final orientation(s){u}", fontsize=11)
     try:
         fig.savefig(out, dpi=110)
     except OSError as exc:
