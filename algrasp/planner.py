@@ -47,16 +47,15 @@ class _Pieces:
 
     @staticmethod
     def of(F: TransferFunction, periods: range) -> _Pieces:
-        starts, ends, values, ramp = [], [], [], []
-        for k in periods:
-            for p in F.pieces:
-                starts.append(p.start + k * F.period)
-                ends.append(p.end + k * F.period)
-                values.append(p.start + k * F.period if p.value is None else p.value + k * F.period)
-                ramp.append(p.value is None)
-        s, v, r = np.array(starts), np.array(values), np.array(ramp)
+        one_s = np.array([p.start for p in F.pieces])
+        one_e = np.array([p.end for p in F.pieces])
+        ramp1 = np.array([p.value is None for p in F.pieces])
+        one_v = np.where(ramp1, one_s, np.array([0.0 if p.value is None else p.value for p in F.pieces]))
+        lift = (np.array(list(periods)) * F.period)[:, None]
+        s, e, v = (one_s + lift).ravel(), (one_e + lift).ravel(), (one_v + lift).ravel()
+        r = np.tile(ramp1, len(periods))
         keys = np.maximum.accumulate(np.where(r, s, v + STRICT_RAD))
-        return _Pieces(s, np.array(ends), v, r, keys)
+        return _Pieces(s, e, v, r, keys)
 
 
 @dataclass(frozen=True, eq=False)

@@ -26,7 +26,9 @@ from algrasp.tolerances import Tolerances
 
 _SAMPLES = 33
 """Points checked on a Bezier segment (ends included) for circle recognition."""
-_RIPPLE_SAMPLES = 257
+_MIN_ARC_SWEEP_RAD = np.radians(10.0)
+"""Shortest sweep of a polynomial Bezier taken for an arc approximation."""
+_RIPPLE_SAMPLES = 65
 """Points sampled along a cubic to measure its radial ripple against the fitted circle."""
 
 
@@ -152,15 +154,9 @@ def _polyline_error(loop: Sequence[Segment], tol: Tolerances) -> tuple[float, fl
     n = len(loop)
     if n < 3:
         return 0.0, 0.0, 0
-    small = np.zeros(n, dtype=bool)
-    turns = np.zeros(n)
-    for i, (a, b) in enumerate(zip(loop, [*loop[1:], loop[0]])):
-        if isinstance(a, Line) and isinstance(b, Line):
-            u = np.subtract(a.end, a.start)
-            v = np.subtract(b.end, b.start)
-            turn = abs(math.atan2(u[0] * v[1] - u[1] * v[0], float(u @ v)))
-            small[i] = turn <= tol.tessellation_turn_rad
-            turns[i] = turn
+    signed = _signed_turns(loop)
+    turns = np.abs(np.nan_to_num(signed, nan=np.inf))
+    small = turns <= tol.tessellation_turn_rad
     keep = _long_runs(small, tol.tessellation_min_run)
     # Segment j joins vertices j − 1 and j: a chord of the curve when both are tessellated.
     chord = keep & np.roll(keep, 1)
@@ -212,7 +208,9 @@ def _cubic_error(loop: Sequence[Segment], tol: Tolerances) -> tuple[float, float
             continue
         phi = np.unwrap(np.arctan2(pts[:, 1] - center[1], pts[:, 0] - center[0]))
         dphi = np.diff(phi)
-        if np.any(np.abs(dphi) <= 0.0):
+        # An arc approximation sweeps a real angle monotonically (a nearly straight piece
+        # fits a huge circle and proves nothing).
+        if abs(phi[-1] - phi[0]) < _MIN_ARC_SWEEP_RAD or not (np.all(dphi > 0.0) or np.all(dphi < 0.0)):
             continue
         count += 1
         slope = max(slope, float(np.max(np.abs(np.diff(ripple) / dphi))))
@@ -221,16 +219,13 @@ def _cubic_error(loop: Sequence[Segment], tol: Tolerances) -> tuple[float, float
 
 
 def _signed_turns(loop: Sequence[Segment]) -> FloatArray:
-    """Signed turn at each vertex i (end of segment i); NaN unless both sides are lines."""
-    n = len(loop)
-    out = np.full(n, np.nan)
-    for i in range(n):
-        a, b = loop[i], loop[(i + 1) % n]
-        if isinstance(a, Line) and isinstance(b, Line):
-            u = np.subtract(a.end, a.start)
-            v = np.subtract(b.end, b.start)
-            out[i] = math.atan2(u[0] * v[1] - u[1] * v[0], float(u @ v))
-    return out
+    """Signed turn at each vertex i (end of segment i); NaN unless both sides are lines.
+    One array pass."""
+    is_line = np.array([isinstance(seg, Line) for seg in loop])
+    d = np.array([np.subtract(seg.end, seg.start) if isinstance(seg, Line) else (np.nan, np.nan) for seg in loop])
+    e = np.roll(d, -1, axis=0)
+    turns = np.arctan2(d[:, 0] * e[:, 1] - d[:, 1] * e[:, 0], np.sum(d * e, axis=1))
+    return np.asarray(np.where(is_line & np.roll(is_line, -1), turns, np.nan))
 
 
 def _run_list(flags: np.ndarray, min_run: int) -> list[list[int]]:

@@ -34,9 +34,9 @@ from algrasp.errors import NotOrientableError
 from algrasp.functions import SupportPairFunction
 from algrasp.transfer import TransferFunction, TransferPiece, canonical
 
-GRID_RAD = 5e-4
-"""Largest cell of the classification grid (0.029°): dead-zone edges are placed to this."""
-SYMMETRY_SAMPLES = 20160
+GRID_RAD = 1e-3
+"""Largest cell of the classification grid (0.057°): dead-zone edges are placed to this."""
+SYMMETRY_SAMPLES = 2520
 """Samples per natural period for judging symmetry; divisible by every k ≤ 10 and many more."""
 MAX_SYMMETRY_ORDER = 360
 _INSIDE = 1e-6
@@ -114,17 +114,22 @@ def _circular_hull(lo: FloatArray, hi: FloatArray, T: float) -> tuple[float, flo
     return float(L[k + 1]), float(reach[k] + T)
 
 
-def slopes(f: SupportPairFunction, theta: FloatArray) -> FloatArray:
-    """f′(θ) (part units per radian) from the exact support points; vectorised.
+def slopes(f: SupportPairFunction, theta: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """f′(θ) (part units per radian) and f(θ) from one pass of exact support points.
 
-    With ψ = π/2 − θ and p(ψ) the support point, dd/dθ = −⟨p(ψ) − p(ψ + π), u′(ψ)⟩ and
-    dr/dθ = −⟨c − p(ψ + π), u′(ψ)⟩.
+    With ψ = π/2 − θ, u = (cos ψ, sin ψ) and p(ψ) the support point (both ends of the chord
+    from one batched call): f = ⟨p_near − p(ψ + π), u⟩ and f′ = −⟨p_near − p(ψ + π), u′⟩,
+    p_near = p(ψ) for d and the centre of mass c for r.
     """
     psi = np.pi / 2 - np.asarray(theta, dtype=float)
-    far = f.hull.support_points(psi + np.pi)
-    near = f.hull.support_points(psi) if f.kind == "diameter" else np.asarray(f.com, dtype=float)
-    chord = near - far
-    return np.asarray(-(-chord[..., 0] * np.sin(psi) + chord[..., 1] * np.cos(psi)))
+    n = len(psi)
+    if f.kind == "diameter":
+        both = f.hull.support_points(np.concatenate([psi, psi + np.pi]))
+        chord = both[:n] - both[n:]
+    else:
+        chord = np.asarray(f.com, dtype=float) - f.hull.support_points(psi + np.pi)
+    c, s = np.cos(psi), np.sin(psi)
+    return np.asarray(chord[:, 0] * s - chord[:, 1] * c), np.asarray(chord[:, 0] * c + chord[:, 1] * s)
 
 
 def tolerant_symmetry(f: SupportPairFunction, value_tol: float) -> float:
@@ -202,15 +207,18 @@ class _Cells:
 def _bounds(c: _Cells, tol_rad: float) -> tuple[TransferFunction, TransferFunction]:
     """Lower and upper step/ramp functions from per-cell permissions and barriers."""
     R, L, S = c.right, c.left, c.rest
-    if R.all() or L.all():
-        raise NotOrientableError("dead_band", "with this dead band the part may turn without end: the slopes of "
-                                 "the drawing are all within the shape tolerance")
+    # A run of movable cells all round the circle has no end: only the barriers stop it.
     _, right_end = _run_edges(R)
     left_start, _ = _run_edges(L)
     forced_left_start, _ = _run_edges(~R & ~S)
     _, forced_right_end = _run_edges(~L & ~S)
-    up = np.where(R, np.minimum(c.at(right_end), c.barrier_right), np.where(S, np.nan, c.at(forced_left_start)))
-    lo = np.where(L, np.maximum(c.at(left_start), c.barrier_left), np.where(S, np.nan, c.at(forced_right_end)))
+    run_right = np.full(len(R), np.inf) if R.all() else c.at(right_end)
+    run_left = np.full(len(L), -np.inf) if L.all() else c.at(left_start)
+    up = np.where(R, np.minimum(run_right, c.barrier_right), np.where(S, np.nan, c.at(forced_left_start)))
+    lo = np.where(L, np.maximum(run_left, c.barrier_left), np.where(S, np.nan, c.at(forced_right_end)))
+    if not (np.all(np.isfinite(up[R])) and np.all(np.isfinite(lo[L]))):
+        raise NotOrientableError("dead_band", "with this dead band the part may turn without end: the slopes of "
+                                 "the drawing are all within the shape tolerance")
     ends = np.append(c.x[1:], c.x[0] + c.T)
     up, lo = _monotone(c.x, ends, up, lo, c.T)
     return _tf(c.x, ends, lo, c.T, tol_rad), _tf(c.x, ends, up, c.T, tol_rad)
@@ -248,20 +256,23 @@ def _tf(starts: FloatArray, ends: FloatArray, values: FloatArray, T: float, tol_
 
 
 def _rest_zones(nodes: FloatArray, T: float, rest: np.ndarray, P: float) -> tuple[tuple[float, float], ...]:
-    """Maximal rest-possible zones over one natural period, [start, end) in radians."""
-    ends = np.append(nodes[1:], T)
-    zones: list[list[float]] = []
-    for k in range(int(round(P / T))):
-        for a, b, r in zip(nodes.tolist(), ends.tolist(), rest.tolist()):
-            if not r:
-                continue
-            if zones and abs(zones[-1][1] - (a + k * T)) <= 1e-12:
-                zones[-1][1] = b + k * T
-            else:
-                zones.append([a + k * T, b + k * T])
-    if len(zones) > 1 and zones[0][0] <= 1e-12 and abs(zones[-1][1] - P) <= 1e-12:
-        zones[0][0] = zones.pop()[0] - P
-    return tuple((a, b) for a, b in zones)
+    """Maximal rest-possible zones over one natural period P (K = P/T copies of the cells),
+    [start, end) in radians; a zone wrapping past P starts below 0. Vectorised."""
+    K = int(round(P / T))
+    x = (nodes[None, :] + (np.arange(K) * T)[:, None]).ravel()
+    r = np.tile(rest, K)
+    if r.all():
+        return ((0.0, P),)
+    if not r.any():
+        return ()
+    ends = np.append(x[1:], P)
+    first = r & ~np.roll(r, 1)
+    last = r & ~np.roll(r, -1)
+    a, b = x[first], ends[last]
+    if r[0] and r[-1]:  # the zone through 0 starts at the last start and ends at the first end
+        b = np.roll(b, -1)
+        a[-1] -= P
+    return tuple(zip(a.tolist(), b.tolist()))
 
 
 def set_transfer(f: SupportPairFunction, stall: float, sigma: float, value_tol: float, tol_rad: float) -> SetTransfer:
@@ -271,11 +282,10 @@ def set_transfer(f: SupportPairFunction, stall: float, sigma: float, value_tol: 
     T = tolerant_symmetry(f, value_tol)
     x = _nodes(f, T)
     widths = np.diff(np.append(x, T))
-    frac = np.array([_INSIDE, 0.5, 1.0 - _INSIDE])
+    frac = np.array([_INSIDE, 1.0 - _INSIDE])
     copies = np.arange(int(round(P / T))) * T
     theta = x[:, None, None] + widths[:, None, None] * frac[None, :, None] + copies[None, None, :]
-    g = slopes(f, theta.ravel()).reshape(theta.shape)
-    v = f.values(theta.ravel()).reshape(theta.shape)
+    g, v = (x.reshape(theta.shape) for x in slopes(f, theta.ravel()))
     right, left, rest = _permissions(g, stall, sigma)
     br, bl = barriers(x, T, v[:, 0, :].T, v.max(axis=1).T, stall, value_tol)
     cells = _Cells(x, T, right, left, rest, br, bl)

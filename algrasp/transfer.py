@@ -111,23 +111,31 @@ class TransferFunction:
         return True
 
     def compose_after(self, inner: TransferFunction, tol_rad: float) -> TransferFunction:
-        """self ∘ inner (inner acts first), over inner's period (Appendix C). O(n + m)."""
+        """self ∘ inner (inner acts first), over inner's period (Appendix C).
+        O((n + m) log n): self's starts are lifted once and cut each ramp by search."""
         out: list[TransferPiece] = []
+        lo = min(p.start for p in inner.pieces)
+        hi = max(p.end for p in inner.pieces)
+        cuts_all = self._lifted_starts(lo, hi)
         for p in inner.pieces:
             if p.value is not None:
                 out.append(TransferPiece(p.start, p.end, self(p.value)))
                 continue
-            cuts = [p.start] + [c for c in self._lifted_starts(p.start, p.end) if p.start < c < p.end] + [p.end]
+            i, j = np.searchsorted(cuts_all, [p.start, p.end], side="right")
+            inside = [c for c in cuts_all[i:j].tolist() if p.start < c < p.end]
+            cuts = [p.start, *inside, p.end]
             for a, b in zip(cuts[:-1], cuts[1:]):
                 q, off = self.piece_at(0.5 * (a + b))  # the middle: no rounding at boundaries
                 out.append(TransferPiece(a, b, None if q.value is None else q.value + off))
         return TransferFunction(inner.period, tuple(canonical(out, inner.period, tol_rad)))
 
-    def _lifted_starts(self, a: float, b: float) -> list[float]:
+    def _lifted_starts(self, a: float, b: float) -> FloatArray:
+        """Every piece start lifted over [a, b] (with a period to spare), sorted."""
         base = self.pieces[0].start
         k0 = int(np.floor((a - base) / self.period)) - 1
         k1 = int(np.ceil((b - base) / self.period)) + 1
-        return [s + k * self.period for k in range(k0, k1 + 1) for s in self.starts]
+        starts = np.array(self.starts)
+        return np.sort((starts[None, :] + (np.arange(k0, k1 + 1) * self.period)[:, None]).ravel())
 
 
 def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> list[TransferPiece]:

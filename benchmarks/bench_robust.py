@@ -1,0 +1,51 @@
+"""Analysis + planning time with the dead band on (robust model, conventions §7) against
+the exact model, for the issue-2 benchmark parts.
+
+Target (issue 16): within 2× of the exact model's analysis times (1,000-vertex polygon
+12–14 ms, 50 cubic Bezier segments 42–45 ms), planning included.
+"""
+
+from __future__ import annotations
+
+import statistics
+import time
+from typing import Any
+
+from algrasp import shapes
+from algrasp.analysis import EXACT, ROBUST, Model, analyse_document
+from algrasp.arcforms import document, fig11_outline
+from algrasp.errors import NotOrientableError
+from algrasp.plan import make_plan
+
+
+def median_ms(doc: dict[str, Any], model: Model, plan: bool, repeats: int = 7) -> float:
+    def once() -> None:
+        a = analyse_document(doc, model)
+        if plan:
+            try:
+                make_plan(a, "squeeze")
+            except NotOrientableError:
+                pass
+
+    once()  # warm caches and imports
+    times = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        once()
+        times.append(time.perf_counter() - t)
+    return 1000 * statistics.median(times)
+
+
+def main() -> None:
+    cases = [("1,000-vertex random polygon", shapes.random_polygon(1000, 1)),
+             ("50 cubic Bezier segments", shapes.bezier_blob(50, 2)),
+             ("Fig. 11 part, cubic arcs", document(fig11_outline(), "cubic")),
+             ("Fig. 11 part, 360-gon", document(fig11_outline(), "360gon"))]
+    print(f"{'part':30s} {'exact analysis':>15s} {'robust analysis':>16s} {'exact + plan':>13s} {'robust + plan':>14s}  (ms)")
+    for name, doc in cases:
+        row = [median_ms(doc, m, p) for p in (False, True) for m in (EXACT, ROBUST)]
+        print(f"{name:30s} {row[0]:15.2f} {row[1]:16.2f} {row[2]:13.2f} {row[3]:14.2f}")
+
+
+if __name__ == "__main__":
+    main()
