@@ -221,17 +221,26 @@ def _set_for(analysis: Analysis, action: Action) -> SetTransfer:
 def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
     """The shortest plan on the set-valued function (conventions §7), verified on it."""
     S = _set_for(analysis, action)
+    assert analysis.robust is not None
     F = analysis.squeeze if action == "squeeze" else analysis.push_grasp
     t0 = time.perf_counter()
     T = S.symmetry
     circle = S.circle_image()
-    intervals = set_a_prime(S.lower, S.upper, T, circle[1] - circle[0], margin)
+    try:
+        intervals = set_a_prime(S.lower, S.upper, T, circle[1] - circle[0], margin)
+    except NotOrientableError as e:
+        if e.reason != "margin_too_large" or margin > 0.0:
+            raise
+        band = analysis.robust.band
+        raise NotOrientableError("dead_band", f"{e.message.split(': with that margin ')[-1]}: the support friction and "
+                                 f"shape tolerance (κ_d = {band.kappa_d:.3g}, κ_r = {band.kappa_r:.3g} {analysis.part.units}/rad) "
+                                 "leave no sequence of actions that collapses every orientation; a larger grip force, "
+                                 "less friction, or --exact (the frictionless model) may") from None
     steps = gripper_steps(S.lower, intervals, S.upper, circle)
     lo, hi = images(S.lower, intervals[:1], S.upper)[0]
     k = int(round(2 * np.pi / T))
     finals = sorted(wrap(0.5 * (lo + hi) + i * T, 2 * np.pi, 1e-12) for i in range(k))
     t1 = time.perf_counter()
-    assert analysis.robust is not None
     uncertainty = 0.5 * (hi - lo) + GUARD_RAD + _edge_tilt(analysis, 0.5 * (lo + hi))
     plan = Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), False, {}, S,
                 uncertainty, {**analysis.robust.physics.to_dict(), **analysis.robust.band.to_dict()})

@@ -8,8 +8,11 @@ any other entity is refused by name. Entities must lie in the XY plane (extrusio
 
 from __future__ import annotations
 
+import contextlib
 import io
+import logging
 import math
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -26,13 +29,62 @@ INSUNITS = {1: ("in", 1.0), 2: ("mm", 304.8), 4: ("mm", 1.0), 5: ("cm", 1.0), 6:
 document has no name for (feet, yards, decimetres) are converted to millimetres."""
 
 
+BINARY_SENTINEL = b"AutoCAD Binary DXF"
+
+
 def read_dxf(data: bytes) -> Any:
+    """The drawing as AutoCAD reads it: any line endings (CRLF is the normal case), the
+    encoding its ``$DWGCODEPAGE`` names, binary DXF, R12 to current; structural flaws are
+    repaired by ezdxf's recover mode. ezdxf's log messages are kept on the drawing
+    (``algrasp_warnings``), never printed."""
+    from ezdxf import recover
+
+    with _captured_ezdxf_log() as messages:
+        try:
+            if data.startswith(BINARY_SENTINEL):
+                doc = _read_binary(data)
+            else:
+                doc, _ = recover.read(io.BytesIO(data))
+        except Exception as exc:  # noqa: BLE001 - ezdxf raises several types for a malformed file
+            raise PartDocumentError("dxf", f"not a readable DXF drawing: {exc}") from None
+    doc.algrasp_warnings = list(messages)
+    return doc
+
+
+def _read_binary(data: bytes) -> Any:
+    import tempfile
+
     import ezdxf
 
+    with tempfile.NamedTemporaryFile(suffix=".dxf") as f:  # ezdxf reads binary DXF from files only
+        f.write(data)
+        f.flush()
+        return ezdxf.readfile(f.name)
+
+
+class _ListHandler(logging.Handler):
+    def __init__(self, out: list[str]) -> None:
+        super().__init__(logging.WARNING)
+        self.out = out
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.out.append(record.getMessage())
+
+
+@contextlib.contextmanager
+def _captured_ezdxf_log() -> Iterator[list[str]]:
+    """ezdxf's warnings go into a list instead of stderr while a drawing is read."""
+    log = logging.getLogger("ezdxf")
+    messages: list[str] = []
+    handler = _ListHandler(messages)
+    old = log.propagate
+    log.addHandler(handler)
+    log.propagate = False
     try:
-        return ezdxf.read(io.StringIO(data.decode("utf-8", errors="replace")))
-    except Exception as exc:  # noqa: BLE001 - ezdxf raises several types for a malformed file
-        raise PartDocumentError("dxf", f"not a readable DXF drawing: {exc}") from None
+        yield messages
+    finally:
+        log.removeHandler(handler)
+        log.propagate = old
 
 
 def _xy(v: Any) -> list[float]:

@@ -23,7 +23,7 @@ def extrude_stl(poly: shapely.Polygon, height: float) -> bytes:
     faces = []
     for tri in shapely.constrained_delaunay_triangles(poly).geoms:
         a, b, c = (tuple(p) for p in np.asarray(tri.exterior.coords)[:3])
-        if np.cross(np.subtract(b, a), np.subtract(c, a)) < 0:
+        if (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) < 0:
             b, c = c, b
         faces += [[vid(*a, height), vid(*b, height), vid(*c, height)], [vid(*a, 0.0), vid(*c, 0.0), vid(*b, 0.0)]]
     for ring in [poly.exterior, *poly.interiors]:

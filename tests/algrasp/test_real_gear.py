@@ -42,3 +42,13 @@ def test_tessellated_gear_stl_gets_18_degrees_and_no_facet_plan() -> None:
     margins = [s["margin_deg"] for s in robust["steps"][1:]]
     assert len(robust["steps"]) <= 3 and all(m > 0.5 for m in margins)
     assert robust["final_uncertainty_deg"] < 1.0
+
+
+def test_crlf_and_lf_import_identically() -> None:
+    """27 of 34 real DXFs are saved with Windows line endings (issue 17)."""
+    from algrasp.cad import import_bytes
+
+    lf = GEAR.read_bytes().replace(b"\r\n", b"\n")
+    a = import_bytes("gear.dxf", lf)
+    b = import_bytes("gear.dxf", lf.replace(b"\n", b"\r\n"))
+    assert a == b and len(a["boundary"]) == 380 and len(a["holes"]) == 1

@@ -19,6 +19,7 @@ from algrasp.arcforms import document, fig11_outline, pie_outline
 from algrasp.deadband import DEFAULT_PHYSICS, Physics
 from algrasp.plan import make_plan
 from tests.algrasp.brute import ExactPart, fig11, pie, run_plan, worst_miss_deg
+from tests.algrasp.helpers import wrapped_close
 
 STARTS = np.random.default_rng(7).uniform(0.0, 2 * math.pi, 3000)
 GRID_SLACK_DEG = 0.003  # the brute force's own grid (0.001°) and its rounding
@@ -199,3 +200,38 @@ def test_physics_options_are_checked() -> None:
     with pytest.raises(ConfigError):
         Model.from_options({"physics": {"grip_force_n": 0.0}})
     assert Model.from_options({}).physics == DEFAULT_PHYSICS
+
+
+def _moved(outline: list, angle_deg: float, shift: tuple[float, float]) -> list:
+    """The outline rotated by ``angle_deg`` about the origin, then translated."""
+    c, s = math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg))
+
+    def move(p: tuple[float, float]) -> tuple[float, float]:
+        return (c * p[0] - s * p[1] + shift[0], s * p[0] + c * p[1] + shift[1])
+
+    out = []
+    for item in outline:
+        if item[0] == "line":
+            out.append(("line", move(item[1]), move(item[2])))
+        else:
+            out.append(("arc", move(item[1]), item[2], item[3] + angle_deg, item[4] + angle_deg))
+    return out
+
+
+@settings(max_examples=12, deadline=None)
+@given(angle=st.floats(0.0, 360.0), dx=st.floats(-50.0, 50.0), dy=st.floats(-50.0, 50.0),
+       form=st.sampled_from(["arc", "rational", "cubic"]))
+def test_robust_plans_are_invariant_under_rigid_motion(angle: float, dx: float, dy: float, form: str) -> None:
+    """Law: rotating the drawing by α turns its final orientations by −α (the same physical
+    poses) and
+    changes neither the plan length nor the final uncertainty."""
+    outline, _ = _generalized_polygon()  # no mirror symmetry: the plan is unique
+    base = make_plan(analyse_document(document(outline, form), ROBUST), "squeeze").to_dict()
+    moved = make_plan(analyse_document(document(_moved(outline, angle, (dx, dy)), form), ROBUST), "squeeze").to_dict()
+    assert len(moved["steps"]) == len(base["steps"])
+    assert moved["final_uncertainty_deg"] == pytest.approx(base["final_uncertainty_deg"], abs=0.06)
+    # Where A′ has equally wide candidates the plan may pick another stable orientation:
+    # every final orientation, moved back, is a stable orientation of the original part.
+    fixed = [st_["fixed_point_deg"] for st_ in analyse_document(document(outline, form), EXACT).to_dict()["squeeze"]["steps"]]
+    for f in moved["final_orientations_deg"]:
+        assert any(wrapped_close(f + angle, x, 180.0, 0.06 + moved["final_uncertainty_deg"]) for x in fixed)
