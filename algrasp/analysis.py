@@ -188,9 +188,10 @@ def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, 
     band = dead_band(part, physics, tol)
     reasons: dict[str, str] = {}
     funcs: dict[str, SetTransfer | None] = {}
-    for name, f, sigma in (("squeeze", d, band.sigma_d), ("push", r, band.sigma_r)):
+    # d has two contacts: its slope and value errors are twice one jaw's.
+    for name, f, sigma, eps in (("squeeze", d, band.sigma_d, 2.0 * band.value_tol), ("push", r, band.sigma_r, band.value_tol)):
         try:
-            funcs[name] = set_transfer(f, band.stall, sigma, band.value_tol, tol.angle_rad)
+            funcs[name] = set_transfer(f, band.stall, sigma, eps, tol.angle_rad)
         except NotOrientableError as e:
             funcs[name], reasons[name] = None, str(e)
     sq, pu = funcs["squeeze"], funcs["push"]

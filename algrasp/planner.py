@@ -164,34 +164,37 @@ def _widest(F: TransferFunction, lifted: _Lifted, room: float) -> tuple[float, f
 
 def set_a_prime(lower: TransferFunction, upper: TransferFunction, T: float, circle: float, min_margin: float = 0.0,
                 max_final_rad: float = np.pi, tol: float = 1e-13) -> list[tuple[float, float]]:
-    """Algorithm A′ on a set-valued function (conventions §7): image of [a, b) is
-    [lower(a), upper(b⁻)]; the whole circle's image is ``circle`` wide. Θ₁ is the widest interval whose image is at most w₀ wide,
-    for each candidate w₀ (the image widths of single orientations, the sinks), ≤ 12
-    smallest; the shortest plan with a precise final image (``PRECISE_RAD``) wins, then
-    the narrower image. O(12 · A′)."""
+    """Algorithm A′ on a set-valued function (conventions §7): the image of [a, b) is
+    [lower(a), upper(b⁻)]; the whole circle's image is ``circle`` wide.
+
+    Θ₁ is the widest interval whose image is at most w₀ wide, w₀ one of the image widths
+    a single orientation can have (the sinks, ``MAX_SINKS`` smallest). Every later
+    interval depends on Θ₁ only through its width and the widest-fit width is monotone, so
+    the plan is shortest for the widest Θ₁: among precise finals (w₀ ≤ ``PRECISE_RAD``) the
+    widest Θ₁ (then the narrower image) is grown, else the widest of all. O(s·n log n + A′).
+    """
     lifted = _Lifted.of(lower, range(-1, 4), upper)
-    plans: list[tuple[float, list[tuple[float, float]]]] = []
-    seen: set[float] = set()
-    error = NotOrientableError("no_step", "no interval of orientations collapses to a small set: with this dead "
-                               "band the part cannot be oriented by this action")
-    for w0 in _sink_widths(lower, upper, lifted, max_final_rad):
-        a, b = _widest(lower, lifted, w0 + 2.0 * STRICT_RAD)
-        if b - a <= tol or round(b - a, 12) in seen:
-            continue
-        seen.add(round(b - a, 12))
+    firsts = [(w0, *_widest(lower, lifted, w0 + 2.0 * STRICT_RAD)) for w0 in _sink_widths(lower, upper, lifted, max_final_rad)]
+    firsts = [(w0, a, b) for w0, a, b in firsts if b - a > tol]
+    if not firsts:
+        raise NotOrientableError("no_step", "no interval of orientations collapses to a small set: with this dead "
+                                 "band the part cannot be oriented by this action")
+    precise = [f for f in firsts if f[0] <= PRECISE_RAD]
+    order = [max(precise, key=lambda f: (f[2] - f[1], -f[0]))] if precise else []
+    order.append(max(firsts, key=lambda f: (f[2] - f[1], -f[0])))
+    for i, (_, a, b) in enumerate(order):
         try:
-            plans.append((w0, _grow(lower, lifted, T, (a, b), min_margin, tol, circle)))
-        except NotOrientableError as e:
-            error = e
-    if not plans:
-        raise error
-    return min(plans, key=lambda p: (p[0] > PRECISE_RAD, len(p[1]), p[0]))[1]
+            return _grow(lower, lifted, T, (a, b), min_margin, tol, circle)
+        except NotOrientableError:
+            if i == len(order) - 1:
+                raise
+    raise AssertionError("unreachable")
 
 
 PRECISE_RAD = np.radians(1.0)
 """Final images at most this wide count as precise: among them the shortest plan wins
 (then the narrower image); wider ones only when no precise plan exists."""
-MAX_SINKS = 12
+MAX_SINKS = 8
 """How many candidate final-image widths Θ₁ is tried with."""
 
 

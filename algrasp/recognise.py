@@ -196,8 +196,12 @@ def _cubic_error(loop: Sequence[Segment], tol: Tolerances) -> tuple[float, float
     slope = value = 0.0
     count = 0
     t = np.linspace(0.0, 1.0, _RIPPLE_SAMPLES)
+    coarse = np.linspace(0.0, 1.0, 9)
     for seg in loop:
         if not isinstance(seg, Bezier) or seg.is_rational or len(seg.points) < 3:
+            continue
+        quick = _fit(seg, coarse)  # most free-form pieces fail here, cheaply
+        if quick is None or np.max(np.abs(np.hypot(*(quick[0] - quick[1]).T) - quick[2])) > tol.arc_approximation_rel * quick[2]:
             continue
         fit = _fit(seg, t)
         if fit is None:
@@ -222,7 +226,8 @@ def _signed_turns(loop: Sequence[Segment]) -> FloatArray:
     """Signed turn at each vertex i (end of segment i); NaN unless both sides are lines.
     One array pass."""
     is_line = np.array([isinstance(seg, Line) for seg in loop])
-    d = np.array([np.subtract(seg.end, seg.start) if isinstance(seg, Line) else (np.nan, np.nan) for seg in loop])
+    nan = (math.nan, math.nan)
+    d = np.array([(seg.end[0] - seg.start[0], seg.end[1] - seg.start[1]) if isinstance(seg, Line) else nan for seg in loop])
     e = np.roll(d, -1, axis=0)
     turns = np.arctan2(d[:, 0] * e[:, 1] - d[:, 1] * e[:, 0], np.sum(d * e, axis=1))
     return np.asarray(np.where(is_line & np.roll(is_line, -1), turns, np.nan))

@@ -34,9 +34,10 @@ from algrasp.errors import NotOrientableError
 from algrasp.functions import SupportPairFunction
 from algrasp.transfer import TransferFunction, TransferPiece, canonical
 
-GRID_RAD = 1e-3
-"""Largest cell of the classification grid (0.057°): dead-zone edges are placed to this."""
-SYMMETRY_SAMPLES = 2520
+GRID_RAD = 2e-3
+"""Largest cell of the classification grid (0.115°): dead-zone edges are placed to this
+(kinks and extrema are nodes of their own, so stable orientations are exact)."""
+SYMMETRY_SAMPLES = 1260
 """Samples per natural period for judging symmetry; divisible by every k ≤ 10 and many more."""
 MAX_SYMMETRY_ORDER = 360
 _INSIDE = 1e-6
@@ -148,18 +149,48 @@ def tolerant_symmetry(f: SupportPairFunction, value_tol: float) -> float:
     return P
 
 
-def _nodes(f: SupportPairFunction, T: float) -> FloatArray:
-    """Cell nodes in [0, T): grid, breakpoints (θ of every Gauss-map breakpoint) and extrema."""
+def _nodes(f: SupportPairFunction, T: float) -> tuple[FloatArray, np.ndarray]:
+    """Cell nodes in [0, T): grid, breakpoints (θ of every Gauss-map breakpoint) and
+    extrema; and whether f′ may jump at each (breakpoints and extrema do, grid nodes not)."""
     grid = np.linspace(0.0, T, max(8, int(np.ceil(T / GRID_RAD))), endpoint=False)
     bp = f.hull.breakpoints
     theta_bp = np.concatenate([np.pi / 2 - bp, 1.5 * np.pi - bp]) if f.kind == "diameter" else 1.5 * np.pi - bp
     runs = np.array([r.start for r in f.runs])
-    nodes = np.sort(np.mod(np.concatenate([grid, theta_bp, runs]), T))
-    keep = np.concatenate([[True], np.diff(nodes) > 1e-12])
-    nodes = nodes[keep]
-    if T - nodes[-1] <= 1e-12:
-        nodes = nodes[:-1]
-    return nodes
+    raw = np.mod(np.concatenate([grid, theta_bp, runs]), T)
+    flags = np.concatenate([np.zeros(len(grid), dtype=bool), np.ones(len(theta_bp) + len(runs), dtype=bool)])
+    order = np.argsort(raw, kind="stable")
+    raw, flags = raw[order], flags[order]
+    group = np.concatenate([[0], np.cumsum(np.diff(raw) > 1e-12)])
+    if T - raw[-1] <= 1e-12:
+        group[group == group[-1]] = 0  # a node a hair below T is node 0
+    nodes = raw[np.unique(group, return_index=True)[1]]
+    kink = np.zeros(len(nodes), dtype=bool)
+    np.logical_or.at(kink, group, flags)
+    return nodes, kink
+
+
+def _samples(f: SupportPairFunction, x: FloatArray, kink: np.ndarray, T: float) -> tuple[FloatArray, FloatArray]:
+    """f′ and f just inside both ends of every cell in every copy: (n, 2, K) each.
+
+    f′ is continuous at grid nodes, so one evaluation there serves the cells on both sides;
+    at kinks the left and right limits are evaluated apart. The end of the last cell is
+    node 0 of the next copy."""
+    K = int(round(f.period / T))
+    widths = np.diff(np.append(x, T))
+    copies = np.arange(K) * T
+    right = x + _INSIDE * widths
+    left = x[kink] - _INSIDE * np.roll(widths, 1)[kink]
+    theta = np.concatenate([right, left])[:, None] + copies[None, :]
+    g, v = (a.reshape(theta.shape) for a in slopes(f, theta.ravel()))
+    n = len(x)
+    g_end, v_end = g[np.arange(1, n + 1) % n].copy(), v[np.arange(1, n + 1) % n].copy()
+    at_kink = np.full(n, -1)
+    at_kink[np.nonzero(kink)[0]] = n + np.arange(int(kink.sum()))
+    nxt = np.arange(1, n + 1) % n
+    jump = kink[nxt]
+    g_end[jump], v_end[jump] = g[at_kink[nxt[jump]]], v[at_kink[nxt[jump]]]
+    g_end[-1], v_end[-1] = np.roll(g_end[-1], -1), np.roll(v_end[-1], -1)
+    return np.stack([g[:n], g_end], axis=1), np.stack([v[:n], v_end], axis=1)
 
 
 def _permissions(g: FloatArray, stall: float, sigma: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -280,12 +311,8 @@ def set_transfer(f: SupportPairFunction, stall: float, sigma: float, value_tol: 
     without end. O((c + b)·K·log) for c grid cells, b breakpoints, K symmetric copies."""
     P = f.period
     T = tolerant_symmetry(f, value_tol)
-    x = _nodes(f, T)
-    widths = np.diff(np.append(x, T))
-    frac = np.array([_INSIDE, 1.0 - _INSIDE])
-    copies = np.arange(int(round(P / T))) * T
-    theta = x[:, None, None] + widths[:, None, None] * frac[None, :, None] + copies[None, None, :]
-    g, v = (x.reshape(theta.shape) for x in slopes(f, theta.ravel()))
+    x, kink = _nodes(f, T)
+    g, v = _samples(f, x, kink, T)
     right, left, rest = _permissions(g, stall, sigma)
     br, bl = barriers(x, T, v[:, 0, :].T, v.max(axis=1).T, stall, value_tol)
     cells = _Cells(x, T, right, left, rest, br, bl)

@@ -19,7 +19,7 @@ from algrasp.errors import NotOrientableError
 from algrasp.plan import make_plan
 
 
-def median_ms(doc: dict[str, Any], model: Model, plan: bool, repeats: int = 7) -> float:
+def median_ms(doc: dict[str, Any], model: Model, plan: bool, repeats: int = 15) -> float:
     def once() -> None:
         a = analyse_document(doc, model)
         if plan:

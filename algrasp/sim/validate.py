@@ -200,16 +200,27 @@ def validate_plan(analysis: Analysis, plan: Plan, samples: int = 36, seed: int =
 def _sample(analysis: Analysis, plan: Plan, phi0: float, offset_m: float, predicted: float,
             result: tuple[float, list[float], float, Any], tolerance_deg: float) -> Sample:
     sim_phi, pushed, _, _ = result
-    # A robust plan claims the final orientation within its uncertainty (conventions §7).
+    # A robust plan claims the final orientation within its uncertainty (conventions §7);
+    # poses that differ by a rotation mapping the part onto itself are the same pose.
     allowed = tolerance_deg + math.degrees(plan.final_uncertainty)
+    sym = _part_symmetry(analysis)
+    err = min(_angle_err_deg(sim_phi, predicted + k * sym) for k in range(int(round(2 * math.pi / sym))))
     sample = Sample(_wrap_deg(phi0), _wrap_deg(predicted), _wrap_deg(sim_phi),
-                    _angle_err_deg(sim_phi, predicted) <= allowed, _near_unstable(plan, phi0), offset_m * 1e3)
+                    err <= allowed, _near_unstable(plan, phi0), offset_m * 1e3)
     if not pushed:
         return sample
     a1 = plan.steps[0].gripper_angle
     want = analysis.push(phi0 - a1) + a1
     return replace(sample, pushed_deg=_wrap_deg(pushed[0]), push_predicted_deg=_wrap_deg(want),
                    push_agrees=_angle_err_deg(pushed[0], want) <= tolerance_deg)
+
+
+def _part_symmetry(analysis: Analysis) -> float:
+    """The part's rotational symmetry (radians): the period of its radius function, which
+    sees the whole outline and the centre of mass (to the drawing's tolerance when robust)."""
+    if analysis.robust is not None and analysis.robust.push is not None:
+        return analysis.robust.push.symmetry
+    return analysis.push.symmetry_period(1e-7)
 
 
 def _angle_err_deg(a: float, b: float) -> float:
