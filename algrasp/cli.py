@@ -54,6 +54,8 @@ def cmd_import(args: argparse.Namespace) -> int:
 
     doc = import_file(args.file, **_import_options(args))
     load_part(doc)  # the imported document must be a valid part
+    for w in doc.get("source", {}).get("warnings", []):
+        print(f"algrasp: warning: {w}", file=sys.stderr)
     text = json.dumps(doc, indent=2)
     if args.output is None:
         print(text)

@@ -13,6 +13,8 @@ from typing import Any
 from algrasp.errors import ConfigError, LimitExceededError, PartDocumentError
 from algrasp.limits import DEFAULT_LIMITS
 
+MAX_WARNINGS = 20
+"""Warnings kept in a document's ``source`` (ezdxf may log hundreds on a damaged file)."""
 CAD_SUFFIXES = (".dxf", ".svg", ".stl", ".obj", ".ply", ".off", ".glb")
 
 
@@ -53,8 +55,13 @@ def import_bytes(filename: str, data: bytes, layer: str | None = None, element_i
     if suffix == ".dxf":
         from algrasp.cad.dxf import dxf_pieces, read_dxf
 
-        pieces, doc_units, k = dxf_pieces(read_dxf(data), layer)
+        drawing = read_dxf(data)
+        pieces, doc_units, k = dxf_pieces(drawing, layer)
         source: dict[str, Any] = {"format": "dxf", "layer": layer}
+        # With --units the unit assumption is the user's, not ours to warn about.
+        kept = [w for w in drawing.algrasp_warnings if units is None or "$INSUNITS" not in w][:MAX_WARNINGS]
+        if kept:
+            source["warnings"] = kept
     elif suffix == ".svg":
         from algrasp.cad.svg import svg_pieces
 

@@ -12,6 +12,7 @@ import contextlib
 import io
 import logging
 import math
+import re
 from collections.abc import Iterator
 from typing import Any
 
@@ -23,10 +24,14 @@ from algrasp.errors import PartDocumentError
 
 SKIPPED = {"TEXT", "MTEXT", "DIMENSION", "ARC_DIMENSION", "LEADER", "MLEADER", "MULTILEADER", "ATTRIB", "ATTDEF",
            "POINT", "HATCH", "VIEWPORT", "IMAGE", "WIPEOUT", "TOLERANCE"}
-INSUNITS = {1: ("in", 1.0), 2: ("mm", 304.8), 4: ("mm", 1.0), 5: ("cm", 1.0), 6: ("m", 1.0), 8: ("um", 0.0254),
-            10: ("mm", 914.4), 13: ("um", 1.0), 14: ("mm", 100.0)}
-"""$INSUNITS code → (document unit, factor applied to coordinates). Units the part
-document has no name for (feet, yards, decimetres) are converted to millimetres."""
+INSUNITS = {1: ("in", 1.0), 2: ("mm", 304.8), 3: ("m", 1609.344), 4: ("mm", 1.0), 5: ("cm", 1.0), 6: ("m", 1.0),
+            7: ("m", 1000.0), 8: ("um", 0.0254), 9: ("um", 25.4), 10: ("mm", 914.4), 11: ("um", 1e-4), 12: ("um", 1e-3),
+            13: ("um", 1.0), 14: ("mm", 100.0), 15: ("m", 10.0), 16: ("m", 100.0), 17: ("m", 1e9), 18: ("m", 1.495978707e11),
+            19: ("m", 9.4607304725808e15), 20: ("m", 3.0856775814913673e16), 21: ("mm", 304.8006096),
+            22: ("mm", 25.4000508), 23: ("mm", 914.4018288), 24: ("m", 1609.347219)}
+"""$INSUNITS code (every code DXF defines) → (document unit, factor applied to the
+coordinates). Units the part document has no name for (feet, mils, yards, US survey
+units, …) are converted to one it has."""
 
 
 BINARY_SENTINEL = b"AutoCAD Binary DXF"
@@ -44,11 +49,38 @@ def read_dxf(data: bytes) -> Any:
             if data.startswith(BINARY_SENTINEL):
                 doc = _read_binary(data)
             else:
+                doc = _read_text(data)
+        except Exception:  # noqa: BLE001 - a damaged file: let the recover mode repair it
+            try:
                 doc, _ = recover.read(io.BytesIO(data))
-        except Exception as exc:  # noqa: BLE001 - ezdxf raises several types for a malformed file
-            raise PartDocumentError("dxf", f"not a readable DXF drawing: {exc}") from None
+                messages.append("the drawing was damaged and has been repaired (ezdxf recover mode)")
+            except Exception as exc:  # noqa: BLE001 - ezdxf raises several types for a malformed file
+                raise PartDocumentError("dxf", f"not a readable DXF drawing: {exc}") from None
     doc.algrasp_warnings = list(messages)
+    # ezdxf fills a missing header with its defaults ($INSUNITS = 6, metres): keep which
+    # variables the file itself sets.
+    doc.algrasp_header_vars = {v for v in ("$INSUNITS", "$MEASUREMENT") if v.encode() in data}
     return doc
+
+
+_ACADVER = re.compile(rb"\$ACADVER\s*\r?\n\s*1\s*\r?\n\s*(AC\d{4})")
+_CODEPAGE = re.compile(rb"\$DWGCODEPAGE\s*\r?\n\s*3\s*\r?\n\s*(\S+)")
+
+
+def _read_text(data: bytes) -> Any:
+    """The fast path for a sound ASCII DXF: UTF-8 from R2007 (AC1021) on, before that the
+    $DWGCODEPAGE encoding; CR, LF or CRLF line ends all read as one."""
+    import ezdxf
+    from ezdxf.tools.codepage import toencoding
+
+    version = _ACADVER.search(data[:65536])
+    codepage = _CODEPAGE.search(data[:65536])
+    if version is not None and version.group(1) >= b"AC1021":
+        encoding = "utf-8"
+    else:
+        encoding = toencoding(codepage.group(1).decode("ascii", "replace")) if codepage else "cp1252"
+    text = data.decode(encoding, errors="replace").replace("\r\n", "\n").replace("\r", "\n")
+    return ezdxf.read(io.StringIO(text))
 
 
 def _read_binary(data: bytes) -> Any:
@@ -196,5 +228,23 @@ def dxf_pieces(doc: Any, layer: str | None) -> tuple[list[Piece], str, float]:
         where = f"layer {layer!r}" if layer is not None else "the drawing"
         raise PartDocumentError("layer" if layer else "dxf",
                                 f"{where} has no outline geometry (layers: {', '.join(layers) or 'none'})")
-    units, k = INSUNITS.get(int(doc.header.get("$INSUNITS", 0)), ("mm", 1.0))
+    units, k = dxf_units(doc)
     return pieces, units, k
+
+
+def dxf_units(doc: Any) -> tuple[str, float]:
+    """Unit and scale: ``$INSUNITS`` when the file sets it, else ``$MEASUREMENT`` (0:
+    imperial → inches, 1: metric → millimetres), else millimetres. Whatever was assumed is
+    added to the drawing's warnings (``algrasp_warnings``): never silent."""
+    present = getattr(doc, "algrasp_header_vars", set())
+    warnings: list[str] = getattr(doc, "algrasp_warnings", [])
+    code = int(doc.header.get("$INSUNITS", 0)) if "$INSUNITS" in present else 0
+    if code in INSUNITS:
+        return INSUNITS[code]
+    if "$MEASUREMENT" in present:
+        imperial = int(doc.header.get("$MEASUREMENT", 1)) == 0
+        warnings.append(f"no $INSUNITS: units taken from $MEASUREMENT = {0 if imperial else 1} "
+                        f"({'imperial: inches' if imperial else 'metric: millimetres'})")
+        return ("in", 1.0) if imperial else ("mm", 1.0)
+    warnings.append("unitless drawing (no $INSUNITS or $MEASUREMENT): assumed millimetres; use --units to say otherwise")
+    return "mm", 1.0

@@ -52,3 +52,21 @@ def test_crlf_and_lf_import_identically() -> None:
     a = import_bytes("gear.dxf", lf)
     b = import_bytes("gear.dxf", lf.replace(b"\n", b"\r\n"))
     assert a == b and len(a["boundary"]) == 380 and len(a["holes"]) == 1
+
+
+def test_damaged_dxf_is_repaired_or_refused_in_one_line(capsys) -> None:  # type: ignore[no-untyped-def]
+    """No EOF marker: repaired by ezdxf's recover mode, and said; a bad number: one clear
+    error; ezdxf prints nothing either way."""
+    import pytest
+
+    from algrasp.cad import import_bytes
+    from algrasp.errors import PartDocumentError
+
+    data = GEAR.read_bytes().replace(b"\r\n", b"\n")
+    doc = import_bytes("gear.dxf", data.replace(b"  0\nEOF\n", b""))
+    assert len(doc["boundary"]) == 380 and any("repaired" in w for w in doc["source"]["warnings"])
+    with pytest.raises(PartDocumentError) as e:
+        import_bytes("gear.dxf", data.replace(b" 10\n26.280794545155107\n", b" 10\nabc\n", 1))
+    assert "not a readable DXF drawing" in str(e.value)
+    out = capsys.readouterr()
+    assert out.out == "" and out.err == ""
