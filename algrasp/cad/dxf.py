@@ -46,10 +46,7 @@ def read_dxf(data: bytes) -> Any:
 
     with _captured_ezdxf_log() as messages:
         try:
-            if data.startswith(BINARY_SENTINEL):
-                doc = _read_binary(data)
-            else:
-                doc = _read_text(data)
+            doc = _read_binary(data) if data.startswith(BINARY_SENTINEL) else _read_text(data)
         except Exception:  # noqa: BLE001 - a damaged file: let the recover mode repair it
             try:
                 doc, _ = recover.read(io.BytesIO(data))

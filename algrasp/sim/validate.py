@@ -200,11 +200,14 @@ def validate_plan(analysis: Analysis, plan: Plan, samples: int = 36, seed: int =
 def _sample(analysis: Analysis, plan: Plan, phi0: float, offset_m: float, predicted: float,
             result: tuple[float, list[float], float, Any], tolerance_deg: float) -> Sample:
     sim_phi, pushed, _, _ = result
-    # A robust plan claims the final orientation within its uncertainty (conventions §7);
-    # poses that differ by a rotation mapping the part onto itself are the same pose.
+    # A robust plan guarantees one of its final orientations within its uncertainty
+    # (conventions §7); which one a start near an unstable equilibrium reaches is not
+    # predicted, so it agrees with any. An exact plan is held to its per-sample prediction,
+    # up to rotations that map the part onto itself (the same pose).
     allowed = tolerance_deg + math.degrees(plan.final_uncertainty)
     sym = _part_symmetry(analysis)
-    err = min(_angle_err_deg(sim_phi, predicted + k * sym) for k in range(int(round(2 * math.pi / sym))))
+    targets = list(plan.final_orientations) if plan.bounds is not None else [predicted]
+    err = min(_angle_err_deg(sim_phi, t + k * sym) for t in targets for k in range(int(round(2 * math.pi / sym))))
     sample = Sample(_wrap_deg(phi0), _wrap_deg(predicted), _wrap_deg(sim_phi),
                     err <= allowed, _near_unstable(plan, phi0), offset_m * 1e3)
     if not pushed:
