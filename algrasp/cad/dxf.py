@@ -233,7 +233,7 @@ def dxf_units(doc: Any) -> tuple[str, float]:
     """Unit and scale: ``$INSUNITS`` when the file sets it, else ``$MEASUREMENT`` (0:
     imperial → inches, 1: metric → millimetres), else millimetres. Whatever was assumed is
     added to the drawing's warnings (``algrasp_warnings``): never silent."""
-    present = getattr(doc, "algrasp_header_vars", set())
+    present: set[str] = getattr(doc, "algrasp_header_vars", set())
     warnings: list[str] = getattr(doc, "algrasp_warnings", [])
     code = int(doc.header.get("$INSUNITS", 0)) if "$INSUNITS" in present else 0
     if code in INSUNITS:
