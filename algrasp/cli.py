@@ -45,13 +45,15 @@ def read_document(path: str, args: argparse.Namespace | None = None) -> dict[str
 
 
 def _import_options(args: argparse.Namespace | None) -> dict[str, Any]:
-    keys = {"layer": "layer", "id": "element_id", "pose": "pose", "tolerance": "tolerance", "units": "units"}
+    keys = {"layer": "layer", "id": "element_id", "pose": "pose", "tolerance": "tolerance", "units": "units", "sheet_part": "part"}
     return {v: getattr(args, k) for k, v in keys.items() if getattr(args, k, None) is not None}
 
 
 def cmd_import(args: argparse.Namespace) -> int:
     from algrasp.cad import import_file
 
+    if args.list:
+        return _list_parts(args)
     doc = import_file(args.file, **_import_options(args))
     load_part(doc)  # the imported document must be a valid part
     for w in doc.get("source", {}).get("warnings", []):
@@ -66,6 +68,27 @@ def cmd_import(args: argparse.Namespace) -> int:
     print(f"{args.file} → {args.output}: part {doc['name']!r} in {doc['units']}, {len(loops[0])} boundary "
           f"segments/vertices ({', '.join(kinds)}), {len(loops) - 1} hole(s)"
           f"{', approximate (mesh projection)' if doc.get('approximate') else ''}")
+    return 0
+
+
+def _list_parts(args: argparse.Namespace) -> int:
+    """``algrasp import FILE --list [--json]``: the parts on a sheet."""
+    from algrasp.cad import list_parts
+
+    opts = {k: v for k, v in _import_options(args).items() if k not in ("part", "pose")}
+    p = Path(args.file)
+    if not p.is_file():
+        raise PartDocumentError("FILE", f"no such file: {args.file}")
+    out = list_parts(p.name, p.read_bytes(), **opts)
+    if args.json:
+        print(json.dumps(out, indent=2))
+        return 0
+    for r in out["parts"]:
+        x0, y0, x1, y1 = r["bbox"]
+        print(f"part {r['index']}: {x1 - x0:.4g} × {y1 - y0:.4g} {r['units']} at ({x0:.4g}, {y0:.4g}), "
+              f"area {r['area']:.6g}, {r['holes']} hole(s), {r['segments']} outline segments")
+    for w in [*out["ignored"], *out["warnings"]]:
+        print(f"  note: {w}")
     return 0
 
 
@@ -295,6 +318,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("file", metavar="FILE.dxf|svg|stl|obj|ply")
     _cad_options(p)
     p.add_argument("-o", "--output", metavar="PART.json", help="write here (default: print the document)")
+    p.add_argument("--list", action="store_true", help="list the parts on the sheet (choose one with --part K)")
+    p.add_argument("--json", action="store_true", help="with --list: print the listing as JSON")
     p.set_defaults(func=cmd_import)
     p = sub.add_parser("analyze", help="diameter/radius functions and transfer functions of a part")
     p.add_argument("part", metavar="PART.json")
@@ -361,6 +386,8 @@ def _cad_options(p: argparse.ArgumentParser) -> None:
     x.add_argument("--pose", type=int, help="mesh: stable resting pose, 0 = most probable (default)")
     g.add_argument("--tolerance", type=float, help="chaining tolerance in drawing units (default 1e-6 of its size)")
     g.add_argument("--units", help="override the unit (meshes carry none: default mm)")
+    g.add_argument("--part", type=int, metavar="K", dest="sheet_part",
+                   help="DXF/SVG sheet: the K-th part (import FILE --list shows them)")
 
 
 def _optimise_options(p: argparse.ArgumentParser) -> None:

@@ -177,16 +177,22 @@ async def plans(request: Request, body: PlanBody) -> JSONResponse:
 async def imports(request: Request, file: Annotated[UploadFile, File(description="DXF, SVG or STL/OBJ/PLY/OFF/GLB file")],
                   layer: Annotated[str | None, Form(max_length=256)] = None,
                   id: Annotated[str | None, Form(max_length=256)] = None,  # noqa: A002
-                  pose: Annotated[int | None, Form(ge=0, le=10_000)] = None) -> dict[str, Any]:
+                  pose: Annotated[int | None, Form(ge=0, le=10_000)] = None,
+                  part: Annotated[int | None, Form(ge=0, le=100_000)] = None,
+                  list_parts: Annotated[bool, Form(alias="list")] = False) -> dict[str, Any]:
     """A CAD file → its part document (exact curves; meshes give an approximate
-    polygon), ready for ``/v1/plans``. Only the file name's suffix is used."""
+    polygon), ready for ``/v1/plans``; ``part`` chooses one of several parts on a sheet,
+    ``list=true`` returns ``{"parts": [...], "ignored", "warnings"}`` instead. Only the file
+    name's suffix is used."""
     from algrasp.cad import CAD_SUFFIXES, is_cad
 
     svc = state(request)
     name = (file.filename or "upload").replace("\\", "/").rsplit("/", 1)[-1]
     if not is_cad(name):
         raise ConfigError("file", f"unsupported file type: use {', '.join(CAD_SUFFIXES)}")
-    options = {k: v for k, v in (("layer", layer), ("element_id", id), ("pose", pose)) if v is not None}
+    options = {k: v for k, v in (("layer", layer), ("element_id", id), ("pose", pose), ("part", part)) if v is not None}
+    if list_parts:
+        options["list_parts"] = True
     data = await file.read()
     return await run_task(svc, import_task, name, data, options,  # type: ignore[no-any-return]
                           timeout_s=svc.settings.analysis_time_limit_s, stage="import")

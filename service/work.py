@@ -96,10 +96,14 @@ def figure_task(record_path: str) -> bytes:
 
 
 def import_task(filename: str, data: bytes, options: dict[str, Any]) -> dict[str, Any]:
-    """``POST /v1/imports``: a CAD file's part document (checked to be a valid part)."""
-    from algrasp.cad import import_bytes
+    """``POST /v1/imports``: a CAD file's part document (checked to be a valid part), or
+    with ``list_parts`` the list of the parts on the sheet."""
+    from algrasp.cad import import_bytes, list_parts
     from algrasp.part import load_part
 
+    if options.pop("list_parts", False):
+        options.pop("part", None)
+        return list_parts(filename, data, **{k: v for k, v in options.items() if k != "pose"})
     doc = import_bytes(filename, data, **options)
     load_part(doc)
     return doc

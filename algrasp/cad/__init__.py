@@ -38,20 +38,65 @@ def _scale(seg: dict[str, Any], k: float) -> dict[str, Any]:
 
 
 def import_bytes(filename: str, data: bytes, layer: str | None = None, element_id: str | None = None,
-                 pose: int | None = None, tolerance: float | None = None, units: str | None = None) -> dict[str, Any]:
+                 pose: int | None = None, tolerance: float | None = None, units: str | None = None,
+                 part: int | None = None) -> dict[str, Any]:
     """The part document of a DXF/SVG/mesh file's bytes. ``layer`` (DXF), ``element_id``
-    (SVG), ``pose`` (mesh) choose what to import; ``tolerance`` is the chaining
-    tolerance in drawing units (default: 1e-6 of the drawing's size); ``units`` overrides
-    the unit (meshes carry none: default mm)."""
-    from algrasp.cad.chain import chain, default_tolerance, outline_document
-
+    (SVG), ``pose`` (mesh) choose what to import; ``part`` chooses one of several parts on
+    a sheet (:func:`list_parts` lists them); ``tolerance`` is the chaining tolerance in
+    drawing units (default: 1e-6 of the drawing's size); ``units`` overrides the unit
+    (meshes carry none: default mm)."""
     suffix = PurePath(filename).suffix.lower()
     name = PurePath(filename).stem
-    _check_options(suffix, layer, element_id, pose)
     if suffix in (".stl", ".obj", ".ply", ".off", ".glb"):
         from algrasp.cad.mesh import mesh_document
 
+        _check_options(suffix, layer, element_id, pose)
+        if part not in (None, 0):
+            raise ConfigError("--part", "a mesh is one part (choose a resting pose with --pose)")
         return mesh_document(data, suffix[1:], name, pose, units or "mm")
+    sheet, doc_units, k, source = _sheet(filename, data, layer, element_id, pose, tolerance, units)
+    if part is None and len(sheet.parts) > 1:
+        rows = sheet.summary(units or doc_units)["parts"]
+        listing = "; ".join(f"{r['index']}: {r['segments']} segments, {r['holes']} hole(s), area {k * k * r['area']:.4g}"
+                            for r in rows[:10])
+        raise PartDocumentError("part", f"the drawing holds {len(rows)} parts ({listing}{'; …' if len(rows) > 10 else ''}); "
+                                "choose one with --part K (algrasp import FILE --list shows them)"
+                                + "".join(f"; {w}" for w in sheet.warnings if w.startswith("overlapping")))
+    index = 0 if part is None else part
+    if not 0 <= index < len(sheet.parts):
+        raise ConfigError("--part", f"no part {index}: the drawing holds {len(sheet.parts)} (0 to {len(sheet.parts) - 1})")
+    outline, holes = sheet.parts[index]
+    warnings = [*source.pop("warnings", []), *sheet.warnings, *sheet.ignored][:MAX_WARNINGS]
+    if warnings:
+        source["warnings"] = warnings
+    if len(sheet.parts) > 1:
+        source["part"] = index
+    doc_name = name if len(sheet.parts) == 1 else f"{name}#{index}"
+    return {"name": doc_name, "units": units or doc_units, "boundary": [_scale(s, k) for s in outline],
+            "holes": [[_scale(s, k) for s in h] for h in holes], "source": source}
+
+
+def list_parts(filename: str, data: bytes, layer: str | None = None, element_id: str | None = None,
+               tolerance: float | None = None, units: str | None = None) -> dict[str, Any]:
+    """``{"parts": [{"index", "bbox", "area", "holes", "segments", "units"}], "ignored",
+    "warnings"}`` of a DXF/SVG sheet, lengths in the document's unit."""
+    sheet, doc_units, k, source = _sheet(filename, data, layer, element_id, None, tolerance, units)
+    out = sheet.summary(units or doc_units)
+    for row in out["parts"]:
+        row["bbox"] = [k * v for v in row["bbox"]]
+        row["area"] = k * k * row["area"]
+    out["warnings"] = [*source.get("warnings", []), *out["warnings"]]
+    return out
+
+
+def _sheet(filename: str, data: bytes, layer: str | None, element_id: str | None, pose: int | None,
+           tolerance: float | None, units: str | None) -> tuple[Any, str, float, dict[str, Any]]:
+    """The parts of a DXF/SVG drawing, its unit, scale and source description."""
+    from algrasp.cad.chain import default_tolerance, point_at
+    from algrasp.cad.sheet import find_parts
+
+    suffix = PurePath(filename).suffix.lower()
+    _check_options(suffix, layer, element_id, pose)
     if suffix == ".dxf":
         from algrasp.cad.dxf import dxf_pieces, read_dxf
 
@@ -69,9 +114,10 @@ def import_bytes(filename: str, data: bytes, layer: str | None = None, element_i
         source = {"format": "svg", "id": element_id}
     else:
         raise PartDocumentError("FILE", f"unsupported file type {suffix or '(none)'}: use .json, {', '.join(CAD_SUFFIXES)}")
-    loops = chain(pieces, tolerance if tolerance is not None else default_tolerance(pieces))
-    loops = [[_scale(s, k) for s in lp] for lp in loops]
-    return outline_document(loops, name, units or doc_units, source)
+    ends = [point_at(p.segment, e) for p in pieces for e in (False, True)]
+    size = float(max(max(abs(c) for pt in ends for c in pt), 1e-300))
+    tol = tolerance if tolerance is not None else default_tolerance(pieces)
+    return find_parts(pieces, tol, size), doc_units, k, source
 
 
 def _check_options(suffix: str, layer: str | None, element_id: str | None, pose: int | None) -> None:

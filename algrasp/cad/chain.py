@@ -1,9 +1,9 @@
 """Chain exact segments (part-document segment dicts, in any order and direction) into
-closed loops; the outer loop becomes the boundary, loops inside it holes.
+closed loops (which loop is a part and which a hole: `algrasp.cad.sheet`).
 
 Only the chaining and the loop classification look at sampled points (to find which
-loop contains which); the segments themselves stay exact. Complexity O(n²) in the
-number of segments (n ≤ the document limit).
+loop contains which); the segments themselves stay exact. Chaining is O(n log n) in the
+number of segments (a KD-tree of the end points).
 """
 
 from __future__ import annotations
@@ -27,6 +27,7 @@ class Piece:
 
     segment: Segment
     origin: str
+    layer: str | None = None
 
 
 def _ellipse_point(s: Segment, deg: float) -> np.ndarray:
@@ -88,9 +89,11 @@ def samples(s: Segment, n: int = 16) -> np.ndarray:
     return np.array([point_at({**s, "end_deg": d}, True) for d in degs])
 
 
-def chain(pieces: Sequence[Piece], tol: float) -> list[list[Segment]]:
+def chain(pieces: Sequence[Piece], tol: float, open_chains: list[str] | None = None) -> list[list[Segment]]:
     """Closed loops from the pieces; endpoints closer than ``tol`` join. Raises
-    PartDocumentError for an open contour, naming where the gap is and how big.
+    PartDocumentError for an open contour, naming where the gap is and how big — unless
+    ``open_chains`` is given: then each open chain is set aside there (its message) and
+    chaining goes on with the rest.
 
     The free ends are found with a KD-tree of all end points (scipy): O(n log n) for n
     pieces (a 10,000-entity sheet chains in well under a second)."""
@@ -111,13 +114,19 @@ def chain(pieces: Sequence[Piece], tol: float) -> list[list[Segment]]:
         while np.linalg.norm(end - start) > tol:
             k, flip = _nearest_free(tree, ends, used, end, tol)
             if k is None:
-                raise _open_contour(first, loop, start, end, ends, used, tol)
+                err = _open_contour(first, loop, start, end, ends, used, tol)
+                if open_chains is None:
+                    raise err
+                open_chains.append(err.message)
+                loop = []
+                break
             used[k] = True
             seg = pieces[k].segment
             seg = _snap(reverse(seg) if flip else seg, end)
             loop.append(seg)
             end = point_at(seg, True)
-        loops.append(loop)
+        if loop:
+            loops.append(loop)
     return loops
 
 
@@ -148,25 +157,6 @@ def _polygon(loop: list[Segment]) -> Any:
 
     pts = np.vstack([samples(s)[:-1] for s in loop])
     return Polygon(pts).buffer(0)
-
-
-def outline_document(loops: list[list[Segment]], name: str, units: str, source: dict[str, Any]) -> dict[str, Any]:
-    """The part document: the loop of largest area is the boundary, the others must lie
-    inside it and not overlap (then they are holes)."""
-    if not loops:
-        raise PartDocumentError("drawing", "no closed contour")
-    polys = [_polygon(lp) for lp in loops]
-    order = sorted(range(len(loops)), key=lambda i: -polys[i].area)
-    outer, holes = order[0], order[1:]
-    for i in holes:
-        if not polys[outer].contains(polys[i]):
-            raise PartDocumentError(f"loop {i}", f"overlapping loops: loop {i} is not inside the outer loop {outer} "
-                                    "(several parts in one drawing? choose one with --layer or --id)")
-        for j in holes:
-            if j != i and polys[i].intersects(polys[j]):
-                raise PartDocumentError(f"loop {i}", f"overlapping loops: loops {i} and {j} intersect or nest "
-                                        "(a part inside a hole is a separate part)")
-    return {"name": name, "units": units, "boundary": loops[outer], "holes": [loops[i] for i in holes], "source": source}
 
 
 def default_tolerance(pieces: Sequence[Piece]) -> float:

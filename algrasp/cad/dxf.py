@@ -211,7 +211,7 @@ def entity_pieces(e: Any) -> list[Piece]:
     if t not in handlers:
         raise PartDocumentError(_origin(e), f"unsupported DXF entity {t} on layer {e.dxf.layer!r} "
                                 "(supported: LINE, ARC, CIRCLE, ELLIPSE, LWPOLYLINE, POLYLINE, SPLINE, INSERT)")
-    return [Piece(s, _origin(e)) for s in handlers[t]()]
+    return [Piece(s, _origin(e), e.dxf.layer) for s in handlers[t]()]
 
 
 def dxf_pieces(doc: Any, layer: str | None) -> tuple[list[Piece], str, float]:

@@ -154,8 +154,10 @@ def test_clear_errors() -> None:
         import_bytes("x.dxf", data, layer="OPEN")
     with pytest.raises(PartDocumentError, match="unsupported DXF entity SOLID"):
         import_bytes("x.dxf", data, layer="SOLID")
-    with pytest.raises(PartDocumentError, match="overlapping loops"):
+    with pytest.raises(PartDocumentError, match="holds 2 parts.*--part K"):  # two parts on one layer (issue 17)
         import_bytes("x.dxf", data, layer="TWO")
+    second = import_bytes("x.dxf", data, layer="TWO", part=1)
+    assert second["name"] == "x#1" and second["source"]["part"] == 1 and len(second["boundary"]) == 3
     with pytest.raises(PartDocumentError, match="layer 'EMPTY' has no outline.*OPEN, SOLID, TWO"):
         import_bytes("x.dxf", data, layer="EMPTY")
     with pytest.raises(ConfigError, match="--id"):

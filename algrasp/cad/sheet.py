@@ -1,0 +1,155 @@
+"""The parts on a drawing sheet (issue 17): several outlines on one layer, nested sheets,
+clutter.
+
+Pieces are cleaned (zero-length and duplicated entities dropped, with a warning), chained
+into closed loops (open chains — centre lines, construction lines, dimension leftovers —
+are set aside and reported), and the loops are nested by containment: a loop at even depth
+is a part's outline, the loops directly inside it are its holes, and a loop inside a hole
+is a part of its own (a nested sheet). Parts are numbered by decreasing area.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from algrasp.cad.chain import Piece, Segment, _polygon, chain, point_at
+from algrasp.errors import PartDocumentError
+
+_DUPLICATE_DIGITS = 9
+"""End points rounded to this many significant digits of the drawing size when looking
+for duplicated entities."""
+
+
+@dataclass
+class Sheet:
+    """What a drawing holds: its parts (outline, holes) and what was set aside."""
+
+    parts: list[tuple[list[Segment], list[list[Segment]]]]
+    ignored: list[str] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
+
+    def summary(self, units: str) -> dict[str, Any]:
+        """``{"parts": [{"index", "bbox", "area", "holes", "segments"}], "ignored", "warnings"}``."""
+        rows = []
+        for k, (outline, holes) in enumerate(self.parts):
+            poly = _polygon(outline)
+            x0, y0, x1, y1 = poly.bounds
+            area = poly.area - sum(_polygon(h).area for h in holes)
+            rows.append({"index": k, "bbox": [x0, y0, x1, y1], "area": float(area), "holes": len(holes),
+                         "segments": len(outline), "units": units})
+        return {"parts": rows, "ignored": list(self.ignored), "warnings": list(self.warnings)}
+
+
+def clean(pieces: Sequence[Piece], size: float) -> tuple[list[Piece], list[str]]:
+    """Drop zero-length and duplicated entities (the same end points, type and shape)."""
+    out: list[Piece] = []
+    seen: set[tuple[Any, ...]] = set()
+    zero, dup = 0, 0
+    scale = max(size, 1e-300)
+    for p in pieces:
+        a, b = point_at(p.segment, False), point_at(p.segment, True)
+        if np.linalg.norm(b - a) <= 1e-12 * scale and p.segment["type"] == "line":
+            zero += 1
+            continue
+        key = _key(p.segment, a, b, scale)
+        if key in seen:
+            dup += 1
+            continue
+        seen.add(key)
+        out.append(p)
+    notes = []
+    if zero:
+        notes.append(f"{zero} zero-length entit{'y' if zero == 1 else 'ies'} dropped")
+    if dup:
+        notes.append(f"{dup} duplicated entit{'y' if dup == 1 else 'ies'} dropped")
+    return out, notes
+
+
+def _key(seg: Segment, a: np.ndarray, b: np.ndarray, scale: float) -> tuple[Any, ...]:
+    """Direction-free identity of a segment: its type, end points and shape parameters."""
+    def r(v: Any) -> tuple[float, ...]:
+        return tuple(np.round(np.ravel(np.asarray(v, dtype=float)) / scale, _DUPLICATE_DIGITS).tolist())
+
+    ends = tuple(sorted([r(a), r(b)]))
+    shape: tuple[Any, ...] = ()
+    if seg["type"] == "bezier":
+        shape = tuple(sorted(r(p) for p in seg["points"])) + tuple(sorted(seg.get("weights", [])))
+    elif seg["type"] in ("arc", "ellipse_arc"):
+        shape = r(seg["center"]) + r([seg.get("radius", 0.0), seg.get("rx", 0.0), seg.get("ry", 0.0)])
+        shape += (round(abs(seg["end_deg"] - seg["start_deg"]), 9),)
+    return (seg["type"], ends, shape)
+
+
+def find_parts(pieces: Sequence[Piece], tol: float, size: float) -> Sheet:
+    """The parts of a drawing (see module docs). Raises PartDocumentError when no closed
+    contour is left (naming the first open one)."""
+    kept, warnings = clean(pieces, size)
+    ignored: list[str] = []
+    loops = chain([Piece({**p.segment, "_layer": p.layer}, p.origin) for p in kept], tol, ignored)
+    if not loops:
+        if ignored:
+            raise PartDocumentError("drawing", ignored[0])
+        raise PartDocumentError("drawing", "no closed contour")
+    if ignored:
+        warnings.append(f"{len(ignored)} open chain(s) set aside (centre, construction or dimension lines?)")
+    polys = [_polygon(lp) for lp in loops]
+    order = sorted(range(len(loops)), key=lambda i: -polys[i].area)
+    parent = {i: _parent(i, order, polys) for i in order}
+    warnings += _overlaps(order, parent, polys)
+    frames = [i for i in order if parent[i] is None and _is_frame(loops, i, parent)]
+    for f in list(frames):
+        ignored.append(f"frame: the rectangle on layer {_layer(loops[f])!r} around the parts")
+        for i in order:
+            if parent[i] == f and _layer(loops[i]) == _layer(loops[f]):  # title block cells
+                frames.append(i)
+                ignored.append(f"title block: a loop on the frame's layer {_layer(loops[f])!r}")
+        for i in order:
+            if parent[i] in frames:
+                parent[i] = None
+    depth: dict[int, int] = {}
+    for i in order:
+        depth[i] = 0 if parent[i] is None else depth[parent[i]] + 1  # type: ignore[index]
+    parts = [(_strip(loops[i]), [_strip(loops[j]) for j in order if parent[j] == i])
+             for i in order if i not in frames and depth[i] % 2 == 0]
+    return Sheet(parts, ignored, warnings)
+
+
+def _parent(i: int, order: list[int], polys: list[Any]) -> int | None:
+    """The smallest loop that wholly contains loop i."""
+    inside = [j for j in order if j != i and polys[j].area > polys[i].area and polys[j].contains(polys[i])]
+    return inside[-1] if inside else None
+
+
+def _overlaps(order: list[int], parent: dict[int, int | None], polys: list[Any]) -> list[str]:
+    """Sibling loops whose areas cross (neither contains the other)."""
+    out = []
+    for n, i in enumerate(order):
+        for j in order[n + 1:]:
+            if parent[i] == parent[j] and polys[i].intersects(polys[j]) and polys[i].intersection(polys[j]).area > 0.0:
+                out.append(f"overlapping loops: loops {i} and {j} cross (several parts drawn over each other?)")
+    return out[:10]
+
+
+def _layer(loop: list[Segment]) -> str | None:
+    return loop[0].get("_layer")
+
+
+def _is_frame(loops: list[list[Segment]], i: int, parent: dict[int, int | None]) -> bool:
+    """A drawing frame: an axis-aligned rectangle around other loops on other layers (a
+    plate with holes has its holes on its own layer); loops inside it on its own layer
+    are its title block."""
+    loop = loops[i]
+    children = [j for j, p in parent.items() if p == i]
+    if len(loop) != 4 or not children or any(s["type"] != "line" for s in loop):
+        return False
+    if not all(s["start"][0] == s["end"][0] or s["start"][1] == s["end"][1] for s in loop):
+        return False
+    return _layer(loop) is not None and any(_layer(loops[j]) != _layer(loop) for j in children)
+
+
+def _strip(loop: list[Segment]) -> list[Segment]:
+    return [{k: v for k, v in s.items() if k != "_layer"} for s in loop]

@@ -1,0 +1,69 @@
+"""Several parts on one sheet (issue 17), on a real nested sheet of ten gears
+(koppi/involute-gear-collection, CC0; tests/data/real/SOURCES.md)."""
+
+from __future__ import annotations
+
+import io
+import json
+from pathlib import Path
+
+import ezdxf
+import ezdxf.bbox
+import pytest
+
+from algrasp.cad import import_bytes, list_parts
+from algrasp.cli import main
+from algrasp.errors import ConfigError, PartDocumentError
+
+SHEET = Path(__file__).parents[2] / "data" / "real" / "koppi-involute-teeth-20-multiple.dxf"
+
+
+def test_real_sheet_lists_its_ten_gears() -> None:
+    out = list_parts(SHEET.name, SHEET.read_bytes())
+    assert len(out["parts"]) == 10
+    # ezdxf's own bounding box of the whole sheet holds every part's box
+    box = ezdxf.bbox.extents(ezdxf.read(io.StringIO(SHEET.read_text())).modelspace())
+    for r in out["parts"]:
+        x0, y0, x1, y1 = r["bbox"]
+        assert r["holes"] == 1 and x1 - x0 == pytest.approx(56.0225, abs=1e-3)
+        assert box.extmin.x - 1e-9 <= x0 and x1 <= box.extmax.x + 1e-9
+    with pytest.raises(PartDocumentError, match="holds 10 parts"):
+        import_bytes(SHEET.name, SHEET.read_bytes())
+    doc = import_bytes(SHEET.name, SHEET.read_bytes(), part=3)
+    assert doc["name"].endswith("#3") and len(doc["holes"]) == 1
+    with pytest.raises(ConfigError, match="no part 10"):
+        import_bytes(SHEET.name, SHEET.read_bytes(), part=10)
+
+
+def test_cli_list_json_and_plan_one_part(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["import", str(SHEET), "--list", "--json"]) == 0
+    assert len(json.loads(capsys.readouterr().out)["parts"]) == 10
+    assert main(["plan", str(SHEET), "--part", "2", "--json", "--no-record"]) == 0
+    plan = json.loads(capsys.readouterr().out)
+    assert plan["symmetry_period_deg"] == 18.0 and plan["verified"]
+    assert main(["analyze", str(SHEET), "--no-record"]) == 2
+    assert "--part K" in capsys.readouterr().err
+
+
+def _frame_sheet() -> bytes:
+    d = ezdxf.new(units=4)
+    m = d.modelspace()
+    m.add_lwpolyline([(0, 0), (200, 0), (200, 100), (0, 100)], close=True, dxfattribs={"layer": "FRAME"})
+    m.add_lwpolyline([(140, 0), (200, 0), (200, 20), (140, 20)], close=True, dxfattribs={"layer": "FRAME"})
+    m.add_lwpolyline([(20, 20), (80, 20), (80, 60), (20, 60)], close=True, dxfattribs={"layer": "CUT"})
+    m.add_circle((50, 40), 5, dxfattribs={"layer": "CUT"})
+    m.add_line((10, 40), (90, 40), dxfattribs={"layer": "CENTER"})  # a centre line: an open chain
+    m.add_line((20, 20), (80, 20), dxfattribs={"layer": "CUT"})  # drawn twice
+    m.add_line((30, 30), (30, 30), dxfattribs={"layer": "CUT"})  # zero length
+    m.add_text("PLATE 1", dxfattribs={"layer": "TEXT"}).set_placement((30, 50))
+    buf = io.StringIO()
+    d.write(buf)
+    return buf.getvalue().encode()
+
+
+def test_frame_title_block_centre_lines_text_and_duplicates_are_set_aside() -> None:
+    doc = import_bytes("plate.dxf", _frame_sheet())
+    assert len(doc["boundary"]) == 4 and len(doc["holes"]) == 1
+    warnings = " ".join(doc["source"]["warnings"])
+    assert "frame" in warnings and "open chain" in warnings
+    assert "duplicated" in warnings and "zero-length" in warnings
