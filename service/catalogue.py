@@ -2,7 +2,8 @@
 memory — an archive is never extracted, so no member name can reach the disk.
 
 A file that cannot be read becomes a part with an error (the rest of the batch goes
-on); too many files or too many bytes refuse the whole catalogue.
+on); a drawing sheet with several parts becomes one item per part (``FILE#K``); too many
+parts or too many bytes refuse the whole catalogue.
 """
 
 from __future__ import annotations
@@ -39,15 +40,22 @@ def part_from_bytes(filename: str, data: bytes) -> dict[str, Any]:
     return doc
 
 
-def _entry(filename: str, data: bytes) -> Entry:
+def _entries(filename: str, data: bytes) -> list[Entry]:
+    """The catalogue items of one file: a DXF/SVG sheet gives one item per part
+    (``FILE#K``), anything else one item (with its error if it cannot be read)."""
+    from algrasp.cad import import_all_parts, is_cad
+
     stem = PurePosixPath(filename).stem
     try:
-        doc = part_from_bytes(filename, data)
+        docs = import_all_parts(filename, data) if is_cad(filename) else [part_from_bytes(filename, data)]
     except AlgraspError as exc:
-        return stem, {}, exc.to_dict()
-    if not isinstance(doc.get("name"), str):
-        doc = {**doc, "name": stem}
-    return str(doc["name"]), doc, None
+        return [(stem, {}, exc.to_dict())]
+    out: list[Entry] = []
+    for doc in docs:
+        if not isinstance(doc.get("name"), str):
+            doc = {**doc, "name": stem}
+        out.append((str(doc["name"]), doc, None))
+    return out
 
 
 def _members(data: bytes) -> Iterator[tuple[str, int, Any]]:
@@ -79,7 +87,9 @@ def read_archive(data: bytes, max_parts: int, max_bytes: int) -> list[Entry]:
             raise LimitExceededError("archive", f"more than {max_bytes} bytes of part files")
         if len(out) >= max_parts:
             raise LimitExceededError("archive", f"more than {max_parts} part files")
-        out.append(_entry(PurePosixPath(name).name, read()[: max_bytes + 1]))
+        out += _entries(PurePosixPath(name).name, read()[: max_bytes + 1])
+        if len(out) > max_parts:
+            raise LimitExceededError("archive", f"more than {max_parts} parts (part files and the parts on their sheets)")
     if not out:
         raise PartDocumentError("archive", f"no part files ({', '.join(PART_SUFFIXES)}) in the archive")
     return out
@@ -96,7 +106,10 @@ def read_catalogue(path: Path, max_parts: int, max_bytes: int) -> list[Entry]:
         raise PartDocumentError("CATALOGUE", f"no part files ({', '.join(PART_SUFFIXES)}) in {path}")
     if len(files) > max_parts:
         raise LimitExceededError("CATALOGUE", f"more than {max_parts} part files")
-    return [_entry(p.name, p.read_bytes()) for p in files]
+    out = [e for p in files for e in _entries(p.name, p.read_bytes())]
+    if len(out) > max_parts:
+        raise LimitExceededError("CATALOGUE", f"more than {max_parts} parts (part files and the parts on their sheets)")
+    return out
 
 
 def catalogue_hash(entries: list[Entry], options: dict[str, Any]) -> str:

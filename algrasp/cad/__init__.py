@@ -65,6 +65,21 @@ def import_bytes(filename: str, data: bytes, layer: str | None = None, element_i
     index = 0 if part is None else part
     if not 0 <= index < len(sheet.parts):
         raise ConfigError("--part", f"no part {index}: the drawing holds {len(sheet.parts)} (0 to {len(sheet.parts) - 1})")
+    return _part_document(sheet, index, name, units or doc_units, k, source)
+
+
+def import_all_parts(filename: str, data: bytes) -> list[dict[str, Any]]:
+    """Every part of a DXF/SVG sheet as its own document (``FILE#K`` when there are
+    several), read once; a mesh or a one-part drawing gives one document. For catalogues."""
+    suffix = PurePath(filename).suffix.lower()
+    if suffix not in (".dxf", ".svg"):
+        return [import_bytes(filename, data)]
+    sheet, doc_units, k, source = _sheet(filename, data, None, None, None, None, None)
+    name = PurePath(filename).stem
+    return [_part_document(sheet, i, name, doc_units, k, dict(source)) for i in range(len(sheet.parts))]
+
+
+def _part_document(sheet: Any, index: int, name: str, units: str, k: float, source: dict[str, Any]) -> dict[str, Any]:
     outline, holes = sheet.parts[index]
     warnings = [*source.pop("warnings", []), *sheet.warnings, *sheet.ignored][:MAX_WARNINGS]
     if warnings:
@@ -72,7 +87,7 @@ def import_bytes(filename: str, data: bytes, layer: str | None = None, element_i
     if len(sheet.parts) > 1:
         source["part"] = index
     doc_name = name if len(sheet.parts) == 1 else f"{name}#{index}"
-    return {"name": doc_name, "units": units or doc_units, "boundary": [_scale(s, k) for s in outline],
+    return {"name": doc_name, "units": units, "boundary": [_scale(s, k) for s in outline],
             "holes": [[_scale(s, k) for s in h] for h in holes], "source": source}
 
 

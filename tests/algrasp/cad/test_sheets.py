@@ -67,3 +67,13 @@ def test_frame_title_block_centre_lines_text_and_duplicates_are_set_aside() -> N
     warnings = " ".join(doc["source"]["warnings"])
     assert "frame" in warnings and "open chain" in warnings
     assert "duplicated" in warnings and "zero-length" in warnings
+
+
+def test_a_sheet_in_a_catalogue_is_one_item_per_part(tmp_path: Path) -> None:
+    from service.catalogue import read_catalogue
+
+    (tmp_path / "gears.dxf").write_bytes(SHEET.read_bytes())
+    entries = read_catalogue(tmp_path, 100, 10_000_000)
+    assert [n for n, _, _ in entries] == [f"koppi-involute-teeth-20-multiple#{k}".replace("koppi-involute-teeth-20-multiple",
+                                                                                        "gears") for k in range(10)]
+    assert all(err is None and len(doc["holes"]) == 1 for _, doc, err in entries)
