@@ -23,7 +23,9 @@ from algrasp.cad.nurbs import nurbs_to_beziers
 from algrasp.errors import PartDocumentError
 
 SKIPPED = {"TEXT", "MTEXT", "DIMENSION", "ARC_DIMENSION", "LEADER", "MLEADER", "MULTILEADER", "ATTRIB", "ATTDEF",
-           "POINT", "HATCH", "VIEWPORT", "IMAGE", "WIPEOUT", "TOLERANCE"}
+           "POINT", "HATCH", "MPOLYGON", "VIEWPORT", "IMAGE", "WIPEOUT", "TOLERANCE", "SOLID", "TRACE", "3DFACE", "RAY",
+           "XLINE", "ACAD_TABLE", "SHAPE", "OLE2FRAME", "ACAD_PROXY_ENTITY"}
+"""Annotation, fills and construction entities: set aside (and counted in the warnings)."""
 INSUNITS = {1: ("in", 1.0), 2: ("mm", 304.8), 3: ("m", 1609.344), 4: ("mm", 1.0), 5: ("cm", 1.0), 6: ("m", 1.0),
             7: ("m", 1000.0), 8: ("um", 0.0254), 9: ("um", 25.4), 10: ("mm", 914.4), 11: ("um", 1e-4), 12: ("um", 1e-3),
             13: ("um", 1.0), 14: ("mm", 100.0), 15: ("m", 10.0), 16: ("m", 100.0), 17: ("m", 1e9), 18: ("m", 1.495978707e11),
@@ -128,7 +130,8 @@ def _normal_sign(e: Any) -> float:
 
 
 def _origin(e: Any) -> str:
-    return f"{e.dxftype()} #{e.dxf.handle}" if e.dxf.hasattr("handle") else e.dxftype()
+    handle = e.dxf.get("handle")
+    return f"{e.dxftype()} #{handle}" if handle else e.dxftype()
 
 
 def _arc(e: Any, full: bool) -> Segment:
@@ -198,20 +201,30 @@ def _spline(e: Any) -> list[Segment]:
     return out
 
 
-def entity_pieces(e: Any) -> list[Piece]:
-    """The exact segments of one entity (INSERT: of its expanded block)."""
+MAX_BLOCK_DEPTH = 16
+"""Nested INSERTs deeper than this (or a block inserting itself) are refused."""
+
+
+def entity_pieces(e: Any, within: str = "", depth: int = 0) -> list[Piece]:
+    """The exact segments of one entity (INSERT: of its expanded block; their origins name
+    the block and the INSERT's handle, as block content has no handle of its own)."""
     t = e.dxftype()
     if t in SKIPPED:
         return []
     if t == "INSERT":
-        return [p for v in e.virtual_entities() for p in entity_pieces(v)]
+        if depth >= MAX_BLOCK_DEPTH:
+            raise PartDocumentError(f"INSERT #{e.dxf.handle}", f"blocks nested deeper than {MAX_BLOCK_DEPTH} "
+                                    f"(block {e.dxf.name!r} inserts itself?)")
+        where = f" in block {e.dxf.name!r} (INSERT #{e.dxf.handle}{within})"
+        return [p for v in e.virtual_entities() for p in entity_pieces(v, where, depth + 1)]
     handlers = {"LINE": lambda: [{"type": "line", "start": _xy(e.dxf.start), "end": _xy(e.dxf.end)}],
                 "ARC": lambda: [_arc(e, False)], "CIRCLE": lambda: [_arc(e, True)], "ELLIPSE": lambda: [_ellipse(e)],
                 "LWPOLYLINE": lambda: _polyline(e), "POLYLINE": lambda: _polyline(e), "SPLINE": lambda: _spline(e)}
+    origin = _origin(e) + within
     if t not in handlers:
-        raise PartDocumentError(_origin(e), f"unsupported DXF entity {t} on layer {e.dxf.layer!r} "
+        raise PartDocumentError(origin, f"unsupported DXF entity {t} on layer {e.dxf.layer!r} "
                                 "(supported: LINE, ARC, CIRCLE, ELLIPSE, LWPOLYLINE, POLYLINE, SPLINE, INSERT)")
-    return [Piece(s, _origin(e), e.dxf.layer) for s in handlers[t]()]
+    return [Piece(s, origin, e.dxf.layer) for s in handlers[t]()]
 
 
 def dxf_pieces(doc: Any, layer: str | None) -> tuple[list[Piece], str, float]:
@@ -221,6 +234,13 @@ def dxf_pieces(doc: Any, layer: str | None) -> tuple[list[Piece], str, float]:
     layers = sorted({e.dxf.layer for e in msp})
     chosen = [e for e in msp if layer is None or e.dxf.layer.lower() == layer.lower()]
     pieces = [p for e in chosen for p in entity_pieces(e)]
+    skipped: dict[str, int] = {}
+    for e in chosen:
+        if e.dxftype() in SKIPPED:
+            skipped[e.dxftype()] = skipped.get(e.dxftype(), 0) + 1
+    if skipped and hasattr(doc, "algrasp_warnings"):
+        doc.algrasp_warnings.append("set aside (annotation, fills, construction): "
+                                    + ", ".join(f"{n} {t}" for t, n in sorted(skipped.items())))
     if not pieces:
         where = f"layer {layer!r}" if layer is not None else "the drawing"
         raise PartDocumentError("layer" if layer else "dxf",

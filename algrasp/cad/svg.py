@@ -67,8 +67,10 @@ def svg_pieces(data: bytes, element_id: str | None) -> list[Piece]:
     if element_id is not None:
         el = svg.get_element_by_id(element_id)
         if el is None:
-            ids = sorted(str(e.id) for e in svg.elements() if isinstance(e, Shape) and e.id)
-            raise PartDocumentError("id", f"no element with id {element_id!r} (shapes with ids: {', '.join(ids) or 'none'})")
+            # Every element with an id: groups (boxes.py's parts are <g id="p-0">) as well as shapes.
+            ids = sorted({str(e.id) for e in svg.elements() if getattr(e, "id", None)})
+            shown = ", ".join(ids[:40]) + (", …" if len(ids) > 40 else "")
+            raise PartDocumentError("id", f"no element with id {element_id!r} (elements with ids: {shown or 'none'})")
         shapes = [e for e in ([el] if isinstance(el, Shape) else el.select()) if isinstance(e, Shape)]
     else:
         shapes = [e for e in svg.elements() if isinstance(e, Shape)]

@@ -74,6 +74,27 @@ def test_a_sheet_in_a_catalogue_is_one_item_per_part(tmp_path: Path) -> None:
 
     (tmp_path / "gears.dxf").write_bytes(SHEET.read_bytes())
     entries = read_catalogue(tmp_path, 100, 10_000_000)
-    assert [n for n, _, _ in entries] == [f"koppi-involute-teeth-20-multiple#{k}".replace("koppi-involute-teeth-20-multiple",
-                                                                                        "gears") for k in range(10)]
+    assert [n for n, _, _ in entries] == [f"gears#{k}" for k in range(10)]
     assert all(err is None and len(doc["holes"]) == 1 for _, doc, err in entries)
+
+
+def test_block_content_is_named_by_block_and_insert_and_self_insertion_is_refused() -> None:
+    d = ezdxf.new(units=4)
+    blk = d.blocks.new("BRACKET")
+    blk.add_line((0, 0), (10, 0))
+    blk.add_line((10, 0), (10, 5))
+    insert = d.modelspace().add_blockref("BRACKET", (0, 0))
+    buf = io.StringIO()
+    d.write(buf)
+    with pytest.raises(PartDocumentError) as e:
+        import_bytes("b.dxf", buf.getvalue().encode())
+    assert f"in block 'BRACKET' (INSERT #{insert.dxf.handle})" in str(e.value) and "#None" not in str(e.value)
+    loop = ezdxf.new(units=4)
+    selfish = loop.blocks.new("LOOP")
+    selfish.add_line((0, 0), (1, 0))
+    selfish.add_blockref("LOOP", (1, 0))
+    loop.modelspace().add_blockref("LOOP", (0, 0))
+    buf = io.StringIO()
+    loop.write(buf)
+    with pytest.raises(PartDocumentError, match="nested deeper"):
+        import_bytes("loop.dxf", buf.getvalue().encode())
