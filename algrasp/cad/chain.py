@@ -16,7 +16,6 @@ from typing import Any
 import numpy as np
 
 from algrasp.errors import PartDocumentError
-from algrasp.tolerances import DEFAULT_TOLERANCES
 
 Segment = dict[str, Any]
 
@@ -123,11 +122,23 @@ def chain(pieces: Sequence[Piece], tol: float, open_chains: list[str] | None = N
             used[k] = True
             seg = pieces[k].segment
             seg = _snap(reverse(seg) if flip else seg, end)
-            loop.append(seg)
+            loop += [*_bridge(end, point_at(seg, False), seg), seg]
             end = point_at(seg, True)
         if loop:
-            loops.append(loop)
+            loops.append([*loop, *_bridge(end, start, loop[0])])
     return loops
+
+
+def _bridge(a: np.ndarray, b: np.ndarray, like: Segment) -> list[Segment]:
+    """A line over a gap the chaining tolerance closed but snapping cannot (arcs stay
+    exact): the loop stays continuous to the document's tolerance."""
+    gap = float(np.linalg.norm(b - a))
+    if gap <= BRIDGE_REL * max(float(np.max(np.abs(np.concatenate([a, b])))), 1.0):
+        return []
+    out: Segment = {"type": "line", "start": [float(a[0]), float(a[1])], "end": [float(b[0]), float(b[1])]}
+    if "_layer" in like:
+        out["_layer"] = like["_layer"]
+    return [out]
 
 
 def _nearest_free(tree: Any, ends: np.ndarray, used: np.ndarray, p: np.ndarray, tol: float) -> tuple[int | None, bool]:
@@ -159,8 +170,16 @@ def _polygon(loop: list[Segment]) -> Any:
     return Polygon(pts).buffer(0)
 
 
+CHAIN_GAP_REL = 1e-4
+"""Default chaining tolerance relative to the drawing's size: drawings made by people have
+gaps of a few hundredths of a millimetre between entities that should meet (0.015 mm seen
+on a 300 mm sheet); lines and curves are snapped over such gaps, arcs get a bridging line."""
+BRIDGE_REL = 1e-9
+"""Gaps below this (relative to the coordinates) need no bridging line."""
+
+
 def default_tolerance(pieces: Sequence[Piece]) -> float:
-    """Chaining tolerance: the document's continuity tolerance times the drawing's size."""
+    """Chaining tolerance: ``CHAIN_GAP_REL`` times the drawing's size."""
     pts = np.array([point_at(p.segment, e) for p in pieces for e in (False, True)])
     size = float(np.max(np.ptp(pts, axis=0))) if len(pts) else 1.0
-    return DEFAULT_TOLERANCES.closure_rel * max(size, 1e-12)
+    return CHAIN_GAP_REL * max(size, 1e-12)

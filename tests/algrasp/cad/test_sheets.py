@@ -98,3 +98,24 @@ def test_block_content_is_named_by_block_and_insert_and_self_insertion_is_refuse
     loop.write(buf)
     with pytest.raises(PartDocumentError, match="nested deeper"):
         import_bytes("loop.dxf", buf.getvalue().encode())
+
+
+def test_small_gaps_close_arcs_included() -> None:
+    """0.015 mm gaps on a 300 mm plate (seen in real drawings) close; the arc corner stays
+    exact and a bridging line keeps the loop continuous."""
+    from algrasp.part import load_part
+
+    d = ezdxf.new(units=4)
+    m = d.modelspace()
+    g = 0.015
+    m.add_line((0, 0), (300 - g, 0))
+    m.add_line((300, g), (300, 90))
+    m.add_arc((290, 90), 10, 0, 90)
+    m.add_line((290 + g, 100), (0, 100))
+    m.add_line((0, 100 - g), (0, g))
+    buf = io.StringIO()
+    d.write(buf)
+    doc = import_bytes("plate.dxf", buf.getvalue().encode())
+    assert any(s["type"] == "arc" and s["radius"] == 10 for s in doc["boundary"])
+    part = load_part(doc)
+    assert part.area == pytest.approx(300 * 100 - (100 - 25 * 3.141592653589793) * 1, rel=1e-4)
