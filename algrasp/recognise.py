@@ -89,17 +89,7 @@ def as_exact_arc(seg: Bezier, size: float, tol: Tolerances) -> EllipseArc | None
     """
     if not seg.is_rational or len(seg.points) < 3:
         return None
-    fit = _fit(seg, np.linspace(0.0, 1.0, _SAMPLES))
-    if fit is None:
-        return None
-    pts, center, radius = fit
-    if np.max(np.abs(np.hypot(*(pts - center).T) - radius)) > tol.circle_fit_rel * size:
-        return None
-    sweep = _sweep(pts, center)
-    if sweep is None:
-        return None
-    start = math.atan2(pts[0, 1] - center[1], pts[0, 0] - center[0])
-    return EllipseArc((float(center[0]), float(center[1])), radius, radius, 0.0, start, start + sweep, is_circle=True)
+    return _arc_through(_bezier_points(seg, np.linspace(0.0, 1.0, _SAMPLES)), tol.circle_fit_rel * size)
 
 
 def exact_circles(loop: Sequence[Segment], size: float, tol: Tolerances) -> list[Segment]:
@@ -251,13 +241,15 @@ def _run_list(flags: np.ndarray, min_run: int) -> list[list[int]]:
     return runs
 
 
-def _arc_through(pts: FloatArray, tol: Tolerances) -> EllipseArc | None:
-    """The circular arc through a chain of points, if they are co-circular and monotone."""
+def _arc_through(pts: FloatArray, residual: float | None = None, rel: float = 0.0) -> EllipseArc | None:
+    """The circular arc through a chain of points (the circle through the first, middle
+    and last), if every point is within ``residual`` (or ``rel`` × radius) of it and the
+    points run round it monotonically."""
     circle = _circle_through(pts[0], pts[len(pts) // 2], pts[-1])
     if circle is None:
         return None
     center, radius = circle
-    if np.max(np.abs(np.hypot(*(pts - center).T) - radius)) > tol.arc_approximation_rel * radius:
+    if np.max(np.abs(np.hypot(*(pts - center).T) - radius)) > (rel * radius if residual is None else residual):
         return None
     sweep = _sweep(pts, center)
     if sweep is None:
@@ -276,7 +268,8 @@ def snap_tessellations(loop: Sequence[Segment], tol: Tolerances) -> tuple[list[S
     small = ~np.isnan(turns) & (np.abs(turns) <= tol.snap_turn_rad) & (np.abs(turns) > 0.0)
     if small.all() and np.all(np.sign(turns) == np.sign(turns[0])):
         pts = np.array([seg.start for seg in loop] + [loop[0].start])
-        halves = [_arc_through(pts[: n // 2 + 1], tol), _arc_through(pts[n // 2:], tol)]
+        rel = tol.arc_approximation_rel
+        halves = [_arc_through(pts[: n // 2 + 1], rel=rel), _arc_through(pts[n // 2:], rel=rel)]
         if all(h is not None for h in halves):
             return [h for h in halves if h is not None], 1
     replace: dict[int, tuple[int, EllipseArc]] = {}  # first segment → (count, arc)
@@ -285,7 +278,7 @@ def snap_tessellations(loop: Sequence[Segment], tol: Tolerances) -> tuple[list[S
             continue
         segs = [run[0], *[(i + 1) % n for i in run]]
         pts = np.array([loop[segs[0]].start] + [loop[i].end for i in segs])
-        arc = _arc_through(pts, tol)
+        arc = _arc_through(pts, rel=tol.arc_approximation_rel)
         if arc is not None:
             replace[segs[0]] = (len(segs), arc)
     if not replace:
