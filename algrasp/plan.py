@@ -186,8 +186,10 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -
     """
     if not (np.isfinite(min_margin_deg) and 0.0 <= min_margin_deg < 180.0):
         raise AlgraspError(f"min_margin_deg must be in [0, 180), got {min_margin_deg}")
-    if analysis.robust is not None:
+    band = None if analysis.robust is None else analysis.robust.band
+    if band is not None and (band.kappa_d > 0.0 or band.kappa_r > 0.0):
         return _robust_plan(analysis, action, np.radians(min_margin_deg))
+    # κ = 0 (no friction, exact drawing): the paper's exact model, conventions §7.
     F = transfer_for(analysis, action)
     t0 = time.perf_counter()
     T = F.symmetry_period(SYMMETRY_TOL_RAD)

@@ -235,3 +235,14 @@ def test_robust_plans_are_invariant_under_rigid_motion(angle: float, dx: float, 
     fixed = [st_["fixed_point_deg"] for st_ in analyse_document(document(outline, form), EXACT).to_dict()["squeeze"]["steps"]]
     for f in moved["final_orientations_deg"]:
         assert any(wrapped_close(f + angle, x, 180.0, 0.06 + moved["final_uncertainty_deg"]) for x in fixed)
+
+
+def test_zero_dead_band_is_the_exact_model() -> None:
+    """κ = 0 (no support friction, σ = 0 on an exact drawing) gives today's exact plans."""
+    doc = document(pie_outline(), "rational")
+    zero = Model(physics=Physics(support_friction=0.0, shape_tolerance=0.0))
+    for action in ("squeeze", "push_grasp"):
+        a = make_plan(analyse_document(doc, zero), action).to_dict()  # type: ignore[arg-type]
+        b = make_plan(analyse_document(doc, EXACT), action).to_dict()  # type: ignore[arg-type]
+        assert a["steps"] == b["steps"] and a["final_orientations_deg"] == b["final_orientations_deg"]
+        assert a["final_uncertainty_deg"] == 0.0
