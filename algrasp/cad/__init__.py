@@ -113,10 +113,12 @@ def _sheet(filename: str, data: bytes, layer: str | None, element_id: str | None
     suffix = PurePath(filename).suffix.lower()
     _check_options(suffix, layer, element_id, pose)
     if suffix == ".dxf":
-        from algrasp.cad.dxf import dxf_pieces, read_dxf
+        from algrasp.cad.dxf import captured_ezdxf_log, dxf_pieces, read_dxf
 
         drawing = read_dxf(data)
-        pieces, doc_units, k = dxf_pieces(drawing, layer)
+        with captured_ezdxf_log() as log:  # expanding blocks logs too
+            pieces, doc_units, k = dxf_pieces(drawing, layer)
+        drawing.algrasp_warnings += sorted(set(log))
         source: dict[str, Any] = {"format": "dxf", "layer": layer}
         # With --units the unit assumption is the user's, not ours to warn about.
         kept = [w for w in drawing.algrasp_warnings if units is None or "$INSUNITS" not in w][:MAX_WARNINGS]

@@ -73,10 +73,13 @@ def _snap(s: Segment, start: np.ndarray) -> Segment:
 
 
 def samples(s: Segment, n: int = 16) -> np.ndarray:
-    """(n, 2) points along a segment, for loop classification only."""
+    """Points along a segment, for loop classification, areas and boxes only: a line's two
+    ends; a curve's n points, or one every degree of an arc's sweep (≤ 0.004 % area error)."""
     kind = s["type"]
     if kind == "line":
-        return np.linspace(s["start"], s["end"], n)
+        return np.array([s["start"], s["end"]], dtype=float)
+    if kind != "bezier":
+        n = max(n, int(abs(s["end_deg"] - s["start_deg"])) + 1)
     if kind == "bezier":
         P = np.asarray(s["points"], float)
         w = np.asarray(s.get("weights", np.ones(len(P))), float)
@@ -84,8 +87,12 @@ def samples(s: Segment, n: int = 16) -> np.ndarray:
         k = len(P) - 1
         B = np.hstack([math.comb(k, i) * t**i * (1 - t) ** (k - i) for i in range(k + 1)]) * w
         return np.asarray((B @ P) / B.sum(axis=1, keepdims=True))
-    degs = np.linspace(s["start_deg"], s["end_deg"], n)
-    return np.array([point_at({**s, "end_deg": d}, True) for d in degs])
+    t = np.radians(np.linspace(s["start_deg"], s["end_deg"], n))
+    rot = math.radians(s.get("rotation_deg", 0.0))
+    rx, ry = (s["radius"], s["radius"]) if kind == "arc" else (s["rx"], s["ry"])
+    x, y = rx * np.cos(t), ry * np.sin(t)
+    c = np.asarray(s["center"], dtype=float)
+    return np.column_stack([c[0] + x * math.cos(rot) - y * math.sin(rot), c[1] + x * math.sin(rot) + y * math.cos(rot)])
 
 
 def chain(pieces: Sequence[Piece], tol: float, open_chains: list[str] | None = None) -> list[list[Segment]]:
@@ -180,6 +187,11 @@ BRIDGE_REL = 1e-9
 
 def default_tolerance(pieces: Sequence[Piece]) -> float:
     """Chaining tolerance: ``CHAIN_GAP_REL`` times the drawing's size."""
-    pts = np.array([point_at(p.segment, e) for p in pieces for e in (False, True)])
-    size = float(np.max(np.ptp(pts, axis=0))) if len(pts) else 1.0
+    pts = [point_at(p.segment, e) for p in pieces for e in (False, True)]
+    for p in pieces:  # a lone circle's end points coincide: its radius still sizes it
+        r = max(float(p.segment.get(k, 0.0)) for k in ("radius", "rx", "ry"))
+        if r > 0.0:
+            c = np.asarray(p.segment["center"], dtype=float)
+            pts += [c - r, c + r]
+    size = float(np.max(np.ptp(np.array(pts), axis=0))) if pts else 1.0
     return CHAIN_GAP_REL * max(size, 1e-12)

@@ -46,7 +46,7 @@ def read_dxf(data: bytes) -> Any:
     (``algrasp_warnings``), never printed."""
     from ezdxf import recover
 
-    with _captured_ezdxf_log() as messages:
+    with captured_ezdxf_log() as messages:
         try:
             doc = _read_binary(data) if data.startswith(BINARY_SENTINEL) else _read_text(data)
         except Exception:  # noqa: BLE001 - a damaged file: let the recover mode repair it
@@ -103,7 +103,7 @@ class _ListHandler(logging.Handler):
 
 
 @contextlib.contextmanager
-def _captured_ezdxf_log() -> Iterator[list[str]]:
+def captured_ezdxf_log() -> Iterator[list[str]]:
     """ezdxf's warnings go into a list instead of stderr while a drawing is read."""
     log = logging.getLogger("ezdxf")
     messages: list[str] = []
