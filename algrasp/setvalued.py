@@ -40,6 +40,8 @@ GRID_RAD = 2e-3
 SYMMETRY_SAMPLES = 1260
 """Samples per natural period for judging symmetry; divisible by every k ≤ 10 and many more."""
 MAX_SYMMETRY_ORDER = 360
+MAX_SYMMETRY_CANDIDATES = 24
+"""Orders that pass the Fourier screen and are then checked on f itself, largest first."""
 _INSIDE = 1e-6
 """Relative offset of the end samples inside a cell (kinks sit on cell nodes)."""
 
@@ -136,17 +138,35 @@ def slopes(f: SupportPairFunction, theta: FloatArray) -> tuple[FloatArray, Float
 def tolerant_symmetry(f: SupportPairFunction, value_tol: float) -> float:
     """The smallest T = P/k with |f(θ + T) − f(θ)| ≤ value_tol at every sample (radians).
 
-    Shifts so small that the slope alone keeps f within the tolerance (|f′|·T ≤ 4·tol)
-    prove nothing and are not tried."""
+    Orders k dividing the sample count are tested by rolling the samples; the others (a
+    25-tooth gear) are screened by shifting the samples' Fourier series (all k in one
+    batched inverse FFT, with the interpolation's own error as slack) and confirmed by
+    evaluating f at the shifted points. Shifts so small that the slope alone keeps f within
+    the tolerance (|f′|·T ≤ 4·tol) prove nothing and are not tried."""
     P = f.period
-    theta = np.linspace(0.0, P, SYMMETRY_SAMPLES, endpoint=False)
+    M = SYMMETRY_SAMPLES
+    theta = np.linspace(0.0, P, M, endpoint=False)
     v = f.values(theta)
-    steepest = float(np.max(np.abs(np.diff(v)))) * SYMMETRY_SAMPLES / P
-    top = min(MAX_SYMMETRY_ORDER, int(P * steepest / (4.0 * value_tol)) if value_tol > 0 else MAX_SYMMETRY_ORDER)
-    for k in range(top, 1, -1):
-        if SYMMETRY_SAMPLES % k == 0 and np.max(np.abs(np.roll(v, -SYMMETRY_SAMPLES // k) - v)) <= value_tol:
-            return P / k
-    return P
+    jump = float(np.max(np.abs(np.diff(v))))
+    top = min(MAX_SYMMETRY_ORDER, int(P * jump * M / P / (4.0 * value_tol)) if value_tol > 0 else MAX_SYMMETRY_ORDER)
+    ks = np.arange(top, 1, -1)
+    if not len(ks):
+        return P
+    harmonics = np.fft.rfft(v)
+    phase = np.exp(2j * np.pi * np.outer(1.0 / ks, np.arange(len(harmonics))))
+    shifted = np.fft.irfft(harmonics[None, :] * phase, n=M, axis=1)
+    plausible = np.max(np.abs(shifted - v[None, :]), axis=1) <= value_tol + jump
+    errors: dict[int, float] = {}
+    for k in ks[plausible][:MAX_SYMMETRY_CANDIDATES].tolist():
+        diff = np.roll(v, -M // k) - v if M % k == 0 else f.values(theta + P / k) - v
+        errors[k] = float(np.max(np.abs(diff)))
+    passing = {k: e for k, e in errors.items() if e <= value_tol}
+    if not passing:
+        return P
+    # A near miss (a 26-fold shift of a 25-tooth gear) passes a loose tolerance too, but
+    # only the true order and its divisors repeat f to the drawing's own noise.
+    best = min(passing.values())
+    return P / max(k for k, e in passing.items() if e <= 10.0 * best + 1e-12 * float(np.max(np.abs(v))))
 
 
 def _nodes(f: SupportPairFunction, T: float) -> tuple[FloatArray, np.ndarray]:

@@ -25,6 +25,7 @@ EXPECTED = {
     "ezdxf-1_polylines.dxf": (5, 0, False),
     "ezdxf-forms.dxf": (23, 0, False),
     "ezdxf-dimension_in_nested_blocks.dxf": (6, 0, False),
+    **{p.name: (1, 1, True) for p in sorted(REAL.glob("koppi-involute-14.5-teeth-*.dxf"))},
 }
 
 
@@ -65,3 +66,19 @@ def test_binary_dxf_reads() -> None:
     """A binary R13 DXF is read (its lines happen to close no loop: said so, in one line)."""
     with pytest.raises(PartDocumentError, match="open contour"):
         import_bytes("bin.dxf", (REAL / "ezdxf-bin_dxf_r13.dxf").read_bytes())
+
+
+GEARS = sorted(REAL.glob("koppi-involute-14.5-teeth-*.dxf"))
+
+
+@pytest.mark.parametrize("path", GEARS, ids=lambda p: p.stem)
+def test_real_gears_have_the_tooth_period(path: Path) -> None:
+    """An N-tooth gear repeats every 360°/N; the diameter function also every 180°, so
+    the squeeze period is 360°/N for even N and 180°/N for odd N (issue 16: symmetry to
+    tolerance, on tessellated drawings with up to 800 segments)."""
+    from algrasp.analysis import ROBUST, analyse_document
+
+    n = int(path.stem.rsplit("-", 1)[-1])
+    doc = import_bytes(path.name, path.read_bytes())
+    period = analyse_document(doc, ROBUST).to_dict()["robust"]["squeeze"]["symmetry_period_deg"]
+    assert period == pytest.approx(360.0 / n if n % 2 == 0 else 180.0 / n, abs=1e-9)
