@@ -85,7 +85,8 @@ def _list_parts(args: argparse.Namespace) -> int:
         return 0
     for r in out["parts"]:
         x0, y0, x1, y1 = r["bbox"]
-        print(f"part {r['index']}: {x1 - x0:.4g} × {y1 - y0:.4g} {r['units']} at ({x0:.4g}, {y0:.4g}), "
+        on = f" on layer {r['layer']!r}" if r.get("layer") else ""
+        print(f"part {r['index']}{on}: {x1 - x0:.4g} × {y1 - y0:.4g} {r['units']} at ({x0:.4g}, {y0:.4g}), "
               f"area {r['area']:.6g}, {r['holes']} hole(s), {r['segments']} outline segments")
     for w in [*out["ignored"], *out["warnings"]]:
         print(f"  note: {w}")

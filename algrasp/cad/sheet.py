@@ -31,15 +31,18 @@ class Sheet:
     parts: list[tuple[list[Segment], list[list[Segment]]]]
     ignored: list[str] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
+    layers: list[str | None] = field(default_factory=list)
 
     def summary(self, units: str) -> dict[str, Any]:
-        """``{"parts": [{"index", "bbox", "area", "holes", "segments"}], "ignored", "warnings"}``."""
+        """``{"parts": [{"index", "layer", "bbox", "area", "holes", "segments"}], "ignored",
+        "warnings"}``."""
         rows = []
         for k, (outline, holes) in enumerate(self.parts):
             poly = _polygon(outline)
             x0, y0, x1, y1 = poly.bounds
             area = poly.area - sum(_polygon(h).area for h in holes)
-            rows.append({"index": k, "bbox": [x0, y0, x1, y1], "area": float(area), "holes": len(holes),
+            layer = self.layers[k] if k < len(self.layers) else None
+            rows.append({"index": k, "layer": layer, "bbox": [x0, y0, x1, y1], "area": float(area), "holes": len(holes),
                          "segments": len(outline), "units": units})
         return {"parts": rows, "ignored": list(self.ignored), "warnings": list(self.warnings)}
 
@@ -113,9 +116,9 @@ def find_parts(pieces: Sequence[Piece], tol: float, size: float) -> Sheet:
     depth: dict[int, int] = {}
     for i in order:
         depth[i] = 0 if parent[i] is None else depth[parent[i]] + 1  # type: ignore[index]
-    parts = [(_strip(loops[i]), [_strip(loops[j]) for j in order if parent[j] == i])
-             for i in order if i not in frames and depth[i] % 2 == 0]
-    return Sheet(parts, ignored, warnings)
+    outer = [i for i in order if i not in frames and depth[i] % 2 == 0]
+    parts = [(_strip(loops[i]), [_strip(loops[j]) for j in order if parent[j] == i]) for i in outer]
+    return Sheet(parts, ignored, warnings, [_layer(loops[i]) for i in outer])
 
 
 def _parent(i: int, order: list[int], polys: list[Any]) -> int | None:

@@ -64,6 +64,7 @@ def _frame_sheet() -> bytes:
 def test_frame_title_block_centre_lines_text_and_duplicates_are_set_aside() -> None:
     doc = import_bytes("plate.dxf", _frame_sheet())
     assert len(doc["boundary"]) == 4 and len(doc["holes"]) == 1
+    assert [r["layer"] for r in list_parts("plate.dxf", _frame_sheet())["parts"]] == ["CUT"]
     warnings = " ".join(doc["source"]["warnings"])
     assert "frame" in warnings and "open chain" in warnings
     assert "duplicated" in warnings and "zero-length" in warnings
