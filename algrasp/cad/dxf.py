@@ -224,7 +224,11 @@ def entity_pieces(e: Any, within: str = "", depth: int = 0) -> list[Piece]:
     if t not in handlers:
         raise PartDocumentError(origin, f"unsupported DXF entity {t} on layer {e.dxf.layer!r} "
                                 "(supported: LINE, ARC, CIRCLE, ELLIPSE, LWPOLYLINE, POLYLINE, SPLINE, INSERT)")
-    return [Piece(s, origin, e.dxf.layer) for s in handlers[t]()]
+    try:
+        segments = handlers[t]()
+    except (ValueError, ArithmeticError, IndexError, TypeError) as exc:  # malformed data (bad knots, …)
+        raise PartDocumentError(origin, f"malformed {t} on layer {e.dxf.layer!r}: {exc}") from None
+    return [Piece(s, origin, e.dxf.layer) for s in segments]
 
 
 def dxf_pieces(doc: Any, layer: str | None) -> tuple[list[Piece], str, float]:

@@ -120,3 +120,17 @@ def test_small_gaps_close_arcs_included() -> None:
     assert any(s["type"] == "arc" and s["radius"] == 10 for s in doc["boundary"])
     part = load_part(doc)
     assert part.area == pytest.approx(300 * 100 - (100 - 25 * 3.141592653589793) * 1, rel=1e-4)
+
+
+def test_spline_with_bad_knots_is_one_clear_error() -> None:
+    """A SPLINE whose knot vector does not fit its control points (seen in a real file
+    written by another tool) is refused naming the entity — not a traceback."""
+    d = ezdxf.new(units=4)
+    sp = d.modelspace().add_spline(dxfattribs={"layer": "CUT"})
+    sp.control_points = [(0, 0), (1, 2), (3, 2), (4, 0)]
+    sp.dxf.degree = 3
+    sp.knots = [0, 0, 0, 1, 1]
+    buf = io.StringIO()
+    d.write(buf)
+    with pytest.raises(PartDocumentError, match=r"SPLINE #\w+: malformed SPLINE on layer 'CUT'.*knot"):
+        import_bytes("s.dxf", buf.getvalue().encode())
