@@ -24,8 +24,10 @@ from algrasp.errors import PartDocumentError
 
 SKIPPED = {"TEXT", "MTEXT", "DIMENSION", "ARC_DIMENSION", "LEADER", "MLEADER", "MULTILEADER", "ATTRIB", "ATTDEF",
            "POINT", "HATCH", "MPOLYGON", "VIEWPORT", "IMAGE", "WIPEOUT", "TOLERANCE", "SOLID", "TRACE", "3DFACE", "RAY",
-           "XLINE", "ACAD_TABLE", "SHAPE", "OLE2FRAME", "ACAD_PROXY_ENTITY"}
-"""Annotation, fills and construction entities: set aside (and counted in the warnings)."""
+           "XLINE", "ACAD_TABLE", "SHAPE", "OLE2FRAME", "ACAD_PROXY_ENTITY", "MESH", "3DSOLID", "BODY", "REGION",
+           "SURFACE", "EXTRUDEDSURFACE", "LOFTEDSURFACE", "REVOLVEDSURFACE", "SWEPTSURFACE", "PLANESURFACE", "UNDERLAY",
+           "PDFUNDERLAY", "DWFUNDERLAY", "DGNUNDERLAY", "LIGHT", "HELIX"}
+"""Annotation, fills, construction and 3-D entities: set aside (and counted in the warnings)."""
 INSUNITS = {1: ("in", 1.0), 2: ("mm", 304.8), 3: ("m", 1609.344), 4: ("mm", 1.0), 5: ("cm", 1.0), 6: ("m", 1.0),
             7: ("m", 1000.0), 8: ("um", 0.0254), 9: ("um", 25.4), 10: ("mm", 914.4), 11: ("um", 1e-4), 12: ("um", 1e-3),
             13: ("um", 1.0), 14: ("mm", 100.0), 15: ("m", 10.0), 16: ("m", 100.0), 17: ("m", 1e9), 18: ("m", 1.495978707e11),
@@ -209,7 +211,7 @@ def entity_pieces(e: Any, within: str = "", depth: int = 0) -> list[Piece]:
     """The exact segments of one entity (INSERT: of its expanded block; their origins name
     the block and the INSERT's handle, as block content has no handle of its own)."""
     t = e.dxftype()
-    if t in SKIPPED:
+    if t in SKIPPED or t.endswith("DIMENSION"):  # every dimension flavour is annotation
         return []
     if t == "INSERT":
         if depth >= MAX_BLOCK_DEPTH:
@@ -240,10 +242,10 @@ def dxf_pieces(doc: Any, layer: str | None) -> tuple[list[Piece], str, float]:
     pieces = [p for e in chosen for p in entity_pieces(e)]
     skipped: dict[str, int] = {}
     for e in chosen:
-        if e.dxftype() in SKIPPED:
+        if e.dxftype() in SKIPPED or e.dxftype().endswith("DIMENSION"):
             skipped[e.dxftype()] = skipped.get(e.dxftype(), 0) + 1
     if skipped and hasattr(doc, "algrasp_warnings"):
-        doc.algrasp_warnings.append("set aside (annotation, fills, construction): "
+        doc.algrasp_warnings.append("set aside (annotation, fills, construction, 3-D): "
                                     + ", ".join(f"{n} {t}" for t, n in sorted(skipped.items())))
     if not pieces:
         where = f"layer {layer!r}" if layer is not None else "the drawing"

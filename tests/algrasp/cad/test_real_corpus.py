@@ -1,6 +1,8 @@
-"""Real drawings made by other projects (tests/data/real/SOURCES.md), imported as
-delivered, with no options: every part's box lies inside ezdxf's own bounding box of the
-drawing, outline-only drawings match it exactly, nothing is printed, nothing takes long."""
+"""Real drawings made by other projects (tests/data/real/SOURCES.md: 25 files), imported
+as delivered, with no options: every part's box lies inside ezdxf's own bounding box of the
+drawing, drawings that hold only outlines match it exactly, nothing is printed, nothing
+takes over 10 s. The part counts were read off each drawing (ezdxf's own viewer) once;
+the boxes are checked against ezdxf every time."""
 
 from __future__ import annotations
 
@@ -23,8 +25,17 @@ EXPECTED = {
     "ezdxf-R12_with_trash_beyond_EOF.dxf": (1, 0, True),
     "ezdxf-cc_dxflib.dxf": (1, 0, True),
     "ezdxf-1_polylines.dxf": (5, 0, False),
-    "ezdxf-forms.dxf": (23, 0, False),
-    "ezdxf-dimension_in_nested_blocks.dxf": (6, 0, False),
+    "ezdxf-2_polylines.dxf": (2, 0, False),
+    "ezdxf-forms.dxf": (23, 0, True),
+    "ezdxf-dimension_in_nested_blocks.dxf": (6, 0, True),
+    "ezdxf-colors.dxf": (18, 3, False),
+    "ezdxf-issue1106.dxf": (3, 0, False),
+    "ezdxf-issue_1359_1.dxf": (1, 1, True),
+    "ezdxf-issue_1359_2.dxf": (2, 0, True),
+    "ezdxf-multi_insert_with_attribs.dxf": (1, 0, False),
+    "ezdxf-usa.dxf": (12, 0, False),
+    "ezdxf-wipeout_door.dxf": (18, 2, False),
+    "ezdxf-uncommon.dxf": (7, 0, False),
     **{p.name: (1, 1, True) for p in sorted(REAL.glob("koppi-involute-14.5-teeth-*.dxf"))},
 }
 
@@ -32,9 +43,14 @@ EXPECTED = {
 def _extents(path: Path) -> tuple[float, float, float, float]:
     try:
         doc = ezdxf.readfile(str(path))
-    except ezdxf.DXFStructureError:
+    except ezdxf.DXFError:  # a flawed file (issue1106.dxf): ezdxf's own repair, as the importer does
         doc, _ = recover.readfile(str(path))
-    box = ezdxf.bbox.extents(doc.modelspace())
+    box = ezdxf.bbox.BoundingBox()
+    for e in doc.modelspace():  # entity by entity: ezdxf fails on one odd entity of issue1106.dxf
+        try:
+            box.extend(ezdxf.bbox.extents([e]))
+        except ezdxf.DXFError:
+            continue
     return box.extmin.x, box.extmin.y, box.extmax.x, box.extmax.y
 
 
