@@ -182,3 +182,17 @@ def test_plan_with_drake_validation(server: Server, pie: dict[str, Any]) -> None
     # the paper's pie under an optimised push-grasp plan: every clear sample ends at the predicted orientation
     assert v["agreement_clear"] == 1.0
     assert run["command"] == "validate" and run["agreement"] == v["agreement"]
+
+
+def test_imports_list_and_choose_a_part_of_a_sheet(server: Server) -> None:
+    from pathlib import Path
+
+    sheet = (Path(__file__).parents[1] / "data" / "real" / "koppi-involute-teeth-20-multiple.dxf").read_bytes()
+    with server.client() as c:
+        listing = c.post("/v1/imports", files={"file": ("gears.dxf", sheet, "application/dxf")}, data={"list": "true"})
+        assert listing.status_code == 200, listing.text
+        assert len(listing.json()["parts"]) == 10
+        one = c.post("/v1/imports", files={"file": ("gears.dxf", sheet, "application/dxf")}, data={"part": "4"})
+        assert one.status_code == 200 and one.json()["name"] == "gears#4"
+        many = c.post("/v1/imports", files={"file": ("gears.dxf", sheet, "application/dxf")})
+        assert many.status_code == 422 and "holds 10 parts" in many.json()["error"]["message"]
