@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from algrasp.cad.chain import Piece, Segment, _polygon, chain, point_at
+from algrasp.cad.chain import Piece, Segment, _polygon, chain, point_at, samples
 from algrasp.errors import PartDocumentError
 
 _DUPLICATE_DIGITS = 9
@@ -99,6 +99,7 @@ def find_parts(pieces: Sequence[Piece], tol: float, size: float) -> Sheet:
         raise PartDocumentError("drawing", "no closed contour")
     if ignored:
         warnings.append(f"{len(ignored)} open chain(s) set aside (centre, construction or dimension lines?)")
+    loops = [_untangle(lp, warnings) for lp in loops]
     polys = [_polygon(lp) for lp in loops]
     order = sorted(range(len(loops)), key=lambda i: -polys[i].area)
     parent = {i: _parent(i, order, polys) for i in order}
@@ -119,6 +120,38 @@ def find_parts(pieces: Sequence[Piece], tol: float, size: float) -> Sheet:
     outer = [i for i in order if i not in frames and depth[i] % 2 == 0]
     parts = [(_strip(loops[i]), [_strip(loops[j]) for j in order if parent[j] == i]) for i in outer]
     return Sheet(parts, ignored, warnings, [_layer(loops[i]) for i in outer])
+
+
+KERF_AREA_REL = 0.01
+"""A self-intersecting loop whose stray lobes (kerf loops, overshoots) hold less than this
+share of its area is resolved to the region it bounds."""
+
+
+def _untangle(loop: list[Segment], warnings: list[str]) -> list[Segment]:
+    """A loop with tiny self-intersections becomes the outline of the region it bounds (as
+    a polyline through its points: the exact curves of that one loop are given up, and
+    said); any other loop is returned as it is (the part's validation names the crossing)."""
+    import shapely
+    from shapely.geometry import Polygon
+
+    pts = np.vstack([samples(s)[:-1] for s in loop])
+    raw = Polygon(pts)
+    if raw.is_valid or len(pts) < 4:
+        return loop
+    region = shapely.make_valid(raw)
+    pieces = [g for g in getattr(region, "geoms", [region]) if g.geom_type == "Polygon"]
+    if not pieces:
+        return loop
+    main = max(pieces, key=lambda g: g.area)
+    stray = sum(g.area for g in pieces) - main.area + abs(abs(raw.area) - main.area)
+    if stray > KERF_AREA_REL * main.area:
+        return loop
+    ring = np.asarray(main.exterior.coords)
+    warnings.append(f"a loop of {len(loop)} segments crossed itself (kerf loop or overshoot): resolved to the "
+                    f"region it bounds, as a {len(ring) - 1}-edge polyline")
+    layer = loop[0].get("_layer")
+    return [{"type": "line", "start": [float(a[0]), float(a[1])], "end": [float(b[0]), float(b[1])], "_layer": layer}
+            for a, b in zip(ring[:-1], ring[1:]) if np.hypot(*(b - a)) > 0.0]
 
 
 def _parent(i: int, order: list[int], polys: list[Any]) -> int | None:

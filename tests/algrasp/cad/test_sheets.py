@@ -134,3 +134,17 @@ def test_spline_with_bad_knots_is_one_clear_error() -> None:
     d.write(buf)
     with pytest.raises(PartDocumentError, match=r"SPLINE #\w+: malformed SPLINE on layer 'CUT'.*knot"):
         import_bytes("s.dxf", buf.getvalue().encode())
+
+
+def test_kerf_loop_resolves_to_the_region_it_bounds() -> None:
+    """A laser-cut outline with a 0.1 mm kerf loop at a corner (boxes.py draws these)."""
+    from algrasp.part import load_part
+
+    pts = [(0, 0), (50, 0), (50, 30), (50.1, 30.1), (49.9, 30.1), (50, 30), (0, 30)]
+    d = ezdxf.new(units=4)
+    d.modelspace().add_lwpolyline(pts, close=True)
+    buf = io.StringIO()
+    d.write(buf)
+    doc = import_bytes("kerf.dxf", buf.getvalue().encode())
+    assert any("kerf" in w for w in doc["source"]["warnings"])
+    assert load_part(doc).area == pytest.approx(1500.0, rel=1e-3)
