@@ -11,7 +11,7 @@ relative to the previous action's, with the plan still orienting the part.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
@@ -69,10 +69,11 @@ class Plan:
             phi = self.transfer.apply(phi - s.gripper_angle) + s.gripper_angle
         return phi
 
-    def run_set(self, lo: FloatArray, hi: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """Hull of the world orientations after the plan from [lo, hi] (set semantics)."""
+    def run_set(self, lo: FloatArray, hi: FloatArray, steps: int | None = None) -> tuple[FloatArray, FloatArray]:
+        """Hull of the world orientations after the plan (its first ``steps`` actions, or
+        all) from [lo, hi] (set semantics)."""
         assert self.bounds is not None
-        for s in self.steps:
+        for s in self.steps[:steps]:
             lo, hi = self.bounds.image(lo - s.gripper_angle, hi - s.gripper_angle)
             lo, hi = lo + s.gripper_angle, hi + s.gripper_angle
         return lo, hi
@@ -87,14 +88,12 @@ class Plan:
         """World orientation before the plan and after each action (radians); for a
         robust plan the middle of the interval the part can be in after each action."""
         out = [phi0]
-        lo = hi = np.array([phi0])
-        for s in self.steps:
+        for k, s in enumerate(self.steps, 1):
             if self.bounds is None:
                 out.append(float(self.transfer(out[-1] - s.gripper_angle) + s.gripper_angle))
-                continue
-            lo, hi = self.bounds.image(lo - s.gripper_angle, hi - s.gripper_angle)
-            lo, hi = lo + s.gripper_angle, hi + s.gripper_angle
-            out.append(float(0.5 * (lo[0] + hi[0])))
+            else:
+                lo, hi = self.run_set(np.array([phi0]), np.array([phi0]), k)
+                out.append(float(0.5 * (lo[0] + hi[0])))
         return out
 
     def to_dict(self) -> dict[str, object]:
@@ -250,8 +249,7 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
     t2 = time.perf_counter()
     if not ok:
         raise NotOrientableError("verification_failed", "the plan did not verify: please report this part")
-    return Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), True,
-                {"planning": t1 - t0, "verification": t2 - t1}, S, plan.final_uncertainty, plan.robust)
+    return replace(plan, verified=True, timings_s={"planning": t1 - t0, "verification": t2 - t1})
 
 
 EDGE_NORMAL_RAD = 1e-6
@@ -296,9 +294,7 @@ def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SA
     pts = np.clip(pts, c0, c1) + a1
     lo = np.append(pts, c0 + a1)
     hi = np.append(pts, c1 + a1)
-    rest = Plan(plan.action, plan.transfer, T, plan.intervals, plan.steps[1:], plan.final_orientations, False,
-                {}, S, plan.final_uncertainty, plan.robust)
-    lo, hi = rest.run_set(lo, hi)
+    lo, hi = replace(plan, steps=plan.steps[1:]).run_set(lo, hi)
     mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
     want = np.array(plan.final_orientations)
     off = np.min(np.abs((mid[:, None] - want + np.pi) % (2 * np.pi) - np.pi), axis=1)

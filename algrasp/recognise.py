@@ -161,21 +161,11 @@ def _polyline_error(loop: Sequence[Segment], tol: Tolerances) -> tuple[float, fl
 
 
 def _long_runs(flags: np.ndarray, min_run: int) -> np.ndarray:
-    """Cyclic runs of True at least ``min_run`` long (isolated small turns are real kinks)."""
-    n = len(flags)
-    if flags.all():
-        return flags.copy()
-    out = np.zeros(n, dtype=bool)
-    start = int(np.argmin(flags))  # a False: runs do not wrap past it
-    run: list[int] = []
-    for k in range(1, n + 1):
-        i = (start + k) % n
-        if flags[i]:
-            run.append(i)
-            continue
-        if len(run) >= min_run:
-            out[run] = True
-        run = []
+    """Cyclic runs of True at least ``min_run`` long, as a mask (isolated small turns are
+    real kinks)."""
+    out = np.zeros(len(flags), dtype=bool)
+    for run in _run_list(flags, min_run):
+        out[run] = True
     return out
 
 

@@ -170,11 +170,15 @@ def _open_contour(first: Piece, loop: list[Segment], start: np.ndarray, end: np.
         f"{nearest} (chaining tolerance {tol:.3g})")
 
 
+def ring(loop: list[Segment]) -> np.ndarray:
+    """The loop's sample points (each segment without its end point), shape (N, 2)."""
+    return np.vstack([samples(s)[:-1] for s in loop])
+
+
 def _polygon(loop: list[Segment]) -> Any:
     from shapely.geometry import Polygon
 
-    pts = np.vstack([samples(s)[:-1] for s in loop])
-    return Polygon(pts).buffer(0)
+    return Polygon(ring(loop)).buffer(0)
 
 
 CHAIN_GAP_REL = 1e-4

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from algrasp.cad.chain import Piece, Segment, _polygon, chain, point_at, samples
+from algrasp.cad.chain import Piece, Segment, _polygon, chain, point_at, ring
 from algrasp.errors import PartDocumentError
 
 _DUPLICATE_DIGITS = 9
@@ -134,7 +134,7 @@ def _untangle(loop: list[Segment], warnings: list[str]) -> list[Segment]:
     import shapely
     from shapely.geometry import Polygon
 
-    pts = np.vstack([samples(s)[:-1] for s in loop])
+    pts = ring(loop)
     raw = Polygon(pts)
     if raw.is_valid or len(pts) < 4:
         return loop
@@ -146,12 +146,12 @@ def _untangle(loop: list[Segment], warnings: list[str]) -> list[Segment]:
     stray = sum(g.area for g in pieces) - main.area + abs(abs(raw.area) - main.area)
     if stray > KERF_AREA_REL * main.area:
         return loop
-    ring = np.asarray(main.exterior.coords)
+    edge_pts = np.asarray(main.exterior.coords)
     warnings.append(f"a loop of {len(loop)} segments crossed itself (kerf loop or overshoot): resolved to the "
-                    f"region it bounds, as a {len(ring) - 1}-edge polyline")
+                    f"region it bounds, as a {len(edge_pts) - 1}-edge polyline")
     layer = loop[0].get("_layer")
     return [{"type": "line", "start": [float(a[0]), float(a[1])], "end": [float(b[0]), float(b[1])], "_layer": layer}
-            for a, b in zip(ring[:-1], ring[1:]) if np.hypot(*(b - a)) > 0.0]
+            for a, b in zip(edge_pts[:-1], edge_pts[1:]) if np.hypot(*(b - a)) > 0.0]
 
 
 def _parent(i: int, order: list[int], polys: list[Any]) -> int | None:
