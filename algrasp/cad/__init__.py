@@ -120,6 +120,7 @@ def _sheet(filename: str, data: bytes, layer: str | None, element_id: str | None
             pieces, doc_units, k = dxf_pieces(drawing, layer)
         drawing.algrasp_warnings += sorted(set(log))
         source: dict[str, Any] = {"format": "dxf", "layer": layer}
+        hatched = drawing.algrasp_hatches
         # With --units the unit assumption is the user's, not ours to warn about.
         kept = [w for w in drawing.algrasp_warnings if units is None or "$INSUNITS" not in w][:MAX_WARNINGS]
         if kept:
@@ -128,13 +129,14 @@ def _sheet(filename: str, data: bytes, layer: str | None, element_id: str | None
         from algrasp.cad.svg import svg_pieces
 
         pieces, doc_units, k = svg_pieces(data, element_id), "mm", 1.0
+        hatched = []
         source = {"format": "svg", "id": element_id}
     else:
         raise PartDocumentError("FILE", f"unsupported file type {suffix or '(none)'}: use .json, {', '.join(CAD_SUFFIXES)}")
     ends = [point_at(p.segment, e) for p in pieces for e in (False, True)]
     size = float(max(max(abs(c) for pt in ends for c in pt), 1e-300))
     tol = tolerance if tolerance is not None else default_tolerance(pieces)
-    return find_parts(pieces, tol, size), doc_units, k, source
+    return find_parts(pieces, tol, size, hatched), doc_units, k, source
 
 
 def _check_options(suffix: str, layer: str | None, element_id: str | None, pose: int | None) -> None:

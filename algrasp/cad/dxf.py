@@ -244,6 +244,8 @@ def dxf_pieces(doc: Any, layer: str | None) -> tuple[list[Piece], str, float]:
     for e in chosen:
         if e.dxftype() in SKIPPED or e.dxftype().endswith("DIMENSION"):
             skipped[e.dxftype()] = skipped.get(e.dxftype(), 0) + 1
+    if hasattr(doc, "algrasp_warnings"):
+        doc.algrasp_hatches = hatch_points([e for e in chosen if e.dxftype() == "HATCH"])
     if skipped and hasattr(doc, "algrasp_warnings"):
         doc.algrasp_warnings.append("set aside (annotation, fills, construction, 3-D): "
                                     + ", ".join(f"{n} {t}" for t, n in sorted(skipped.items())))
@@ -253,6 +255,27 @@ def dxf_pieces(doc: Any, layer: str | None) -> tuple[list[Piece], str, float]:
                                 f"{where} has no outline geometry (layers: {', '.join(layers) or 'none'})")
     units, k = dxf_units(doc)
     return pieces, units, k
+
+
+def hatch_points(hatches: list[Any]) -> list[tuple[float, float]]:
+    """One point inside each hatched region (section views are hatched; parts to cut are
+    not). A hatch whose boundary cannot be read is skipped: it only ever sets a loop aside."""
+    import ezdxf.path
+    from shapely.errors import GEOSException
+    from shapely.geometry import Polygon
+
+    out = []
+    for h in hatches:
+        try:
+            rings = [np.asarray([(v.x, v.y) for v in p.flattening(0.01)]) for p in ezdxf.path.from_hatch(h)]
+            rings = sorted((r for r in rings if len(r) >= 3), key=lambda r: -abs(Polygon(r).area))
+            if rings:
+                region = Polygon(rings[0], [r for r in rings[1:]]).buffer(0)
+                pt = region.representative_point()
+                out.append((float(pt.x), float(pt.y)))
+        except (ValueError, TypeError, AttributeError, IndexError, GEOSException):
+            continue
+    return out
 
 
 def dxf_units(doc: Any) -> tuple[str, float]:

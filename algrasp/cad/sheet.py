@@ -6,10 +6,16 @@ into closed loops (open chains — centre lines, construction lines, dimension l
 are set aside and reported), and the loops are nested by containment: a loop at even depth
 is a part's outline, the loops directly inside it are its holes, and a loop inside a hole
 is a part of its own (a nested sheet). Parts are numbered by decreasing area.
+
+Drawings made for people hold more than the part: a frame with its title block (a
+rectangle around everything, on a layer of its own) is set aside; so are section views
+(hatched regions, when some parts are hatched and some are not) and engraving (loops on an
+engraving/marking layer inside a part are not holes).
 """
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -87,9 +93,15 @@ def _key(seg: Segment, a: np.ndarray, b: np.ndarray, scale: float) -> tuple[Any,
     return (seg["type"], ends, shape)
 
 
-def find_parts(pieces: Sequence[Piece], tol: float, size: float) -> Sheet:
-    """The parts of a drawing (see module docs). Raises PartDocumentError when no closed
-    contour is left (naming the first open one)."""
+ENGRAVING_LAYER = re.compile(r"engrav|etch|mark|scor|scrib|label|text|letter|logo|raster", re.IGNORECASE)
+"""Layer names whose loops inside a part are engraving or marking, not holes."""
+
+
+def find_parts(pieces: Sequence[Piece], tol: float, size: float,
+               hatched: Sequence[tuple[float, float]] = ()) -> Sheet:
+    """The parts of a drawing (see module docs); ``hatched`` holds one point inside each
+    hatched region. Raises PartDocumentError when no closed contour is left (naming the
+    first open one)."""
     kept, warnings = clean(pieces, size)
     ignored: list[str] = []
     loops = chain([Piece({**p.segment, "_layer": p.layer}, p.origin) for p in kept], tol, ignored)
@@ -105,21 +117,52 @@ def find_parts(pieces: Sequence[Piece], tol: float, size: float) -> Sheet:
     parent = {i: _parent(i, order, polys) for i in order}
     warnings += _overlaps(order, parent, polys)
     frames = [i for i in order if parent[i] is None and _is_frame(loops, i, parent)]
-    for f in list(frames):
-        ignored.append(f"frame: the rectangle on layer {_layer(loops[f])!r} around the parts")
-        for i in order:
-            if parent[i] == f and _layer(loops[i]) == _layer(loops[f]):  # title block cells
-                frames.append(i)
-                ignored.append(f"title block: a loop on the frame's layer {_layer(loops[f])!r}")
-        for i in order:
-            if parent[i] in frames:
-                parent[i] = None
+    ignored += [f"frame: the rectangle on layer {_layer(loops[f])!r} around the parts" for f in frames]
+    for i in order:  # by decreasing area: a cell's parent is decided before the cell
+        if parent[i] in frames and i not in frames and _layer(loops[i]) == _layer(loops[parent[i]]):  # type: ignore[index]
+            frames.append(i)  # title block cells, however nested
+            ignored.append(f"title block: a loop on the frame's layer {_layer(loops[i])!r}")
+    for i in order:
+        if parent[i] in frames:
+            parent[i] = None
     depth: dict[int, int] = {}
     for i in order:
         depth[i] = 0 if parent[i] is None else depth[parent[i]] + 1  # type: ignore[index]
     outer = [i for i in order if i not in frames and depth[i] % 2 == 0]
-    parts = [(_strip(loops[i]), [_strip(loops[j]) for j in order if parent[j] == i]) for i in outer]
+    outer = _without_sections(outer, polys, hatched, ignored)
+    engraved = _engraving(outer, order, parent, loops, ignored)
+    parts = [(_strip(loops[i]), [_strip(loops[j]) for j in order if parent[j] == i and j not in engraved])
+             for i in outer]
     return Sheet(parts, ignored, warnings, [_layer(loops[i]) for i in outer])
+
+
+def _without_sections(outer: list[int], polys: list[Any], hatched: Sequence[tuple[float, float]],
+                      ignored: list[str]) -> list[int]:
+    """Set aside hatched parts (section views) when some parts are not hatched: a part to
+    cut is drawn as an outline, a section through it is filled."""
+    from shapely.geometry import Point
+
+    marks = [Point(p) for p in hatched]
+    filled = {i for i in outer if any(polys[i].covers(m) for m in marks)}
+    if not filled or len(filled) == len(outer):
+        return outer
+    ignored += [f"section view: a hatched region of {len(polys[i].exterior.coords) - 1} vertices" for i in sorted(filled)]
+    return [i for i in outer if i not in filled]
+
+
+def _engraving(outer: list[int], order: list[int], parent: dict[int, int | None], loops: list[list[Segment]],
+               ignored: list[str]) -> set[int]:
+    """Loops directly inside a part, on an engraving or marking layer other than the part's:
+    not holes."""
+    out = set()
+    for i in outer:
+        for j in order:
+            name = _layer(loops[j])
+            if parent[j] == i and name != _layer(loops[i]) and name and ENGRAVING_LAYER.search(name):
+                out.add(j)
+    if out:
+        ignored.append(f"engraving: {len(out)} loop(s) on marking layers inside parts (not holes)")
+    return out
 
 
 KERF_AREA_REL = 0.01

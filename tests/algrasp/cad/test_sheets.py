@@ -148,3 +148,50 @@ def test_kerf_loop_resolves_to_the_region_it_bounds() -> None:
     doc = import_bytes("kerf.dxf", buf.getvalue().encode())
     assert any("kerf" in w for w in doc["source"]["warnings"])
     assert load_part(doc).area == pytest.approx(1500.0, rel=1e-3)
+
+
+def _workshop_drawing() -> bytes:
+    """A drawing as a draughtsman makes it: frame and title block, the part (a plate with
+    a bore) with rendered dimensions, a hatched section view on the part's own layer, and
+    a part number engraved inside the plate as closed polylines."""
+    d = ezdxf.new(units=4, setup=True)
+    m = d.modelspace()
+    m.add_lwpolyline([(0, 0), (297, 0), (297, 210), (0, 210)], close=True, dxfattribs={"layer": "BORDER"})
+    for box in ([(197, 0), (297, 0), (297, 40), (197, 40)], [(197, 0), (247, 0), (247, 20), (197, 20)]):
+        m.add_lwpolyline(box, close=True, dxfattribs={"layer": "BORDER"})
+    m.add_lwpolyline([(30, 60), (130, 60), (130, 140), (30, 140)], close=True, dxfattribs={"layer": "OUTLINE"})
+    m.add_circle((80, 100), 12, dxfattribs={"layer": "OUTLINE"})
+    for x in (40.0, 48.0):  # an engraved "II": two closed strokes
+        m.add_lwpolyline([(x, 70), (x + 3, 70), (x + 3, 80), (x, 80)], close=True, dxfattribs={"layer": "ENGRAVE"})
+    dim = m.add_linear_dim(base=(30, 50), p1=(30, 60), p2=(130, 60), dxfattribs={"layer": "DIM"})
+    dim.render()
+    m.add_lwpolyline([(160, 60), (170, 60), (170, 140), (160, 140)], close=True, dxfattribs={"layer": "OUTLINE"})
+    hatch = m.add_hatch(dxfattribs={"layer": "HATCH"})
+    hatch.set_pattern_fill("ANSI31", scale=0.5)
+    hatch.paths.add_polyline_path([(160, 60), (170, 60), (170, 140), (160, 140)], is_closed=True)
+    m.add_text("PLATE 7", dxfattribs={"layer": "TEXT"}).set_placement((210, 10))
+    buf = io.StringIO()
+    d.write(buf)
+    return buf.getvalue().encode()
+
+
+def test_workshop_drawing_finds_the_plate_its_bore_and_nothing_else() -> None:
+    data = _workshop_drawing()
+    listing = list_parts("plate.dxf", data)
+    assert [(r["layer"], r["holes"]) for r in listing["parts"]] == [("OUTLINE", 1)]
+    assert listing["parts"][0]["bbox"] == pytest.approx([30, 60, 130, 140])
+    ignored = " ".join(listing["ignored"])
+    assert "frame" in ignored and "title block" in ignored and "section view" in ignored and "engraving" in ignored
+    doc = import_bytes("plate.dxf", data)
+    assert len(doc["boundary"]) == 4 and len(doc["holes"]) == 1
+    assert "DIMENSION" in " ".join(doc["source"]["warnings"])
+
+
+def test_hatched_parts_alone_are_still_parts() -> None:
+    d = ezdxf.new(units=4)
+    m = d.modelspace()
+    m.add_lwpolyline([(0, 0), (10, 0), (10, 5), (0, 5)], close=True)
+    m.add_hatch().paths.add_polyline_path([(0, 0), (10, 0), (10, 5), (0, 5)], is_closed=True)
+    buf = io.StringIO()
+    d.write(buf)
+    assert len(list_parts("h.dxf", buf.getvalue().encode())["parts"]) == 1
