@@ -417,7 +417,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(json.dumps({"error": exc.to_dict()}))
         else:
             print(f"algrasp: error: {exc.message}", file=sys.stderr)
-        return EXIT_USER_ERROR
+        return exc.exit_code
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -12,6 +12,10 @@ class AlgraspError(Exception):
     """Base class of every error algrasp raises on purpose."""
 
     kind = "algrasp_error"
+    http_status = 422
+    """The HTTP status of this error (the request's fault unless a subclass says otherwise)."""
+    exit_code = 2
+    """The CLI's exit status for this error."""
     public_fields: tuple[str, ...] = ()
     """Typed fields a subclass reports in :meth:`to_dict` (those that are not None)."""
 
@@ -110,3 +114,32 @@ class TimeLimitError(AlgraspError):
         super().__init__(f"{stage} took longer than its {limit_s:g} s time limit")
         self.stage = stage
         self.limit_s = limit_s
+
+
+class UnavailableError(AlgraspError):
+    """The service cannot take or finish the request now (full queues, a lost worker,
+    storage faults); the same request may succeed later (``retry_after_s``)."""
+
+    kind = "unavailable"
+    http_status = 503
+    exit_code = 3
+    public_fields = ("reason", "retry_after_s")
+
+    def __init__(self, reason: str, message: str, retry_after_s: float = 1.0) -> None:
+        super().__init__(message)
+        self.reason = reason
+        self.retry_after_s = retry_after_s
+
+
+class TooManyRequestsError(UnavailableError):
+    """One client holds more requests in flight than its share (``retry_after_s``)."""
+
+    kind = "too_many_requests"
+    http_status = 429
+
+
+class StorageError(UnavailableError):
+    """The record directory or the database cannot be written (disk full, read-only):
+    ``reason`` names which."""
+
+    kind = "storage_error"

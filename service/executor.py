@@ -11,14 +11,18 @@ from __future__ import annotations
 import concurrent.futures as cf
 import contextlib
 import multiprocessing
+import pickle
 from collections.abc import Callable
 from typing import Any, Protocol
 
-from algrasp.errors import ConfigError, TimeLimitError
+from algrasp.errors import AlgraspError, ConfigError, PartDocumentError, TimeLimitError, UnavailableError
 
 
 class Executor(Protocol):
     name: str
+
+    @property
+    def alive(self) -> bool: ...
 
     def submit(self, fn: Callable[..., Any], *args: Any, timeout_s: float, stage: str) -> cf.Future[Any]: ...
 
@@ -29,6 +33,24 @@ def _warm() -> None:
     # The imports every task needs, once per worker (numpy/scipy/casadi ≈ 1 s cold).
     import algrasp.pipeline  # noqa: F401
     import optimisation.execution  # noqa: F401
+    from algrasp.lifecycle import exit_with_parent
+
+    exit_with_parent()
+
+
+def _call(payload: bytes) -> Any:
+    """Run a pre-pickled ``(fn, args)`` in the worker."""
+    fn, args = pickle.loads(payload)
+    return fn(*args)
+
+
+def pickled(fn: Callable[..., Any], args: tuple[Any, ...]) -> bytes:
+    """``(fn, args)`` pickled in the caller, so a task that cannot be sent fails alone
+    (pickling inside the pool's scheduler thread would break the pool for good)."""
+    try:
+        return pickle.dumps((fn, args), protocol=pickle.HIGHEST_PROTOCOL)
+    except (pickle.PicklingError, RecursionError, TypeError, ValueError, AttributeError) as exc:
+        raise PartDocumentError("body", f"the request cannot be sent to a worker ({type(exc).__name__})") from None
 
 
 class LocalExecutor:
@@ -37,18 +59,40 @@ class LocalExecutor:
     name = "local"
 
     def __init__(self, workers: int) -> None:
+        self.workers = workers
+        self._pool = self._new_pool()
+        self._closed = False
+
+    def _new_pool(self) -> Any:
         from pebble import ProcessPool
 
-        self._pool = ProcessPool(max_workers=workers, initializer=_warm, context=multiprocessing.get_context("spawn"))
+        return ProcessPool(max_workers=self.workers, initializer=_warm, context=multiprocessing.get_context("spawn"))
+
+    @property
+    def alive(self) -> bool:
+        return bool(self._pool.active)
 
     def submit(self, fn: Callable[..., Any], *args: Any, timeout_s: float, stage: str) -> cf.Future[Any]:
         out: cf.Future[Any] = cf.Future()
-        inner = self._pool.schedule(fn, args=args, timeout=timeout_s)
+        try:
+            payload = pickled(fn, args)
+        except AlgraspError as exc:
+            _fail(out, exc)
+            return out
+        if not self._pool.active and not self._closed:  # a broken pool is replaced, not kept
+            self._pool = self._new_pool()
+        try:
+            inner = self._pool.schedule(_call, args=(payload,), timeout=timeout_s)
+        except RuntimeError:  # shutting down
+            _fail(out, UnavailableError("shutting_down", "the service is shutting down", 5.0))
+            return out
         inner.add_done_callback(lambda f: _settle(out, f, stage, timeout_s))
         out.add_done_callback(lambda f: inner.cancel() if f.cancelled() else None)
         return out
 
     def shutdown(self) -> None:
+        """Stop at once: work in flight is cancelled and its workers are killed."""
+        self._closed = True
         self._pool.stop()
         self._pool.join(timeout=5)
 
@@ -71,7 +115,12 @@ class DaskExecutor:
         import threading
 
         out: cf.Future[Any] = cf.Future()
-        inner = self._client.submit(fn, *args, pure=False)
+        try:
+            payload = pickled(fn, args)
+        except AlgraspError as exc:
+            _fail(out, exc)
+            return out
+        inner = self._client.submit(_call, payload, pure=False)
         def late() -> None:
             inner.cancel()
             _fail(out, TimeLimitError(stage, timeout_s))
@@ -87,11 +136,15 @@ class DaskExecutor:
             try:
                 _resolve(out, f.result())
             except BaseException as exc:  # noqa: BLE001 - handed to the caller's future
-                _fail(out, exc)
+                _fail(out, _as_error(exc, stage))
 
         inner.add_done_callback(done)
         out.add_done_callback(lambda f: inner.cancel() if f.cancelled() else None)
         return out
+
+    @property
+    def alive(self) -> bool:
+        return self._client.status == "running"
 
     def shutdown(self) -> None:
         self._client.close()
@@ -112,9 +165,25 @@ def _settle(out: cf.Future[Any], inner: cf.Future[Any], stage: str, timeout_s: f
     if isinstance(exc, cf.TimeoutError):
         _fail(out, TimeLimitError(stage, timeout_s))
     elif exc is not None:
-        _fail(out, exc)
+        _fail(out, _as_error(exc, stage))
     else:
         _resolve(out, inner.result())
+
+
+def _as_error(exc: BaseException, stage: str) -> BaseException:
+    """What the caller sees of a task's exception: user errors as they are; a worker that
+    died (killed, out of memory) is a 503 to retry; anything else stays an internal error
+    but never a StopIteration, which cannot cross into asyncio (the await would hang)."""
+    from pebble import ProcessExpired
+
+    if isinstance(exc, AlgraspError):
+        return exc
+    if isinstance(exc, ProcessExpired):
+        return UnavailableError("worker_lost", f"the worker running this {stage} died (exit code {exc.exitcode}); "
+                                "the service goes on: send the request again", 1.0)
+    if isinstance(exc, (StopIteration, StopAsyncIteration)):
+        return RuntimeError(f"{type(exc).__name__} escaped the {stage} task")
+    return exc
 
 
 def _resolve(out: cf.Future[Any], value: Any) -> None:
@@ -125,3 +194,10 @@ def _resolve(out: cf.Future[Any], value: Any) -> None:
 def _fail(out: cf.Future[Any], exc: BaseException) -> None:
     with contextlib.suppress(cf.InvalidStateError):
         out.set_exception(exc)
+
+
+def ping() -> int:
+    """A task that proves a worker answers (readiness)."""
+    import os
+
+    return os.getpid()

@@ -13,13 +13,17 @@ import concurrent.futures as cf
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
-from algrasp.errors import AlgraspError
+from algrasp.errors import AlgraspError, UnavailableError
+from algrasp.record.recorder import new_run_id
 from service.executor import Executor
 from service.store import Store
 from service.work import design_task
 
+MAX_ATTEMPTS = 3
+"""Dispatches of one part without an outcome before it is failed (not resumed forever)."""
 Progress = Callable[[str, int, int], None]  # (job_id, finished parts, total)
 
 
@@ -41,6 +45,7 @@ class JobRunner:
         self.on_progress = on_progress
         self._cancel: dict[str, threading.Event] = {}
         self._threads: dict[str, threading.Thread] = {}
+        self._stopping = threading.Event()
 
     def start(self, job_id: str) -> None:
         """Run the job in a background thread."""
@@ -64,44 +69,74 @@ class JobRunner:
         self._cancel.setdefault(job_id, threading.Event()).set()
         return True
 
+    def stop_all(self) -> None:
+        """Shutdown: every job thread stops dispatching and drops its work in flight; the
+        jobs stay ``running`` in the store and resume on the next start."""
+        self._stopping.set()
+        for t in list(self._threads.values()):
+            t.join(timeout=5)
+
     def run(self, job_id: str) -> None:
         """Dispatch the pending parts, at most ``window`` at a time, and store outcomes."""
         job = self.store.job(job_id)
         if job is None or not self.store.set_state(job_id, "running"):
             return
         stop = self._cancel.setdefault(job_id, threading.Event())
-        todo = self.store.pending_parts(job_id)
+        todo = [(i, d) for i, d, a in self.store.pending_parts(job_id) if not self._given_up(job_id, i, a)]
         todo.reverse()
-        inflight: dict[cf.Future[Any], int] = {}
-        while (todo or inflight) and not stop.is_set():
+        inflight: dict[cf.Future[Any], tuple[int, dict[str, Any], str]] = {}
+        while (todo or inflight) and not (stop.is_set() or self._stopping.is_set()):
             while todo and len(inflight) < self.cfg.window:
                 idx, doc = todo.pop()
                 self.store.start_attempt(job_id, idx)
+                run_id = new_run_id()
                 inflight[self.executor.submit(design_task, doc, job.options, self.cfg.record_dir, self.cfg.sim_workers,
-                                              timeout_s=self.cfg.part_time_limit_s, stage="part")] = idx
+                                              run_id, timeout_s=self.cfg.part_time_limit_s, stage="part")] = (idx, doc, run_id)
             done, _ = cf.wait(inflight, timeout=0.5, return_when=cf.FIRST_COMPLETED)
             for fut in done:
-                self._store(job_id, inflight.pop(fut), fut)
+                idx, doc, run_id = inflight.pop(fut)
+                if self._store(job_id, idx, fut, run_id):
+                    todo.append((idx, doc))  # its worker died: another worker tries it
             self._report(job_id)
         for fut in inflight:
             fut.cancel()
-        self.store.set_state(job_id, "done", only_if=("running",))
+        if not self._stopping.is_set():
+            self.store.set_state(job_id, "done", only_if=("running",))
         self._report(job_id)
 
-    def _store(self, job_id: str, idx: int, fut: cf.Future[Any]) -> None:
+    def _given_up(self, job_id: str, idx: int, attempts: int) -> bool:
+        """A part that was dispatched MAX_ATTEMPTS times without an outcome (its worker
+        died each time, or the server did) fails, so the job cannot loop forever."""
+        if attempts < MAX_ATTEMPTS:
+            return False
+        self.store.finish_part(job_id, idx, "failed", error=UnavailableError(
+            "worker_lost", f"no outcome after {attempts} attempts: the worker or the server died each time "
+            "(a part that crashes its worker?)").to_dict())
+        return True
+
+    def _store(self, job_id: str, idx: int, fut: cf.Future[Any], run_id: str) -> bool:
+        """Store a part's outcome; True when it should be tried again (worker lost)."""
         try:
             response, run, err = fut.result()
-        except AlgraspError as exc:  # the time limit
+        except UnavailableError as exc:
+            (Path(self.cfg.record_dir) / f"{run_id}.mcap.partial").unlink(missing_ok=True)
+            if exc.reason == "worker_lost" and self.store.attempts(job_id, idx) < MAX_ATTEMPTS:
+                return True
             self.store.finish_part(job_id, idx, "failed", error=exc.to_dict())
-            return
+            return False
+        except AlgraspError as exc:  # the time limit, a request that cannot be sent
+            (Path(self.cfg.record_dir) / f"{run_id}.mcap.partial").unlink(missing_ok=True)
+            self.store.finish_part(job_id, idx, "failed", error=exc.to_dict())
+            return False
         except Exception as exc:  # noqa: BLE001 - a crashed worker must not stop the job
             self.store.finish_part(job_id, idx, "failed", error={"type": "internal_error", "message": repr(exc)})
-            return
+            return False
         self.store.add_run(run, job_id)
         if err is not None:
             self.store.finish_part(job_id, idx, "failed", error=err.to_dict(), run_id=run["run_id"])
         else:
             self.store.finish_part(job_id, idx, "done", result=response, run_id=run["run_id"])
+        return False
 
     def _report(self, job_id: str) -> None:
         if self.on_progress is None:

@@ -4,6 +4,7 @@ API-key authentication and Prometheus metrics. Error bodies are always
 
 from __future__ import annotations
 
+import asyncio
 import hmac
 import json
 import time
@@ -14,9 +15,10 @@ from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 from prometheus_client import CollectorRegistry, Counter, Gauge, Histogram
+from sqlalchemy.exc import SQLAlchemyError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
-from algrasp.errors import AlgraspError, LimitExceededError
+from algrasp.errors import AlgraspError, LimitExceededError, StorageError
 
 ASGIApp = Callable[[dict[str, Any], Callable[[], Awaitable[dict[str, Any]]], Callable[[dict[str, Any]], Awaitable[None]]],
                    Awaitable[None]]
@@ -29,10 +31,13 @@ def error_response(status: int, error: dict[str, Any], headers: dict[str, str] |
 def install_error_handlers(app: FastAPI) -> None:
     @app.exception_handler(AlgraspError)
     async def _algrasp(_: Request, exc: AlgraspError) -> JSONResponse:
-        # Every AlgraspError is the request's fault (422), except a body or archive too
-        # large (413); a document past a segment/degree limit is a validation failure.
+        # Each error class knows its status (the request's fault: 422; full or faulty:
+        # 503/429 with Retry-After); a body or archive too large is 413, a document past
+        # a segment/degree limit a validation failure.
         too_large = isinstance(exc, LimitExceededError) and exc.field.startswith(("body", "archive"))
-        return error_response(413 if too_large else 422, exc.to_dict())
+        retry = getattr(exc, "retry_after_s", None)
+        headers = None if retry is None else {"Retry-After": str(max(1, round(retry)))}
+        return error_response(413 if too_large else exc.http_status, exc.to_dict(), headers)
 
     @app.exception_handler(RequestValidationError)
     async def _invalid(_: Request, exc: RequestValidationError) -> JSONResponse:
@@ -46,13 +51,23 @@ def install_error_handlers(app: FastAPI) -> None:
         kind = {401: "unauthorized", 404: "not_found", 405: "method_not_allowed", 409: "conflict"}.get(exc.status_code, "http_error")
         return error_response(exc.status_code, {"type": kind, "message": str(exc.detail)}, dict(exc.headers or {}))
 
+    @app.exception_handler(SQLAlchemyError)
+    async def _database(_: Request, exc: SQLAlchemyError) -> JSONResponse:
+        err = StorageError("database", f"the database cannot be used now ({type(getattr(exc, 'orig', None) or exc).__name__}"
+                           ": read-only, full or gone?)", 30.0)
+        return error_response(503, err.to_dict(), {"Retry-After": "30"})
+
     @app.exception_handler(Exception)
     async def _internal(_: Request, exc: Exception) -> JSONResponse:  # never expected: the fuzz test looks for these
         return error_response(500, {"type": "internal_error", "message": f"{type(exc).__name__}"})
 
 
-class BodyLimit:
-    """Refuse request bodies over ``max_bytes`` with 413 (declared or streamed size)."""
+class RequestGuard:
+    """Every request body is read whole before the app sees it: over ``max_bytes``
+    (declared or streamed, chunked included) → 413; a JSON body must pass
+    :func:`service.guard.parse_json` (finite numbers, bounded depth and sizes, valid
+    Unicode) → else 422 naming the field. So no handler, worker or record ever sees a
+    value it cannot represent."""
 
     def __init__(self, app: ASGIApp, max_bytes: int) -> None:
         self.app = app
@@ -61,30 +76,49 @@ class BodyLimit:
     async def __call__(self, scope: dict[str, Any], receive: Any, send: Any) -> None:
         if scope["type"] != "http":
             return await self.app(scope, receive, send)
-        declared = dict(scope.get("headers", [])).get(b"content-length")
+        headers = dict(scope.get("headers", []))
+        declared = headers.get(b"content-length")
         if declared is not None and declared.isdigit() and int(declared) > self.max_bytes:
-            return await self._refuse(send)
-        seen = 0
-
-        async def counted() -> dict[str, Any]:
-            nonlocal seen
-            msg: dict[str, Any] = await receive()
-            seen += len(msg.get("body", b""))
+            return await _send_error(send, 413, self._too_large())
+        chunks, seen, more = [], 0, True
+        while more:
+            msg = await receive()
+            if msg["type"] == "http.disconnect":
+                return None
+            chunks.append(msg.get("body", b""))
+            seen += len(chunks[-1])
             if seen > self.max_bytes:
-                raise self._too_large()
-            return msg
+                return await _send_error(send, 413, self._too_large())
+            more = msg.get("more_body", False)
+        body = b"".join(chunks)
+        if body and headers.get(b"content-type", b"").split(b";")[0].strip().lower().endswith(b"json"):
+            from service.guard import parse_json
 
-        await self.app(scope, counted, send)
+            try:
+                await asyncio.to_thread(parse_json, body) if len(body) > 65_536 else parse_json(body)
+            except AlgraspError as exc:
+                return await _send_error(send, 422, exc)
+        sent = False
+
+        async def replay() -> dict[str, Any]:
+            nonlocal sent
+            if sent:  # the app asks again only to learn of a disconnect
+                return await receive()  # type: ignore[no-any-return]
+            sent = True
+            return {"type": "http.request", "body": body, "more_body": False}
+
+        await self.app(scope, replay, send)
 
     def _too_large(self) -> LimitExceededError:
         return LimitExceededError("body", f"request body larger than {self.max_bytes} bytes")
 
-    async def _refuse(self, send: Any) -> None:
-        # Before the app runs no exception handler is in place: send the handler's body.
-        body = json.dumps({"error": self._too_large().to_dict()}).encode()
-        await send({"type": "http.response.start", "status": 413,
-                    "headers": [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode())]})
-        await send({"type": "http.response.body", "body": body})
+
+async def _send_error(send: Any, status: int, exc: AlgraspError) -> None:
+    # Outside the app no exception handler is in place: send the handlers' error body.
+    body = json.dumps({"error": exc.to_dict()}).encode()
+    await send({"type": "http.response.start", "status": status,
+                "headers": [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode())]})
+    await send({"type": "http.response.body", "body": body})
 
 
 def check_key(authorization: str | None, keys: frozenset[str]) -> bool:

@@ -5,7 +5,6 @@ and gripper specification), cancel."""
 from __future__ import annotations
 
 import asyncio
-import json
 from typing import Any
 
 from fastapi import APIRouter, HTTPException, Path, Query, Request
@@ -15,8 +14,10 @@ from starlette.datastructures import UploadFile
 
 from algrasp.errors import ConfigError, LimitExceededError, PartDocumentError
 from service.catalogue import Entry, read_archive
+from service.guard import parse_json
 from service.models import LIMIT, OFFSET, JobBody, JobOptions
 from service.reports import report_zip, results_jsonl
+from service.runtime import run_task, who
 
 router = APIRouter(prefix="/v1/jobs", tags=["jobs"])
 JOB_ID = r"^[0-9a-f]{32}$"
@@ -61,13 +62,14 @@ async def _entries(request: Request, max_parts: int, max_bytes: int) -> tuple[li
         if not isinstance(upload, UploadFile):
             raise PartDocumentError("archive", "a multipart job needs a file field 'archive'")
         try:
-            opts = JobOptions.model_validate(json.loads(raw) if isinstance(raw, str) and raw else {})
-        except json.JSONDecodeError:
-            raise ConfigError("options", "not valid JSON") from None
+            opts = JobOptions.model_validate(parse_json(raw, "options") if isinstance(raw, str) and raw else {})
         except ValidationError as exc:
             raise _validation(exc, "options") from None
         data = await upload.read()
-        return await asyncio.to_thread(read_archive, data, max_parts, max_bytes), opts
+        svc = _svc(request)  # archives are read in a time-limited worker, never in the server
+        entries = await run_task(svc, "slow", who(request), read_archive, data, max_parts, max_bytes,
+                                 timeout_s=svc.settings.plan_time_limit_s, stage="archive")
+        return entries, opts
     if not ctype.startswith("application/json"):
         raise ConfigError("content-type", "send application/json (parts) or multipart/form-data (archive)")
     try:
@@ -90,7 +92,7 @@ async def create_job(request: Request) -> JSONResponse:
     if opts.gripper is not None:
         from optimisation.profile import profile_from_dict
 
-        profile_from_dict(opts.gripper)
+        profile_from_dict(opts.gripper, "options.gripper")
     job_id = await asyncio.to_thread(svc.store.create_job, opts.design(), entries)
     svc.runner.start(job_id)
     return JSONResponse({"id": job_id, "state": "queued", "total": len(entries), "links": _links(job_id)},

@@ -10,10 +10,31 @@ from __future__ import annotations
 from functools import cached_property
 from pathlib import Path
 
-from pydantic import Field
+from pydantic import Field, field_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
 from algrasp.errors import ConfigError
+
+_AGE_UNITS = {"": 1.0, "s": 1.0, "m": 60.0, "h": 3600.0, "d": 86400.0}
+_BYTE_UNITS = {"": 1.0, "b": 1.0, "k": 1e3, "m": 1e6, "g": 1e9, "t": 1e12}
+
+
+def parse_quantity(text: str, units: dict[str, float], name: str) -> float:
+    """``"30d"`` → 2592000.0 with ``units`` mapping suffixes (lower case) to factors.
+
+    >>> parse_quantity("1.5G", _BYTE_UNITS, "x")
+    1500000000.0
+    """
+    t = str(text).strip().lower()
+    unit = t.lstrip("0123456789.")
+    number = t[: len(t) - len(unit)]
+    try:
+        value = float(number) * units[unit.strip()]
+    except (ValueError, KeyError):
+        raise ValueError(f"{name}: {text!r} is not a number with a unit ({', '.join(u for u in units if u)})") from None
+    if not value >= 0 or value == float("inf"):
+        raise ValueError(f"{name}: must be ≥ 0")
+    return value
 
 
 class Settings(BaseSettings):
@@ -30,7 +51,19 @@ class Settings(BaseSettings):
         max_samples: most validation samples per part.
         analysis_time_limit_s / plan_time_limit_s: per request, analysis alone / analysis+plan+optimisation.
         validation_time_limit_s: added to the plan limit when a validation is asked for.
-        cache_entries: responses kept in the same-input cache.
+        fast_workers: worker processes for cheap requests (analyses, plans without
+            optimisation or validation), apart from the ``workers`` that take the rest.
+        queue_depth: requests that may wait per pool beyond its workers (then 503).
+        max_inflight_per_client: requests one client (API key or address) may have in
+            flight (then 429).
+        cache_bytes: bytes of responses kept in the same-input cache.
+        max_response_bytes: largest response body (a plan's trajectory samples grow
+            with ``gripper.sample_hz``); larger: 422 naming the option to lower.
+        record_max_age: run records older than this are deleted (``30d``, ``12h``,
+            ``90m``, ``3600s`` or seconds; ``0``: keep forever).
+        record_max_bytes: the oldest records are deleted past this total (``5G``,
+            ``500M``, bytes; ``0``: no limit).
+        retention_period_s: how often retention runs (also once at start-up).
     """
 
     model_config = SettingsConfigDict(env_prefix="ALGRASP_", extra="ignore")
@@ -48,7 +81,34 @@ class Settings(BaseSettings):
     analysis_time_limit_s: float = Field(default=20.0, gt=0)
     plan_time_limit_s: float = Field(default=60.0, gt=0)
     validation_time_limit_s: float = Field(default=1800.0, gt=0)
-    cache_entries: int = Field(default=4096, ge=0)
+    fast_workers: int = Field(default=2, ge=1, le=64)
+    queue_depth: int = Field(default=16, ge=0, le=10_000)
+    max_inflight_per_client: int = Field(default=16, ge=1, le=10_000)
+    cache_bytes: int = Field(default=64_000_000, ge=0)
+    max_response_bytes: int = Field(default=16_000_000, ge=10_000)
+    record_max_age: str = "30d"
+    record_max_bytes: str = "5G"
+    retention_period_s: float = Field(default=60.0, gt=0)
+
+    @field_validator("record_max_age")
+    @classmethod
+    def _age(cls, v: str) -> str:
+        parse_quantity(v, _AGE_UNITS, "record_max_age")
+        return v
+
+    @field_validator("record_max_bytes")
+    @classmethod
+    def _bytes(cls, v: str) -> str:
+        parse_quantity(v, _BYTE_UNITS, "record_max_bytes")
+        return v
+
+    @property
+    def record_max_age_s(self) -> float:
+        return parse_quantity(self.record_max_age, _AGE_UNITS, "record_max_age")
+
+    @property
+    def record_max_total_bytes(self) -> float:
+        return parse_quantity(self.record_max_bytes, _BYTE_UNITS, "record_max_bytes")
 
     @property
     def db_url(self) -> str:

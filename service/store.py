@@ -11,7 +11,7 @@ import time
 import uuid
 from typing import Any
 
-from sqlalchemy import JSON, Float, ForeignKey, Integer, String, UniqueConstraint, create_engine, event, func, select, update
+from sqlalchemy import JSON, Float, ForeignKey, Integer, String, UniqueConstraint, create_engine, delete, event, func, select, update
 from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column, sessionmaker
 
 UNFINISHED = ("queued", "running")
@@ -34,6 +34,12 @@ class RunRow(Base):
     status: Mapped[str] = mapped_column(String(16))
     error: Mapped[dict[str, Any] | None] = mapped_column(JSON)
     job_id: Mapped[str | None] = mapped_column(String(32), index=True)
+
+
+class HealthRow(Base):
+    __tablename__ = "health"
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    checked_at: Mapped[float] = mapped_column(Float)
 
 
 class JobRow(Base):
@@ -80,6 +86,23 @@ class Store:
         with self._session.begin() as s:
             s.merge(RunRow(job_id=job_id, created_at=time.time(), **run))
 
+    def add_runs(self, runs: list[dict[str, Any]]) -> None:
+        """Several run rows in one transaction (all or none)."""
+        with self._session.begin() as s:
+            for run in runs:
+                s.merge(RunRow(job_id=None, created_at=time.time(), **run))
+
+    def delete_runs(self, run_ids: list[str]) -> None:
+        """Forget runs whose records retention deleted."""
+        with self._session.begin() as s:
+            s.execute(delete(RunRow).where(RunRow.run_id.in_(run_ids)))
+
+    def check(self) -> None:
+        """A write and a read (readiness): raises SQLAlchemyError when the database cannot
+        take writes (read-only, full, gone)."""
+        with self._session.begin() as s:
+            s.merge(HealthRow(id=1, checked_at=time.time()))
+
     def runs(self, limit: int, offset: int) -> tuple[int, list[dict[str, Any]]]:
         with self._session() as s:
             total = s.scalar(select(func.count()).select_from(RunRow)) or 0
@@ -124,11 +147,16 @@ class Store:
         with self._session() as s:
             return list(s.scalars(select(JobRow.id).where(JobRow.state.in_(UNFINISHED)).order_by(JobRow.created_at)))
 
-    def pending_parts(self, job_id: str) -> list[tuple[int, dict[str, Any]]]:
+    def pending_parts(self, job_id: str) -> list[tuple[int, dict[str, Any], int]]:
+        """``(index, document, attempts so far)`` of each pending part."""
         with self._session() as s:
-            rows = s.execute(select(PartRow.idx, PartRow.document)
+            rows = s.execute(select(PartRow.idx, PartRow.document, PartRow.attempts)
                              .where(PartRow.job_id == job_id, PartRow.status == "pending").order_by(PartRow.idx))
-            return [(int(i), dict(d)) for i, d in rows]
+            return [(int(i), dict(d), int(a)) for i, d, a in rows]
+
+    def attempts(self, job_id: str, idx: int) -> int:
+        with self._session() as s:
+            return int(s.scalar(select(PartRow.attempts).where(PartRow.job_id == job_id, PartRow.idx == idx)) or 0)
 
     def start_attempt(self, job_id: str, idx: int) -> None:
         with self._session.begin() as s:

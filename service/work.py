@@ -10,7 +10,7 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from algrasp.errors import AlgraspError
+from algrasp.errors import AlgraspError, StorageError
 from algrasp.record.session import Recording, recording
 
 TaskResult = tuple[dict[str, Any] | None, dict[str, Any], AlgraspError | None]
@@ -25,30 +25,36 @@ def _run_row(rec: Recording, command: str, doc: dict[str, Any], action: str | No
             "status": "error" if error else "ok", "error": error.to_dict() if error else None}
 
 
-def analysis_task(doc: dict[str, Any], record_dir: str, options: dict[str, Any] | None = None) -> TaskResult:
+def analysis_task(doc: dict[str, Any], record_dir: str, options: dict[str, Any] | None = None,
+                  run_id: str | None = None) -> TaskResult:
     """``POST /v1/analyses``: the analysis object of ``algrasp analyze``; ``options``
     ``{"exact", "physics"}`` choose the model (default robust)."""
     from algrasp.analysis import Model, analyse_document
 
+    model = Model.from_options(options or {})
     try:
-        model = Model.from_options(options or {})
-        with recording(True, Path(record_dir), "analyze", doc, model.to_options()) as rec:
+        with recording(True, Path(record_dir), "analyze", doc, model.to_options(), run_id) as rec:
             out = analyse_document(doc, model).to_dict()
             rec.analysis(out)
+    except StorageError:
+        raise  # no run to report: the record could not be written
     except AlgraspError as exc:
         return None, _run_row(rec, "analyze", doc, None, exc), exc
     return {**out, "run_id": rec.run_id}, _run_row(rec, "analyze", doc, None, None), None
 
 
-def plan_task(doc: dict[str, Any], request: dict[str, Any], record_dir: str, sim_workers: int) -> TaskResult:
+def plan_task(doc: dict[str, Any], request: dict[str, Any], record_dir: str, sim_workers: int,
+              run_id: str | None = None) -> TaskResult:
     """``POST /v1/plans``: the plan document (+ ``validation`` when asked for)."""
     from algrasp.pipeline import PlanRequest, plan_part
 
     req = PlanRequest(**request)
     command = "validate" if req.samples else "plan"
     try:
-        with recording(True, Path(record_dir), command, doc, req.record_options()) as rec:
+        with recording(True, Path(record_dir), command, doc, req.record_options(), run_id) as rec:
             out = plan_part(doc, req, rec, sim_workers=sim_workers)
+    except StorageError:
+        raise  # no run to report: the record could not be written
     except AlgraspError as exc:
         return None, _run_row(rec, command, doc, req.action, exc), exc
     v = out.validation_doc()
@@ -57,7 +63,8 @@ def plan_task(doc: dict[str, Any], request: dict[str, Any], record_dir: str, sim
     return response, _run_row(rec, command, doc, req.action, None, out.plan_doc, None if v is None else v["agreement"]), None
 
 
-def design_task(doc: dict[str, Any], options: dict[str, Any], record_dir: str, sim_workers: int) -> TaskResult:
+def design_task(doc: dict[str, Any], options: dict[str, Any], record_dir: str, sim_workers: int,
+                run_id: str | None = None) -> TaskResult:
     """One part of a batch job: its fixture design (``service.fixture.design_part``)."""
     from algrasp.analysis import analyse_document
     from service.fixture import DesignOptions, design_part
@@ -65,11 +72,13 @@ def design_task(doc: dict[str, Any], options: dict[str, Any], record_dir: str, s
     opts = DesignOptions(**options)
     out: dict[str, Any] = {}
     try:
-        with recording(True, Path(record_dir), "design", doc, {"design": options}) as rec:
+        with recording(True, Path(record_dir), "design", doc, {"design": options}, run_id) as rec:
             analysis = analyse_document(doc, opts.model)
             if not (analysis.squeeze.steps or analysis.push_grasp.steps):
                 rec.analysis(analysis.to_dict())  # no plan follows; else plan_part records the analysis
             out = design_part(doc, opts, rec, analysis, sim_workers)
+    except StorageError:
+        raise  # no run to report: the record could not be written
     except AlgraspError as exc:
         return None, _run_row(rec, "design", doc, None, exc), exc
     val = out.get("validation") or {}

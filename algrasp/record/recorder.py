@@ -18,6 +18,7 @@ last complete chunk. Channels:
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -58,6 +59,13 @@ def versions() -> dict[str, str]:
     return out
 
 
+def _storage_error(directory: Path, err: OSError) -> Exception:
+    from algrasp.errors import StorageError
+
+    return StorageError("records", f"cannot write run records in {directory}: {err.strerror or err} "
+                        "(disk full or read-only?)", 30.0)
+
+
 class RunRecorder:
     """Context manager writing one run; ``path`` is the final record path."""
 
@@ -71,7 +79,10 @@ class RunRecorder:
         self.partial = self.directory / f"{self.run_id}.mcap.partial"
         self.started = time.time()
         self._t0_ns = time.time_ns()
-        self._file = open(self.partial, "wb")  # noqa: SIM115 - closed in close()
+        try:
+            self._file = open(self.partial, "wb")  # noqa: SIM115 - closed in close()
+        except OSError as err:
+            raise _storage_error(self.directory, err) from None
         self._writer = Writer(self._file, chunk_size=CHUNK_BYTES, compression=CompressionType.ZSTD)
         self._writer.start(profile="", library="algrasp")
         self._channels: dict[str, int] = {}
@@ -84,7 +95,20 @@ class RunRecorder:
         if exc is not None and not isinstance(exc, Exception):
             self._file.close()  # KeyboardInterrupt etc.: leave the partial file as it is
             return
-        self.finish(error=None if exc is None else exc)
+        try:
+            self.finish(error=None if exc is None else exc)
+        except OSError as err:  # disk full, read-only: nothing half written is left
+            self.discard()
+            raise _storage_error(self.directory, err) from None
+        if isinstance(exc, OSError):  # a write failed in the block, the summary did not
+            self.path.unlink(missing_ok=True)
+            raise _storage_error(self.directory, exc) from None
+
+    def discard(self) -> None:
+        """Close and remove the partial record (a run that cannot be written whole)."""
+        with contextlib.suppress(OSError):
+            self._file.close()
+        self.partial.unlink(missing_ok=True)
 
     def _channel(self, topic: str) -> int:
         if topic not in self._channels:

@@ -51,13 +51,14 @@ class Recording:
 
 @contextmanager
 def recording(enabled: bool, directory: Path | None, command: str, part: dict[str, Any],
-              options: dict[str, Any]) -> Iterator[Recording]:
+              options: dict[str, Any], run_id: str | None = None) -> Iterator[Recording]:
     """A Recording for the block; the record is completed (and renamed) when the block
-    ends, also when it raises (the ``/run`` status then says ``error``)."""
+    ends, also when it raises (the ``/run`` status then says ``error``). ``run_id``: chosen
+    by the caller (the service, so it can remove the partial record of a worker it lost)."""
     if not enabled:
         yield Recording(None, command, part, options)
         return
-    with RunRecorder(directory) as rec:
+    with RunRecorder(directory, run_id) as rec:
         session = Recording(rec, command, part, options)
         t0 = time.perf_counter()
         yield session

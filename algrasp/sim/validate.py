@@ -88,6 +88,10 @@ _SIMS: dict[str, Any] = {}
 def _warm() -> None:
     import pydrake.all  # noqa: F401  (the expensive import, once per worker)
 
+    from algrasp.lifecycle import exit_with_parent
+
+    exit_with_parent()
+
 
 def _key(doc: dict[str, Any], cfg: SimConfig) -> str:
     return hashlib.sha256(json.dumps([doc, asdict(cfg)], sort_keys=True).encode()).hexdigest()

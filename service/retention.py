@@ -1,0 +1,64 @@
+"""Run-record retention: records do not grow without bound.
+
+At start-up every ``*.mcap.partial`` in the record directory is removed (no worker of a
+previous process can still be writing it). Then, once a ``retention_period_s``, records
+older than ``ALGRASP_RECORD_MAX_AGE`` are deleted, and the oldest go while the total
+is over ``ALGRASP_RECORD_MAX_BYTES``; their run rows go with them (``/v1/runs/{id}``
+answers 404). Jobs keep their results. Complexity: one directory listing per sweep.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import time
+from pathlib import Path
+from typing import Any
+
+from service.settings import Settings
+
+
+def clean_partials(log_dir: Path) -> int:
+    """Remove every partial record (start-up only); returns how many."""
+    n = 0
+    for p in log_dir.glob("*.mcap.partial") if log_dir.is_dir() else ():
+        with contextlib.suppress(OSError):
+            p.unlink()
+            n += 1
+    return n
+
+
+def sweep(log_dir: Path, max_age_s: float, max_bytes: float, now: float | None = None) -> list[str]:
+    """Delete records past the age or total-size limit (0: no limit); returns their run ids."""
+    now = time.time() if now is None else now
+    files = []
+    for p in log_dir.glob("*.mcap"):
+        with contextlib.suppress(OSError):
+            st = p.stat()
+            files.append((st.st_mtime, st.st_size, p))
+    files.sort()  # oldest first
+    total = sum(size for _, size, _ in files)
+    gone = []
+    for mtime, size, p in files:
+        too_old = max_age_s > 0 and now - mtime > max_age_s
+        too_big = max_bytes > 0 and total > max_bytes
+        if not (too_old or too_big):
+            break
+        with contextlib.suppress(OSError):
+            p.unlink()
+            gone.append(p.stem)
+            total -= size
+    return gone
+
+
+async def retention_loop(settings: Settings, store: Any) -> None:
+    """Sweep now and every ``retention_period_s`` until cancelled."""
+    while True:
+        try:
+            gone = await asyncio.to_thread(sweep, settings.log_dir, settings.record_max_age_s,
+                                           settings.record_max_total_bytes)
+            if gone:
+                await asyncio.to_thread(store.delete_runs, gone)
+        except Exception as exc:  # noqa: BLE001 - a failed sweep (read-only DB…) is retried next period
+            print(f"algrasp: record retention: {type(exc).__name__}: {exc}", flush=True)
+        await asyncio.sleep(settings.retention_period_s)

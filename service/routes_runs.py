@@ -1,0 +1,148 @@
+"""Service health and recorded runs: ``/healthz`` (alive), ``/readyz`` (pools, database,
+record directory), ``/metrics``, and ``/v1/runs`` with their records and figures.
+
+A damaged record never makes a 500: its summary is ``null`` with the reason, its figure
+a 422 naming the record."""
+
+from __future__ import annotations
+
+import asyncio
+import shutil
+import uuid
+from pathlib import Path as FilePath
+from typing import Any
+
+from fastapi import APIRouter, HTTPException, Path, Request
+from fastapi.responses import FileResponse, JSONResponse, PlainTextResponse, Response
+from prometheus_client import CONTENT_TYPE_LATEST, generate_latest
+
+from algrasp.errors import AlgraspError
+from service.catalogue import canonical_hash
+from service.executor import ping
+from service.models import LIMIT, OFFSET
+from service.runtime import AUTH, VERSION, ServiceState, index_run, run_task, state, who
+from service.work import figure_task
+
+router = APIRouter()
+RUN_ID = r"^[0-9]{8}T[0-9]{6}Z-[0-9a-f]{8}$"
+MIN_FREE_BYTES = 50_000_000
+"""Below this much free space in the record directory the service is not ready."""
+
+
+@router.get("/healthz", tags=["service"])
+async def healthz(request: Request) -> dict[str, Any]:
+    """Alive: the process answers (says nothing of its pools or storage: see ``/readyz``)."""
+    svc = state(request)
+    return {"status": "ok", "version": VERSION, "executor": svc.runner.executor.name}
+
+
+@router.get("/readyz", tags=["service"])
+async def readyz(request: Request) -> JSONResponse:
+    """Ready: every pool answers a task, the database takes a write, the record directory
+    takes a file and has room. 503 names the failing part."""
+    svc = state(request)
+    checks = dict(zip(("pool.fast", "pool.slow", "pool.jobs", "database", "records"), await asyncio.gather(
+        _pool(svc, svc.pools["fast"]), _pool(svc, svc.pools["slow"]), _pool(svc, svc.runner.executor),
+        asyncio.to_thread(_database, svc), asyncio.to_thread(_records, svc.settings.log_dir))))
+    if checks["database"] == "ok" and svc.unindexed:
+        try:
+            await index_run(svc, svc.unindexed.pop())
+        except AlgraspError as exc:
+            checks["database"] = exc.message
+    failing = [k for k, v in checks.items() if v != "ok"]
+    if not failing:
+        return JSONResponse({"status": "ready", "checks": checks, "load": svc.gate.load()})
+    error = {"type": "unavailable", "reason": failing[0], "message": f"{failing[0]}: {checks[failing[0]]}",
+             "checks": checks}
+    return JSONResponse({"error": error}, status_code=503, headers={"Retry-After": "5"})
+
+
+async def _pool(svc: ServiceState, pool: Any) -> str:
+    try:
+        await asyncio.wait_for(asyncio.wrap_future(pool.submit(ping, timeout_s=10.0, stage="readiness")), 15.0)
+    except Exception as exc:  # noqa: BLE001 - whatever stops a pool is what readiness reports
+        return f"no worker answered ({type(exc).__name__}: {getattr(exc, 'message', exc)})"
+    return "ok"
+
+
+def _database(svc: ServiceState) -> str:
+    from sqlalchemy.exc import SQLAlchemyError
+
+    try:
+        svc.store.check()
+    except SQLAlchemyError as exc:
+        return f"cannot write ({type(getattr(exc, 'orig', None) or exc).__name__}: {str(getattr(exc, 'orig', None) or exc)[:200]})"
+    return "ok"
+
+
+def _records(log_dir: FilePath) -> str:
+    probe = log_dir / f".ready-{uuid.uuid4().hex}"
+    try:
+        probe.write_bytes(b"ok")
+        probe.unlink()
+        free = shutil.disk_usage(log_dir).free
+    except OSError as exc:
+        return f"cannot write in {log_dir}: {exc.strerror or exc}"
+    return "ok" if free >= MIN_FREE_BYTES else f"only {free // 1_000_000} MB free in {log_dir}"
+
+
+@router.get("/metrics", tags=["service"], dependencies=AUTH, response_class=PlainTextResponse)
+async def metrics(request: Request) -> Response:
+    svc = state(request)
+    counts = await asyncio.to_thread(svc.store.counts)
+    for k, n in counts["jobs"].items():
+        svc.metrics.jobs.labels(k).set(n)
+    for k, n in counts["parts"].items():
+        svc.metrics.parts.labels(k).set(n)
+    return Response(generate_latest(svc.metrics.registry), media_type=CONTENT_TYPE_LATEST)
+
+
+@router.get("/v1/runs", tags=["runs"], dependencies=AUTH)
+async def runs(request: Request, limit: int = LIMIT, offset: int = OFFSET) -> dict[str, Any]:
+    total, rows = await asyncio.to_thread(state(request).store.runs, limit, offset)
+    return {"total": total, "limit": limit, "offset": offset, "runs": rows}
+
+
+@router.get("/v1/runs/{run_id}", tags=["runs"], dependencies=AUTH)
+async def run(request: Request, run_id: str = Path(pattern=RUN_ID)) -> dict[str, Any]:
+    """The stored run and its record's summary (``record: null`` and ``record_error``
+    when the record is damaged)."""
+    from algrasp.record.replay import summary
+
+    row, path = _run_file(request, run_id)
+    try:
+        return {**row, "record": await asyncio.to_thread(summary, path)}
+    except AlgraspError as exc:
+        return {**row, "record": None, "record_error": exc.message}
+
+
+@router.get("/v1/runs/{run_id}/record", tags=["runs"], dependencies=AUTH, response_class=FileResponse)
+async def record(request: Request, run_id: str = Path(pattern=RUN_ID)) -> FileResponse:
+    _, path = _run_file(request, run_id)
+    return FileResponse(path, media_type="application/octet-stream", filename=path.name)
+
+
+@router.get("/v1/runs/{run_id}/figure.svg", tags=["runs"], dependencies=AUTH, response_class=Response)
+async def figure(request: Request, run_id: str = Path(pattern=RUN_ID)) -> Response:
+    """The plan figure of a recorded plan run (422 when the run has no plan or its record
+    is damaged)."""
+    svc = state(request)
+    _, path = _run_file(request, run_id)
+    key = canonical_hash(["figure", VERSION, run_id, path.stat().st_mtime_ns])
+    if key not in svc.cache:
+        svc.cache[key] = await run_task(svc, "slow", who(request), figure_task, str(path),
+                                        timeout_s=svc.settings.plan_time_limit_s, stage="figure")
+    return Response(svc.cache[key], media_type="image/svg+xml")
+
+
+def _run_file(request: Request, run_id: str) -> tuple[dict[str, Any], FilePath]:
+    """The stored run and its record path; 404 for unknown runs or missing records
+    (deleted by retention). ``run_id`` matched RUN_ID, so the path stays inside the log
+    directory."""
+    svc = state(request)
+    row = svc.store.run(run_id)
+    path = svc.settings.log_dir / f"{run_id}.mcap"
+    if row is None or not path.is_file():
+        raise HTTPException(404, f"no run {run_id!r}")
+    return row, path
+

@@ -1,0 +1,113 @@
+"""What every route shares: the service state, authentication, client identity, running
+a task on a pool under admission control, indexing its run, bounded response bodies."""
+
+from __future__ import annotations
+
+import asyncio
+import importlib.metadata
+import json
+from contextlib import suppress
+from dataclasses import dataclass, field
+from typing import Any
+
+from cachetools import LRUCache
+from fastapi import Depends, Header, HTTPException, Request
+
+from algrasp.errors import LimitExceededError, StorageError, TimeLimitError
+from service.admission import Gate, client_id
+from service.executor import Executor
+from service.jobs import JobRunner
+from service.middleware import Metrics, check_key
+from service.settings import Settings
+from service.store import Store
+
+VERSION = importlib.metadata.version("algrasp")
+LATE_S = 5.0
+"""Grace past a task's own time limit before the server stops waiting for its worker."""
+
+
+@dataclass
+class ServiceState:
+    settings: Settings
+    store: Store
+    pools: dict[str, Executor]  # "fast": cheap interactive requests, "slow": the rest
+    runner: JobRunner  # batch jobs, on their own executor
+    metrics: Metrics
+    gate: Gate
+    cache: LRUCache[str, bytes]
+    unindexed: list[dict[str, Any]] = field(default_factory=list)  # runs the database could not take yet
+
+
+def state(request: Request) -> ServiceState:
+    return request.app.state.svc  # type: ignore[no-any-return]
+
+
+def require_key(request: Request, authorization: str | None = Header(None)) -> None:
+    """Every endpoint but ``/healthz``/``/readyz``: ``Authorization: Bearer KEY`` when keys are configured."""
+    if not check_key(authorization, state(request).settings.keys):
+        raise HTTPException(401, "missing or wrong API key (Authorization: Bearer KEY)", {"WWW-Authenticate": "Bearer"})
+
+
+def who(request: Request) -> str:
+    return client_id(request.headers.get("authorization"), request.client.host if request.client else None)
+
+
+async def run_task(svc: ServiceState, pool: str, client: str, fn: Any, *args: Any, timeout_s: float, stage: str,
+                   run_id: str | None = None) -> Any:
+    """Run ``fn`` on ``pool`` with a time limit that always fires; index its run; raise
+    its user error. Refused at once (503/429) when the pool or the client is full."""
+    with svc.gate.admit(pool, client):
+        fut = svc.pools[pool].submit(fn, *args, *(() if run_id is None else (run_id,)), timeout_s=timeout_s, stage=stage)
+        try:
+            out = await asyncio.wait_for(asyncio.wrap_future(fut), timeout_s + LATE_S)
+        except TimeoutError:
+            fut.cancel()
+            _drop_partial(svc, run_id)
+            raise TimeLimitError(stage, timeout_s) from None
+        except BaseException:
+            _drop_partial(svc, run_id)
+            raise
+    if not isinstance(out, tuple):
+        return out
+    response, run, err = out
+    await index_run(svc, run)
+    if err is not None:
+        raise err
+    return response
+
+
+def _drop_partial(svc: ServiceState, run_id: str | None) -> None:
+    """The worker was killed (time limit, crash): its half-written record goes too."""
+    if run_id is not None:
+        with suppress(OSError):
+            (svc.settings.log_dir / f"{run_id}.mcap.partial").unlink(missing_ok=True)
+
+
+async def index_run(svc: ServiceState, run: dict[str, Any]) -> None:
+    """Store a run row (with any the database refused before). If the database cannot
+    take it, the record is kept and the row waits in memory for the next write or
+    ``/readyz``: a 503 says so, and the run is not lost."""
+    from sqlalchemy.exc import SQLAlchemyError
+
+    rows = [*svc.unindexed, run]
+    try:
+        await asyncio.to_thread(svc.store.add_runs, rows)
+    except SQLAlchemyError as exc:
+        svc.unindexed[:] = rows[-10_000:]
+        raise StorageError("database", f"the run {run['run_id']} is recorded but the database cannot be written "
+                           f"({type(getattr(exc, 'orig', None) or exc).__name__}: read-only or full?); it is indexed once the database "
+                           "is writable", 30.0) from None
+    svc.unindexed.clear()
+
+
+def encoded(svc: ServiceState, value: Any, option: str) -> bytes:
+    """The JSON body of a response, bounded by ``max_response_bytes`` (``option``: what to lower)."""
+    body = json.dumps(value, allow_nan=False, separators=(",", ":")).encode()
+    if len(body) > svc.settings.max_response_bytes:
+        raise LimitExceededError(option, f"the response would be {len(body)} bytes (at most "
+                                 f"{svc.settings.max_response_bytes}): lower {option}")
+    return body
+
+
+
+AUTH = [Depends(require_key)]
