@@ -52,6 +52,14 @@ def _positive(value: Any, field: str, index: int) -> float:
     return x
 
 
+def _length(value: Any, field: str, index: int, limits: Limits) -> float:
+    """A positive length within the coordinate limit (radii, semi-axes)."""
+    x = _positive(value, field, index)
+    if x > limits.max_abs_coordinate:
+        raise LimitExceededError(field, f"{x:g} exceeds the coordinate limit {limits.max_abs_coordinate:g}", index)
+    return x
+
+
 def _sweep(seg: Mapping[str, Any], field: str, index: int) -> tuple[float, float]:
     a = number(seg["start_deg"], f"{field}.start_deg", index)
     b = number(seg["end_deg"], f"{field}.end_deg", index)
@@ -67,7 +75,7 @@ def parse_segment(seg: Any, field: str, index: int, limits: Limits) -> Segment:
     if not isinstance(seg, Mapping):
         raise PartDocumentError(field, "expected a segment object", index)
     kind = seg.get("type")
-    if kind not in _SEGMENT_KEYS:
+    if not isinstance(kind, str) or kind not in _SEGMENT_KEYS:
         raise PartDocumentError(f"{field}.type", f"unknown segment type {kind!r} (line, arc, ellipse_arc, bezier)", index)
     required, optional = _SEGMENT_KEYS[kind]
     missing = sorted(required - set(seg))
@@ -80,13 +88,13 @@ def parse_segment(seg: Any, field: str, index: int, limits: Limits) -> Segment:
         return Line(point(seg["start"], f"{field}.start", index, limits), point(seg["end"], f"{field}.end", index, limits))
     if kind == "arc":
         c = point(seg["center"], f"{field}.center", index, limits)
-        r = _positive(seg["radius"], f"{field}.radius", index)
+        r = _length(seg["radius"], f"{field}.radius", index, limits)
         a, b = _sweep(seg, field, index)
         return EllipseArc(c, r, r, 0.0, a, b, is_circle=True)
     if kind == "ellipse_arc":
         c = point(seg["center"], f"{field}.center", index, limits)
-        rx = _positive(seg["rx"], f"{field}.rx", index)
-        ry = _positive(seg["ry"], f"{field}.ry", index)
+        rx = _length(seg["rx"], f"{field}.rx", index, limits)
+        ry = _length(seg["ry"], f"{field}.ry", index, limits)
         rot = math.radians(number(seg.get("rotation_deg", 0.0), f"{field}.rotation_deg", index))
         a, b = _sweep(seg, field, index)
         return EllipseArc(c, rx, ry, rot, a, b, is_circle=rx == ry)

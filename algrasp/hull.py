@@ -20,6 +20,7 @@ from typing import Literal
 
 import numpy as np
 from scipy.spatial import ConvexHull as Qhull
+from scipy.spatial import QhullError
 
 from algrasp.bank import FeatureTable
 from algrasp.curves import FloatArray, Piece
@@ -258,7 +259,11 @@ def exact_hull(boundary: list[Segment], size: float, tol: Tolerances) -> ConvexH
     """
     loop = build_loop(boundary, size)
     pts, members, contacts = candidate_points(loop, tol)
-    order = Qhull(pts).vertices
+    try:
+        order = Qhull(pts).vertices
+    except QhullError:  # fewer than 3 hull points (a cusp or a sliver drawn as a curve)
+        raise GeometryError(f"boundary: the convex hull is degenerate ({len(pts)} candidate points): is the part "
+                            "a sliver or a curve with a cusp?") from None
     h = len(order)
     links = [_link(members[order[i]], members[order[(i + 1) % h]]) for i in range(h)]
     elems = _elements(loop, order, links, contacts, size)

@@ -81,6 +81,7 @@ def load_part(doc: Mapping[str, Any], tol: Tolerances = DEFAULT_TOLERANCES, limi
         boundary, recognised = snap_tessellations(boundary, tol)
     size = _size([boundary, *holes])
     field = "polygon" if "polygon" in doc else "boundary"
+    _check_precision([boundary, *holes], size, field, tol)
     _check_loop(boundary, field, size, tol)
     for i, hole in enumerate(holes):
         _check_loop(hole, f"holes[{i}]", size, tol)
@@ -123,6 +124,15 @@ def _center_of_mass(doc: Mapping[str, Any], centroid: tuple[float, float],
     if margin <= 0.0:
         raise PartDocumentError("center_of_mass", f"({com[0]:g}, {com[1]:g}) lies outside the convex hull (by {-margin:.3g})")
     return com, True
+
+
+def _check_precision(loops: list[list[Segment]], size: float, field: str, tol: Tolerances) -> None:
+    """A part far smaller than its distance from the origin has no exact analysis in
+    double precision (its coordinates differ in the last digits only)."""
+    reach = max(max(abs(c) for c in s.start) for loop in loops for s in loop)
+    if size < tol.position_rel * reach:
+        raise PartDocumentError(field, f"the part ({size:.3g} across) lies {reach:.3g} from the origin: too small "
+                                "for its position in double precision; move it near the origin")
 
 
 def _size(loops: list[list[Segment]]) -> float:
@@ -183,6 +193,8 @@ def _polyline(loop: list[Segment]) -> tuple[FloatArray, list[FloatArray]]:
 def _check_simple(boundary: list[Segment], holes: list[list[Segment]], field: str) -> None:
     """Self-intersection of the boundary and holes (tessellated only for this test)."""
     shell, parts = _polyline(boundary)
+    if len(np.unique(np.round(shell, 12), axis=0)) < 3:
+        raise PartDocumentError(field, "the loop is degenerate: it has fewer than three distinct points")
     reason = shapely.is_valid_reason(Polygon(shell))
     if reason != "Valid Geometry":
         raise PartDocumentError(field, _explain(reason, parts, field))

@@ -40,11 +40,14 @@ class Tolerances:
         snap_turn_rad: polygon vertices turning at most this much (all the same way, in
             runs of at least ``tessellation_min_run``, on one circle) tessellate an arc and
             become it in the robust model (a 48-gon turns 7.5°, a 64-gon 5.6°).
+        position_rel: a part smaller than this times its distance from the origin is
+            refused (its analysis would be rounding noise: 1e-7 leaves 9 digits).
         symmetry_value_rel: values of d or r that agree within this (relative to size),
             plus the drawing's own value error, are equal when judging symmetry.
     """
 
     closure_rel: float = 1e-6
+    position_rel: float = 1e-7
     zero_length_rel: float = 1e-9
     zero_area_rel: float = 1e-9
     concentric_rel: float = 1e-9

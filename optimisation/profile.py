@@ -57,14 +57,14 @@ class GripperProfile:
     def __post_init__(self) -> None:
         for f in fields(self):
             value = getattr(self, f.name)
-            zero_ok = f.name in ("placement_tolerance_m", "hold_s")
+            lo, hi, zero_ok = RANGES[f.name]
             if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value) \
-                    or value < 0 or (value == 0 and not zero_ok):
-                raise ConfigError(f.name, f"must be a {'non-negative' if zero_ok else 'positive'} number, got {value!r}")
+                    or not (lo <= value <= hi) or (value == lo and not zero_ok):
+                bracket = "[" if zero_ok else "("
+                raise ConfigError(f.name, f"must be a number in {bracket}{lo:g}, {hi:g}], got {value!r}")
+            object.__setattr__(self, f.name, float(value))  # JSON integers are durations too
         if self.contact_speed_m_s > self.jaw_max_speed_m_s:
             raise ConfigError("contact_speed_m_s", "must not exceed jaw_max_speed_m_s")
-        if self.push_tolerance_deg >= 45 or self.unstable_band_deg >= 45:
-            raise ConfigError("push_tolerance_deg", "push_tolerance_deg and unstable_band_deg must be below 45")
 
     @property
     def squeeze_overtravel_m(self) -> float:
@@ -74,6 +74,19 @@ class GripperProfile:
     def to_dict(self) -> dict[str, float]:
         return {f.name: float(getattr(self, f.name)) for f in fields(self)}
 
+
+RANGES: dict[str, tuple[float, float, bool]] = {
+    "jaw_max_speed_m_s": (0.0, 10.0, False), "jaw_max_accel_m_s2": (0.0, 1000.0, False),
+    "contact_speed_m_s": (0.0, 10.0, False), "rotate_max_speed_rad_s": (0.0, 100.0, False),
+    "rotate_max_accel_rad_s2": (0.0, 10_000.0, False), "grip_force_n": (0.0, 10_000.0, False),
+    "jaw_stiffness_n_m": (0.0, 1e9, False), "open_clearance_m": (0.0, 1.0, False),
+    "placement_tolerance_m": (0.0, 1.0, True), "hold_s": (0.0, 60.0, True),
+    "push_tolerance_deg": (0.0, 44.9, False), "unstable_band_deg": (0.0, 44.9, False),
+    "sample_hz": (0.0, 1000.0, False),
+}
+"""The documented range of each key: (low, high, whether low itself is allowed). The
+upper bounds keep a plan's size and duration finite (``sample_hz`` ≤ 1 kHz: a plan
+document stays a few MB); ``push_tolerance_deg``/``unstable_band_deg`` stay below 45°."""
 
 DEFAULT_PROFILE = GripperProfile()
 DEFAULT_PROFILE_PATH = Path(__file__).parent / "profiles" / "default.yaml"

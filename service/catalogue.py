@@ -11,8 +11,10 @@ from __future__ import annotations
 import hashlib
 import io
 import json
+import lzma
 import tarfile
 import zipfile
+import zlib
 from collections.abc import Iterator
 from pathlib import Path, PurePosixPath
 from typing import Any
@@ -31,10 +33,9 @@ def part_from_bytes(filename: str, data: bytes) -> dict[str, Any]:
 
     if is_cad(filename):
         return import_bytes(filename, data)
-    try:
-        doc = json.loads(data.decode("utf-8"))
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise PartDocumentError(filename, f"not valid JSON: {exc}") from None
+    from service.guard import parse_json
+
+    doc = parse_json(data, filename)  # finite numbers, bounded depth: as over HTTP
     if not isinstance(doc, dict):
         raise PartDocumentError(filename, "a part document must be a JSON object")
     return doc
@@ -58,28 +59,64 @@ def _entries(filename: str, data: bytes) -> list[Entry]:
     return out
 
 
-def _members(data: bytes) -> Iterator[tuple[str, int, Any]]:
-    """(name, size, reader) of each regular file of a zip or tar archive."""
+MAX_MEMBERS = 100_000
+"""Most entries (files, directories, links) an archive may list."""
+
+
+def _members(data: bytes, max_bytes: int) -> Iterator[tuple[str, int, Any]]:
+    """(name, size, reader) of each regular file of a zip or tar archive. A tar is read
+    member by member: a member declared larger than ``max_bytes`` stops the listing
+    before its content is decompressed (a 5 GiB member in a 4 KB tar.bz2)."""
     if zipfile.is_zipfile(io.BytesIO(data)):
         zf = zipfile.ZipFile(io.BytesIO(data))
-        for info in zf.infolist():
+        infos = zf.infolist()
+        if len(infos) > MAX_MEMBERS:
+            raise LimitExceededError("archive", f"more than {MAX_MEMBERS} entries")
+        for info in infos:
             if not info.is_dir():
-                yield info.filename, info.file_size, lambda i=info: zf.read(i)
+                yield _text(info.filename), info.file_size, lambda i=info: _bounded(zf.open(i), max_bytes)
         return
     try:
         tf = tarfile.open(fileobj=io.BytesIO(data), mode="r:*")  # noqa: SIM115 - read lazily by the caller
     except tarfile.TarError:
         raise PartDocumentError("archive", "not a zip or tar archive") from None
-    for m in tf.getmembers():
+    for n, m in enumerate(iter(tf.next, None)):
+        if n >= MAX_MEMBERS:
+            raise LimitExceededError("archive", f"more than {MAX_MEMBERS} entries")
         if m.isfile():
-            yield m.name, m.size, lambda m=m: tf.extractfile(m).read()  # type: ignore[union-attr]
+            if m.size > max_bytes:
+                raise LimitExceededError("archive", f"member {_text(m.name)!r} declares {m.size} bytes (at most "
+                                         f"{max_bytes})")
+            yield _text(m.name), m.size, lambda m=m: _bounded(tf.extractfile(m), max_bytes)
+
+
+def _text(name: str) -> str:
+    """A member name as valid text (tar names that are not UTF-8 come with surrogates)."""
+    return name.encode("utf-8", "replace").decode("utf-8")
+
+
+def _bounded(stream: Any, max_bytes: int) -> bytes:
+    """At most ``max_bytes`` of a member, whatever its header claims."""
+    data: bytes = stream.read(max_bytes + 1)
+    if len(data) > max_bytes:
+        raise LimitExceededError("archive", f"a member holds more than {max_bytes} bytes")
+    return data
 
 
 def read_archive(data: bytes, max_parts: int, max_bytes: int) -> list[Entry]:
-    """The part files of an archive, sorted by name; other files are skipped."""
+    """The part files of an archive, sorted by name; other files are skipped. A damaged
+    archive is one PartDocumentError; a damaged member is that member's error."""
+    try:
+        return _read_archive(data, max_parts, max_bytes)
+    except (zipfile.BadZipFile, tarfile.TarError, EOFError, zlib.error, lzma.LZMAError, OSError, ValueError,
+            NotImplementedError) as exc:  # truncated, corrupt or unsupported compression
+        raise PartDocumentError("archive", f"damaged archive ({type(exc).__name__}: {str(exc)[:200]})") from None
+
+
+def _read_archive(data: bytes, max_parts: int, max_bytes: int) -> list[Entry]:
     out: list[Entry] = []
     total = 0
-    for name, size, read in sorted(_members(data), key=lambda m: m[0]):
+    for name, size, read in sorted(_members(data, max_bytes), key=lambda m: m[0]):
         if not name.lower().endswith(PART_SUFFIXES) or PurePosixPath(name).name.startswith("."):
             continue
         total += size
@@ -87,7 +124,7 @@ def read_archive(data: bytes, max_parts: int, max_bytes: int) -> list[Entry]:
             raise LimitExceededError("archive", f"more than {max_bytes} bytes of part files")
         if len(out) >= max_parts:
             raise LimitExceededError("archive", f"more than {max_parts} part files")
-        out += _entries(PurePosixPath(name).name, read()[: max_bytes + 1])
+        out += _entries(PurePosixPath(name).name, read())
         if len(out) > max_parts:
             raise LimitExceededError("archive", f"more than {max_parts} parts (part files and the parts on their sheets)")
     if not out:

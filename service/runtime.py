@@ -94,9 +94,9 @@ async def index_run(svc: ServiceState, run: dict[str, Any]) -> None:
         await asyncio.to_thread(svc.store.add_runs, rows)
     except SQLAlchemyError as exc:
         svc.unindexed[:] = rows[-10_000:]
+        cause = type(getattr(exc, "orig", None) or exc).__name__
         raise StorageError("database", f"the run {run['run_id']} is recorded but the database cannot be written "
-                           f"({type(getattr(exc, 'orig', None) or exc).__name__}: read-only or full?); it is indexed once the database "
-                           "is writable", 30.0) from None
+                           f"({cause}: read-only or full?); it is indexed once the database is writable", 30.0) from None
     svc.unindexed.clear()
 
 

@@ -94,11 +94,15 @@ def figure_task(record_path: str) -> bytes:
     from algrasp.record.replay import plan_options, read_record
 
     rec = read_record(Path(record_path), {"/request", "/plan"})
-    if "/plan" not in rec:
+    if "/plan" not in rec or "/request" not in rec:
         raise AlgraspError("run: this run has no plan to draw (an analysis, or a failed request)")
-    request, plan_doc = rec["/request"][0], rec["/plan"][0]
-    options = plan_options(request["options"], plan_doc)
-    analysis = analyse_document(request["part"], Model.from_record(options))
+    try:
+        request, plan_doc = rec["/request"][0], rec["/plan"][0]
+        options = plan_options(request["options"], plan_doc)
+        part = request["part"]
+    except (KeyError, TypeError, IndexError) as exc:
+        raise AlgraspError(f"run: the record is damaged (no {exc!s:.100})") from None
+    analysis = analyse_document(part, Model.from_record(options))
     plan = make_plan(analysis, options["action"], options["min_margin_deg"])
     with tempfile.TemporaryDirectory() as tmp:
         return plan_figure(analysis, plan, Path(tmp) / "figure.svg").read_bytes()

@@ -7,6 +7,7 @@ These adapters read bytes and import their libraries lazily; the core never impo
 
 from __future__ import annotations
 
+import math
 from pathlib import Path, PurePath
 from typing import Any
 
@@ -133,6 +134,9 @@ def _sheet(filename: str, data: bytes, layer: str | None, element_id: str | None
         source = {"format": "svg", "id": element_id}
     else:
         raise PartDocumentError("FILE", f"unsupported file type {suffix or '(none)'}: use .json, {', '.join(CAD_SUFFIXES)}")
+    for p in pieces:  # a transform can overflow (SVG scale(1e308) scale(1e308))
+        if not all(math.isfinite(c) for e in (False, True) for c in point_at(p.segment, e)):
+            raise PartDocumentError(p.origin, "coordinates overflow to infinity (an extreme scale or transform?)")
     ends = [point_at(p.segment, e) for p in pieces for e in (False, True)]
     size = float(max(max(abs(c) for pt in ends for c in pt), 1e-300))
     tol = tolerance if tolerance is not None else default_tolerance(pieces)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -68,6 +69,9 @@ def cmd_runs(args: argparse.Namespace) -> int:
         table.add_row(r["run_id"], r.get("command", ""), str(r.get("part_name") or ""), str(r.get("action") or ""),
                       "" if r.get("steps") is None else str(r["steps"]), agree, cycle, r.get("status", ""))
     Console(width=160).print(table)
+    for r in runs:
+        if r.get("status") == "damaged":
+            print(f"algrasp: damaged record: {r['error']}", file=sys.stderr)
     return 0
 
 

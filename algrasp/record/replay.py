@@ -38,7 +38,9 @@ def read_record(path: Path, topics: set[str] | None = None, partial_ok: bool = F
                     out.setdefault(channel.topic, []).append(json.loads(message.data))
     except (McapError, EOFError, ValueError) as exc:
         if not partial_ok:
-            raise AlgraspError(f"RUN: {path.name} is not a complete MCAP record ({exc})") from None
+            raise AlgraspError(f"RUN: {path.name} is not a complete MCAP record ({str(exc)[:200]})") from None
+    except Exception as exc:  # noqa: BLE001 - a damaged file fails in the decompressor, seek, struct…: all "damaged"
+        raise AlgraspError(f"RUN: {path.name} is damaged ({type(exc).__name__}: {str(exc)[:200]})") from None
     return out
 
 
@@ -51,13 +53,14 @@ def summary(path: Path) -> dict[str, Any]:
 
 
 def list_runs(directory: Path) -> list[dict[str, Any]]:
-    """Summaries of every complete record in ``directory``, newest first."""
+    """Summaries of every record in ``directory``, newest first; a damaged record is
+    listed as ``{"run_id", "status": "damaged", "error"}`` and the listing goes on."""
     out = []
     for p in sorted(directory.glob("*.mcap"), reverse=True):
         try:
             out.append(summary(p))
-        except AlgraspError:
-            continue
+        except AlgraspError as exc:
+            out.append({"run_id": p.stem, "status": "damaged", "error": exc.message, "record_path": str(p)})
     return out
 
 
@@ -65,12 +68,19 @@ def replay(path: Path) -> dict[str, Any]:
     """Recompute analysis and plan from the recorded request and compare them with the
     record. Returns ``{"run_id", "action", "steps", "differences", "summary"}``; a
     difference is ``{"what", "path", "recorded", "recomputed"}``."""
-    from algrasp.analysis import Model, analyse_document
-    from algrasp.plan import make_plan
-
     rec = read_record(path)
     if "/request" not in rec:
         raise AlgraspError(f"RUN: {path.name} has no /request: nothing to replay")
+    try:
+        return _replay(rec)
+    except (KeyError, TypeError, IndexError, AttributeError) as exc:  # decodable JSON, but not what we wrote
+        raise AlgraspError(f"RUN: {path.name} is damaged: its messages lack {exc!s:.100}") from None
+
+
+def _replay(rec: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
+    from algrasp.analysis import Model, analyse_document
+    from algrasp.plan import make_plan
+
     request = rec["/request"][0]
     options = request["options"]
     diffs: list[dict[str, Any]] = []
