@@ -30,6 +30,10 @@ from service.settings import Settings
 from service.store import Store
 from service.work import analysis_task, import_task, plan_task
 
+SLOW_NICENESS = 5
+"""The slow pool's workers (and the job pool's) run at this OS niceness: on a loaded
+machine the cheap requests get the CPU first."""
+
 
 def _cheap(body: PlanBody) -> bool:
     return not body.optimise and body.validate_ is None
@@ -49,10 +53,10 @@ def _limits(svc: ServiceState, body: PlanBody) -> None:
 def build_state(settings: Settings, metrics: Metrics) -> ServiceState:
     settings.log_dir.mkdir(parents=True, exist_ok=True)
     store = Store(settings.db_url)
-    job_exec = make_executor(settings.scheduler, settings.workers)
+    job_exec = make_executor(settings.scheduler, settings.workers, SLOW_NICENESS)
     limit = settings.plan_time_limit_s + settings.validation_time_limit_s
     runner = JobRunner(store, job_exec, RunnerConfig(str(settings.log_dir), settings.sim_workers, limit, 2 * settings.workers))
-    pools = {"fast": make_executor("", settings.fast_workers), "slow": make_executor("", settings.workers)}
+    pools = {"fast": make_executor("", settings.fast_workers), "slow": make_executor("", settings.workers, SLOW_NICENESS)}
     gate = Gate({"fast": settings.fast_workers + settings.queue_depth, "slow": settings.workers + settings.queue_depth},
                 settings.max_inflight_per_client)
     return ServiceState(settings, store, pools, runner, metrics, gate,

@@ -29,7 +29,12 @@ class Executor(Protocol):
     def shutdown(self) -> None: ...
 
 
-def _warm() -> None:
+def _warm(niceness: int = 0) -> None:
+    # Expensive work yields the CPU to cheap work (admission control's second half).
+    if niceness:
+        import os
+
+        os.nice(niceness)
     # The imports every task needs, once per worker (numpy/scipy/casadi ≈ 1 s cold).
     import algrasp.pipeline  # noqa: F401
     import optimisation.execution  # noqa: F401
@@ -58,15 +63,17 @@ class LocalExecutor:
 
     name = "local"
 
-    def __init__(self, workers: int) -> None:
+    def __init__(self, workers: int, niceness: int = 0) -> None:
         self.workers = workers
+        self.niceness = niceness
         self._pool = self._new_pool()
         self._closed = False
 
     def _new_pool(self) -> Any:
         from pebble import ProcessPool
 
-        return ProcessPool(max_workers=self.workers, initializer=_warm, context=multiprocessing.get_context("spawn"))
+        return ProcessPool(max_workers=self.workers, initializer=_warm, initargs=(self.niceness,),
+                           context=multiprocessing.get_context("spawn"))
 
     @property
     def alive(self) -> bool:
@@ -150,9 +157,9 @@ class DaskExecutor:
         self._client.close()
 
 
-def make_executor(scheduler: str, workers: int) -> Executor:
+def make_executor(scheduler: str, workers: int, niceness: int = 0) -> Executor:
     """Dask when a scheduler address is configured, else the local pool."""
-    return DaskExecutor(scheduler) if scheduler else LocalExecutor(workers)
+    return DaskExecutor(scheduler) if scheduler else LocalExecutor(workers, niceness)
 
 
 def _settle(out: cf.Future[Any], inner: cf.Future[Any], stage: str, timeout_s: float) -> None:
