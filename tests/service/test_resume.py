@@ -42,3 +42,41 @@ def test_restart_resumes_without_losing_or_redoing(tmp_path: Path) -> None:
     job_runs = [r["run_id"] for r in runs if r["job_id"] == job_id]
     assert sorted(job_runs) == sorted(r["run_id"] for r in after)  # one stored run per part: no duplicates
     assert [r["result"]["name"] for r in after] == [p["name"] for p in parts]
+
+
+class _DyingExecutor:
+    """Every task's worker dies (as a part that crashes its interpreter would make it)."""
+
+    name = "dying"
+    alive = True
+
+    def submit(self, fn: object, *args: object, timeout_s: float, stage: str) -> object:
+        import concurrent.futures as cf
+
+        from algrasp.errors import UnavailableError
+
+        fut: cf.Future[object] = cf.Future()
+        fut.set_exception(UnavailableError("worker_lost", "the worker died"))
+        return fut
+
+    def shutdown(self) -> None:
+        pass
+
+
+def test_a_part_that_keeps_killing_workers_fails_and_is_not_resumed_forever(tmp_path: Path) -> None:
+    from service.jobs import MAX_ATTEMPTS, JobRunner, RunnerConfig
+
+    store = Store(f"sqlite:///{tmp_path / 'jobs.db'}")
+    job_id = store.create_job({}, [("poison", rectangle(2.0, 1.0), None), ("also", rectangle(3.0, 1.0), None)])
+    runner = JobRunner(store, _DyingExecutor(), RunnerConfig(str(tmp_path), 1, 10.0, 2))  # type: ignore[arg-type]
+    runner.run(job_id)
+    rows = store.results(job_id)
+    assert [(r["status"], r["attempts"]) for r in rows] == [("failed", MAX_ATTEMPTS)] * 2
+    assert all(r["error"]["reason"] == "worker_lost" for r in rows)
+    assert store.job(job_id).state == "done"  # type: ignore[union-attr]
+    # a job left "running" by a server that died on its parts' attempts is failed on resume
+    job2 = store.create_job({}, [("p", rectangle(2.0, 1.0), None)])
+    for _ in range(MAX_ATTEMPTS):
+        store.start_attempt(job2, 0)
+    runner.run(job2)
+    assert store.results(job2)[0]["status"] == "failed" and store.results(job2)[0]["attempts"] == MAX_ATTEMPTS
