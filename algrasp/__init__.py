@@ -1,3 +1,66 @@
-"""algrasp: sensorless orienting of algebraic planar parts with a parallel-jaw gripper."""
+"""algrasp: sensorless orienting of algebraic planar parts with a parallel-jaw gripper.
+
+The public API (see :mod:`algrasp.api` and the README's "Python API")::
+
+    from algrasp import load_part, analyse, plan, validate, import_drawing
+
+Names are imported on first use, so ``import algrasp`` (and the CLI) stays cheap.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
+
+_API = {
+    "load_part": "algrasp.api", "analyse": "algrasp.api", "plan": "algrasp.api", "validate": "algrasp.api",
+    "import_drawing": "algrasp.api", "document": "algrasp.api", "model": "algrasp.api",
+    "Part": "algrasp.part", "Analysis": "algrasp.analysis", "Plan": "algrasp.plans", "Model": "algrasp.analysis",
+    "Physics": "algrasp.deadband", "DEFAULT_PHYSICS": "algrasp.deadband", "Tolerances": "algrasp.tolerances",
+    "DEFAULT_TOLERANCES": "algrasp.tolerances",
+    "AlgraspError": "algrasp.errors", "PartDocumentError": "algrasp.errors", "LimitExceededError": "algrasp.errors",
+    "GeometryError": "algrasp.errors", "NotOrientableError": "algrasp.errors", "ConfigError": "algrasp.errors",
+    "SimulationError": "algrasp.errors", "TimeLimitError": "algrasp.errors", "UnavailableError": "algrasp.errors",
+    "StorageError": "algrasp.errors",
+}
+__all__ = ["AlgraspError", "Analysis", "ConfigError", "DEFAULT_PHYSICS", "DEFAULT_TOLERANCES",
+           "GeometryError", "LimitExceededError", "Model", "NotOrientableError", "Part", "PartDocumentError",
+           "Physics", "Plan", "SimulationError", "StorageError", "TimeLimitError", "Tolerances",
+           "UnavailableError", "analyse", "document", "import_drawing", "load_part", "model", "plan",
+           "validate"]
+# (kept literal for linters; a test checks it equals the lazy table)
+
+if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
+    from algrasp.analysis import Analysis, Model
+    from algrasp.api import analyse, document, import_drawing, load_part, model, plan, validate
+    from algrasp.deadband import DEFAULT_PHYSICS, Physics
+    from algrasp.errors import (
+        AlgraspError,
+        ConfigError,
+        GeometryError,
+        LimitExceededError,
+        NotOrientableError,
+        PartDocumentError,
+        SimulationError,
+        StorageError,
+        TimeLimitError,
+        UnavailableError,
+    )
+    from algrasp.part import Part
+    from algrasp.plans import Plan
+    from algrasp.tolerances import DEFAULT_TOLERANCES, Tolerances
+
+
+def __getattr__(name: str) -> Any:
+    import importlib
+
+    if name not in _API:
+        raise AttributeError(f"module 'algrasp' has no attribute {name!r}")
+    value = getattr(importlib.import_module(_API[name]), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *_API])

@@ -18,7 +18,7 @@ from algrasp.analysis import Analysis, Model, analyse_document
 from algrasp.errors import AlgraspError, LimitExceededError, PartDocumentError
 from algrasp.limits import DEFAULT_LIMITS
 from algrasp.part import load_part
-from algrasp.plan import Plan
+from algrasp.plans import Plan
 
 EXIT_USER_ERROR = 2
 

@@ -13,7 +13,7 @@ from typing import Any, Literal
 
 from algrasp.analysis import Analysis, Model, analyse_document
 from algrasp.errors import AlgraspError, ConfigError
-from algrasp.plan import Plan, make_plan
+from algrasp.plans import Plan, make_plan
 
 Action = Literal["squeeze", "push_grasp"]
 

@@ -20,7 +20,7 @@ from matplotlib.axes import Axes  # noqa: E402
 from algrasp.analysis import Analysis  # noqa: E402
 from algrasp.curves import FloatArray  # noqa: E402
 from algrasp.errors import AlgraspError  # noqa: E402
-from algrasp.plan import Plan  # noqa: E402
+from algrasp.plans import Plan  # noqa: E402
 from algrasp.segments import loop_polyline  # noqa: E402
 
 MAX_TRACE_ROWS = 8

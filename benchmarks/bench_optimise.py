@@ -15,7 +15,7 @@ from typing import Any
 from algrasp import shapes
 from algrasp.analysis import analyse_part
 from algrasp.part import load_part
-from algrasp.plan import make_plan
+from algrasp.plans import make_plan
 from optimisation.execution import optimise_execution
 
 PARTS: list[tuple[str, dict[str, Any], str]] = [

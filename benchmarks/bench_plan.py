@@ -14,7 +14,7 @@ from typing import Any
 from algrasp import shapes
 from algrasp.analysis import analyse_part
 from algrasp.part import load_part
-from algrasp.plan import make_plan
+from algrasp.plans import make_plan
 
 
 def timed(doc: dict[str, Any], action: str = "squeeze", repeats: int = 5) -> tuple[float, float, float, int]:

@@ -16,7 +16,7 @@ from algrasp import shapes
 from algrasp.analysis import EXACT, ROBUST, Model, analyse_document
 from algrasp.arcforms import document, fig11_outline
 from algrasp.errors import NotOrientableError
-from algrasp.plan import make_plan
+from algrasp.plans import make_plan
 
 
 def median_ms(doc: dict[str, Any], model: Model, plan: bool, repeats: int = 15) -> float:

@@ -19,7 +19,7 @@ import time
 from algrasp import shapes
 from algrasp.analysis import EXACT, ROBUST, analyse_document
 from algrasp.arcforms import document, fig11_outline
-from algrasp.plan import make_plan
+from algrasp.plans import make_plan
 from algrasp.sim.validate import validate_plan
 
 CASES = [

@@ -32,7 +32,7 @@ import numpy as np
 from algrasp.analysis import Analysis
 from algrasp.curves import FloatArray
 from algrasp.deadband import mean_radius
-from algrasp.plan import Plan
+from algrasp.plans import Plan
 from algrasp.sim.config import SimConfig, SimSchedule, meters_per_unit, sampled_schedule
 from optimisation.chains import Chain, Profile1D, solve_chains, trapezoid_duration
 from optimisation.profile import DEFAULT_PROFILE, GripperProfile

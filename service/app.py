@@ -21,6 +21,7 @@ from fastapi.responses import Response
 from algrasp.errors import ConfigError
 from service.admission import Gate
 from service.catalogue import canonical_hash
+from service.contract import ERRORS, NOT_FOUND, json_errors
 from service.executor import make_executor
 from service.jobs import JobRunner, RunnerConfig
 from service.middleware import Metrics, MetricsMiddleware, RequestGuard, install_error_handlers
@@ -98,16 +99,30 @@ def create_app(settings: Settings | None = None, warmup: dict[str, Any] | None =
     install_error_handlers(app)
     app.add_middleware(RequestGuard, max_bytes=settings.max_body_bytes)  # type: ignore[arg-type]
     app.add_middleware(MetricsMiddleware, metrics=metrics)  # type: ignore[arg-type]
-    app.include_router(router)
+    app.include_router(router, responses=ERRORS)
     from service.routes_jobs import router as jobs_router
     from service.routes_runs import router as runs_router
 
-    app.include_router(runs_router)
-    app.include_router(jobs_router, dependencies=[Depends(require_key)])
+    app.include_router(runs_router, responses={**ERRORS, **NOT_FOUND})
+    _typed_openapi(app)
+    app.include_router(jobs_router, dependencies=[Depends(require_key)], responses={**ERRORS, **NOT_FOUND})
     return app
 
 
 router = APIRouter()
+
+
+def _typed_openapi(app: FastAPI) -> None:
+    """``/openapi.json`` with every error response typed as JSON (see ``contract.json_errors``)."""
+    from fastapi.openapi.utils import get_openapi
+
+    def openapi() -> dict[str, Any]:
+        if app.openapi_schema is None:
+            app.openapi_schema = json_errors(get_openapi(title=app.title, version=app.version,
+                                                         description=app.description, routes=app.routes))
+        return app.openapi_schema
+
+    app.openapi = openapi  # type: ignore[method-assign]
 
 
 async def _cached(request: Request, key: str, compute: Any, option: str) -> Response:

@@ -18,7 +18,7 @@ import numpy as np
 from algrasp.analysis import Analysis, Model
 from algrasp.errors import NotOrientableError
 from algrasp.pipeline import PlanRequest, plan_part
-from algrasp.plan import Plan, make_plan
+from algrasp.plans import Plan, make_plan
 from algrasp.sim.config import meters_per_unit
 
 ACTIONS = ("squeeze", "push_grasp")

@@ -5,10 +5,16 @@ errors name the segment."""
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 from fastapi import Query
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, WithJsonSchema
+
+from service.contract import PartDocument, inline
+
+PartJson = Annotated[dict[str, Any], WithJsonSchema(inline(PartDocument.model_json_schema()))]
+"""A part document: validated by the core parser (errors name the segment), described in
+the OpenAPI schema by :class:`service.contract.PartDocument`."""
 
 LIMIT = Query(50, ge=1, le=1000, description="page size")
 OFFSET = Query(0, ge=0, le=1_000_000_000, description="rows to skip")
@@ -53,7 +59,7 @@ class ModelOptions(_Strict):
 class PlanBody(ModelOptions):
     """``POST /v1/plans``."""
 
-    part: dict[str, Any] = Field(description="part document (conventions §5)")
+    part: PartJson = Field(description="part document (conventions §5)")
     action: Literal["squeeze", "push_grasp"] = "squeeze"
     min_margin_deg: float = Field(0.0, ge=0.0, lt=180.0, description="every transition tolerates this gripper error")
     optimise: bool = Field(False, description="optimise push distances and jaw timing (adds cycle_time_s)")
@@ -89,5 +95,5 @@ class JobOptions(ModelOptions):
 class JobBody(_Strict):
     """``POST /v1/jobs`` as JSON: the part documents and the options."""
 
-    parts: list[dict[str, Any]] = Field(min_length=1, description="part documents")
+    parts: list[PartJson] = Field(min_length=1, description="part documents")
     options: JobOptions = Field(default_factory=JobOptions)  # type: ignore[arg-type]

@@ -14,6 +14,7 @@ from starlette.datastructures import UploadFile
 
 from algrasp.errors import ConfigError, LimitExceededError, PartDocumentError
 from service.catalogue import Entry, read_archive
+from service.contract import inline
 from service.guard import parse_json
 from service.models import LIMIT, OFFSET, JobBody, JobOptions
 from service.reports import report_zip, results_jsonl
@@ -23,22 +24,8 @@ router = APIRouter(prefix="/v1/jobs", tags=["jobs"])
 JOB_ID = r"^[0-9a-f]{32}$"
 
 
-def _inline(schema: dict[str, Any]) -> dict[str, Any]:
-    """A pydantic JSON schema with its ``$defs`` inlined (for a hand-written OpenAPI body)."""
-    defs = schema.pop("$defs", {})
-
-    def walk(x: Any) -> Any:
-        if isinstance(x, dict):
-            if "$ref" in x:
-                return walk(defs[x["$ref"].rsplit("/", 1)[-1]])
-            return {k: walk(v) for k, v in x.items()}
-        return [walk(v) for v in x] if isinstance(x, list) else x
-
-    return walk(schema)  # type: ignore[no-any-return]
-
-
 _BODY = {"required": True, "content": {
-    "application/json": {"schema": _inline(JobBody.model_json_schema(by_alias=True))},
+    "application/json": {"schema": inline(JobBody.model_json_schema(by_alias=True))},
     "multipart/form-data": {"schema": {"type": "object", "required": ["archive"], "properties": {
         "archive": {"type": "string", "format": "binary", "description": "zip or tar(.gz) of part files"},
         "options": {"type": "string", "description": "JobOptions as a JSON string"}}}}}}

@@ -36,6 +36,14 @@ async def healthz(request: Request) -> dict[str, Any]:
     return {"status": "ok", "version": VERSION, "executor": svc.runner.executor.name}
 
 
+@router.get("/v1/schemas/part", tags=["service"])
+async def part_schema_endpoint() -> JSONResponse:
+    """The part document's JSON Schema (conventions §5), as in ``algrasp/schemas/part.schema.json``."""
+    from service.contract import part_schema
+
+    return JSONResponse(part_schema(), media_type="application/schema+json")
+
+
 @router.get("/readyz", tags=["service"])
 async def readyz(request: Request) -> JSONResponse:
     """Ready: every pool answers a task, the database takes a write, the record directory

@@ -89,7 +89,7 @@ def design_task(doc: dict[str, Any], options: dict[str, Any], record_dir: str, s
 def figure_task(record_path: str) -> bytes:
     """The plan figure (SVG) of a recorded plan run, recomputed from its request."""
     from algrasp.analysis import Model, analyse_document
-    from algrasp.plan import make_plan
+    from algrasp.plans import make_plan
     from algrasp.plots import plan_figure
     from algrasp.record.replay import plan_options, read_record
 

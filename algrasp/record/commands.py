@@ -42,7 +42,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
 def _figure(result: dict[str, Any], out: str) -> None:
     from algrasp.analysis import Model, analyse_document
     from algrasp.errors import AlgraspError
-    from algrasp.plan import make_plan
+    from algrasp.plans import make_plan
     from algrasp.plots import plan_figure
 
     opts = result["request"]["options"]

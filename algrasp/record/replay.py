@@ -79,7 +79,7 @@ def replay(path: Path) -> dict[str, Any]:
 
 def _replay(rec: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
     from algrasp.analysis import Model, analyse_document
-    from algrasp.plan import make_plan
+    from algrasp.plans import make_plan
 
     request = rec["/request"][0]
     options = request["options"]

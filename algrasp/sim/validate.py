@@ -21,7 +21,7 @@ import numpy as np
 
 from algrasp.analysis import Analysis
 from algrasp.errors import SimulationError
-from algrasp.plan import Plan
+from algrasp.plans import Plan
 from algrasp.sim.config import DEFAULT_SIM, SimConfig, SimSchedule, schedule
 from algrasp.sim.geometry import Geometry, part_geometry
 

@@ -1,4 +1,5 @@
-"""The runnable examples in the robust model's docstrings (they must stay true)."""
+"""The runnable examples in the docstrings (they must stay true): the robust model, the
+public API, the request guard and the settings' quantities."""
 
 from __future__ import annotations
 
@@ -6,10 +7,11 @@ import doctest
 
 import pytest
 
-from algrasp import arcforms, recognise
+from algrasp import api, arcforms, recognise
+from service import guard, settings
 
 
-@pytest.mark.parametrize("module", [recognise, arcforms], ids=lambda m: m.__name__)
+@pytest.mark.parametrize("module", [recognise, arcforms, api, guard, settings], ids=lambda m: m.__name__)
 def test_docstring_examples(module: object) -> None:
     result = doctest.testmod(module, raise_on_error=False)  # type: ignore[arg-type]
     assert result.attempted > 0 and result.failed == 0

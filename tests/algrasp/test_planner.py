@@ -12,7 +12,7 @@ from algrasp import shapes
 from algrasp.analysis import Analysis, analyse_part
 from algrasp.errors import NotOrientableError
 from algrasp.part import load_part
-from algrasp.plan import Plan, make_plan
+from algrasp.plans import Plan, make_plan
 
 GRID = 36000  # 0.01° grid for the independent simulation
 

@@ -11,7 +11,7 @@ import shapely
 
 from algrasp.analysis import EXACT, ROBUST, analyse_document
 from algrasp.cad import import_bytes, import_file
-from algrasp.plan import make_plan
+from algrasp.plans import make_plan
 from tests.algrasp.meshes import extrude_stl
 
 GEAR = Path(__file__).parents[1] / "data" / "real" / "koppi-involute-teeth-20.dxf"

@@ -15,7 +15,7 @@ from algrasp.analysis import analyse_part
 from algrasp.cli import main
 from algrasp.errors import ConfigError
 from algrasp.part import load_part
-from algrasp.plan import make_plan
+from algrasp.plans import make_plan
 from optimisation.execution import Execution, optimise_execution
 from optimisation.profile import DEFAULT_PROFILE, DEFAULT_PROFILE_PATH, GripperProfile, load_profile, profile_from_dict
 

@@ -1,5 +1,6 @@
 """Schemathesis fuzzes every operation of the OpenAPI schema (bodies, paths, queries,
-both job content types): no request may get a 5xx.
+both job content types): no request may get a 5xx, and every error body conforms to the
+documented ``ErrorBody``.
 
 Cases are drawn from schemathesis' per-operation Hypothesis strategies and sent to the
 real server (its pytest plugin does not support this pytest yet)."""
@@ -13,6 +14,7 @@ import schemathesis
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from service.contract import ErrorBody
 from tests.service.conftest import Server
 
 EXAMPLES = 40
@@ -39,5 +41,7 @@ def test_no_server_errors(operations: list[Any], server: Server) -> None:
     def check(case: Any) -> None:
         response = case.call(base_url=server.url, timeout=120)
         assert response.status_code < 500, f"{case.method} {case.formatted_path}: {response.status_code} {response.text[:500]}"
+        if response.status_code >= 400:  # every error body is the documented ErrorBody
+            ErrorBody.model_validate(response.json())
 
     check()

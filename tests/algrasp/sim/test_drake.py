@@ -12,7 +12,7 @@ pytest.importorskip("pydrake")
 from algrasp import shapes  # noqa: E402
 from algrasp.analysis import analyse_part  # noqa: E402
 from algrasp.part import load_part  # noqa: E402
-from algrasp.plan import make_plan  # noqa: E402
+from algrasp.plans import make_plan  # noqa: E402
 from algrasp.sim.config import SimConfig, schedule  # noqa: E402
 from algrasp.sim.model import PlanarGripperSim  # noqa: E402
 from algrasp.sim.validate import validate_plan  # noqa: E402

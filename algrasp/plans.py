@@ -283,8 +283,9 @@ def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SA
     T = S.symmetry
     c0, c1 = circle
     out = np.array(S.outcomes)
-    rel = np.mod(out - c0, T)
-    if np.any(rel[:, 0] + (out[:, 1] - out[:, 0]) > c1 - c0 + FINAL_CLUSTER_RAD):
+    # An outcome starting a rounding error before c0 must not wrap to the far end.
+    rel = np.mod(out[:, 0] - c0 + FINAL_CLUSTER_RAD, T) - FINAL_CLUSTER_RAD
+    if np.any(rel + (out[:, 1] - out[:, 0]) > c1 - c0 + FINAL_CLUSTER_RAD):
         return False
     a1 = plan.steps[0].gripper_angle
     starts = np.array([p.start for p in S.lower.pieces] + [p.start for p in S.upper.pieces])

@@ -1,0 +1,116 @@
+"""The public Python API: a part in, its analysis and plan out, in a few calls.
+
+Everything here is re-exported by ``algrasp`` itself (``from algrasp import plan``).
+Angles inside the returned objects are radians; their ``to_dict()`` documents use degrees
+(conventions §5), as the CLI's ``--json`` and the HTTP API do.
+
+>>> from algrasp import analyse, load_part, plan
+>>> square = {"name": "square", "boundary": [[0, 0], [4, 0], [4, 4], [0, 4]]}
+>>> part = load_part(square)
+>>> round(part.area, 9), part.center_of_mass
+(16.0, (2.0, 2.0))
+>>> p = plan(square, "squeeze", exact=True)
+>>> len(p.steps), round(p.symmetry_period * 180 / 3.141592653589793, 6)
+(1, 90.0)
+>>> p.to_dict()["action"]
+'squeeze'
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any, Literal
+
+from algrasp.analysis import Analysis, Model, analyse_document
+from algrasp.deadband import DEFAULT_PHYSICS, Physics
+from algrasp.errors import ConfigError, PartDocumentError
+from algrasp.part import Part
+from algrasp.part import load_part as _load_part
+from algrasp.plans import Plan, make_plan
+
+PartSource = Mapping[str, Any] | str | Path
+"""A part document (a mapping), or the path of a part document (``.json``) or of a
+drawing/mesh (``.dxf``, ``.svg``, ``.stl``, …)."""
+Action = Literal["squeeze", "push_grasp"]
+
+
+def import_drawing(path: str | Path, **options: Any) -> dict[str, Any]:
+    """The part document of a DXF/SVG drawing or a mesh (exact curves; meshes give an
+    approximate polygon). ``options``: ``layer``, ``element_id``, ``pose``, ``part`` (one
+    of several parts on a sheet), ``tolerance``, ``units`` — as ``algrasp import``.
+    Raises PartDocumentError naming the entity (and the parts to choose from)."""
+    from algrasp.cad import import_file
+
+    return import_file(str(path), **options)
+
+
+def document(source: PartSource, **import_options: Any) -> dict[str, Any]:
+    """The part document of ``source`` (a mapping is returned as a dict)."""
+    if isinstance(source, Mapping):
+        return dict(source)
+    path = Path(source)
+    if path.suffix.lower() != ".json":
+        return import_drawing(path, **import_options)
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise PartDocumentError(str(path), f"cannot read a part document: {exc}") from None
+    if not isinstance(doc, dict):
+        raise PartDocumentError(str(path), "a part document must be a JSON object")
+    return doc
+
+
+def load_part(source: PartSource, **import_options: Any) -> Part:
+    """A validated :class:`Part` (exact geometry, area, centre of mass, convex hull).
+    Complexity: O(N log N) in the number of segments."""
+    return _load_part(document(source, **import_options))
+
+
+def model(exact: bool = False, physics: Physics | Mapping[str, float] | None = None) -> Model:
+    """The robust model of conventions §7 (default physics: μ 0.3, 20 g, 2 N) or, with
+    ``exact``, the paper's frictionless one."""
+    if isinstance(physics, Physics):
+        return Model(exact, physics)
+    return Model.from_options({"exact": exact, "physics": dict(physics or {})})
+
+
+def analyse(source: PartSource, *, exact: bool = False, physics: Physics | Mapping[str, float] | None = None) -> Analysis:
+    """Diameter and radius functions, squeeze and push-grasp transfer functions and both
+    shortest plans' inputs (:class:`Analysis`). Milliseconds for polygons, tens of
+    milliseconds for curved parts."""
+    return analyse_document(document(source), model(exact, physics))
+
+
+def plan(source: PartSource | Analysis, action: Action = "squeeze", *, min_margin_deg: float = 0.0,
+         exact: bool = False, physics: Physics | Mapping[str, float] | None = None) -> Plan:
+    """The shortest plan (Algorithm A′) that brings the part from any orientation to as
+    few as its symmetry allows; ``min_margin_deg``: every transition tolerates that much
+    gripper error. Raises NotOrientableError (with its reason) when no plan exists."""
+    if action not in ("squeeze", "push_grasp"):
+        raise ConfigError("action", f"expected squeeze or push_grasp, got {action!r}")
+    analysis = source if isinstance(source, Analysis) else analyse(source, exact=exact, physics=physics)
+    return make_plan(analysis, action, min_margin_deg)
+
+
+def validate(source: PartSource, action: Action = "squeeze", *, samples: int = 36, seed: int = 0,
+             placement: Literal["centred", "random"] = "centred", tolerance_deg: float = 1.0, optimise: bool = False,
+             exact: bool = False, workers: int = 2) -> dict[str, Any]:
+    """Simulate the plan in Drake from ``samples`` start orientations (needs the ``sim``
+    extra); returns the validation document (``agreement``, per-sample outcomes)."""
+    from algrasp.pipeline import PlanRequest, plan_part
+    from algrasp.record.session import recording
+
+    doc = document(source)
+    req = PlanRequest(action=action, optimise=optimise, samples=samples, seed=seed, placement=placement,
+                      tolerance_deg=tolerance_deg, exact=exact)
+    with recording(False, None, "validate", doc, req.record_options()) as rec:
+        out = plan_part(doc, req, rec, sim_workers=workers, record_sim=False)
+    v = out.validation_doc()
+    assert v is not None  # samples > 0
+    return v
+
+
+__all__ = ["DEFAULT_PHYSICS", "Action", "Analysis", "Model", "Part", "PartSource", "Physics", "Plan", "analyse",
+           "document", "import_drawing", "load_part", "model", "plan", "validate"]

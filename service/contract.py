@@ -1,0 +1,147 @@
+"""The typed HTTP contract: the part document (conventions §5) and the error body as
+pydantic models, so ``/openapi.json`` describes what the service takes and sends.
+
+The part document is still parsed by the core (``algrasp.document``), whose errors name
+the segment; these models give its JSON Schema (published at ``/v1/schemas/part`` and as
+``algrasp/schemas/part.schema.json``, which a test keeps equal to the model).
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field
+
+Point = Annotated[list[float], Field(min_length=2, max_length=2, description="[x, y] in the part's unit")]
+
+
+class _Doc(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class LineSegment(_Doc):
+    type: Literal["line"]
+    start: Point
+    end: Point
+
+
+class ArcSegment(_Doc):
+    """Circular arc from ``start_deg`` to ``end_deg`` (counter-clockwise when end > start;
+    at most 360° of sweep)."""
+
+    type: Literal["arc"]
+    center: Point
+    radius: float = Field(gt=0)
+    start_deg: float
+    end_deg: float
+
+
+class EllipseArcSegment(_Doc):
+    """``center + R(rotation_deg)·(rx cos t, ry sin t)`` for t from ``start_deg`` to ``end_deg``."""
+
+    type: Literal["ellipse_arc"]
+    center: Point
+    rx: float = Field(gt=0)
+    ry: float = Field(gt=0)
+    rotation_deg: float = 0.0
+    start_deg: float
+    end_deg: float
+
+
+class BezierSegment(_Doc):
+    """Bezier curve of degree len(points) − 1 (≤ 20); ``weights`` make it rational."""
+
+    type: Literal["bezier"]
+    points: list[Point] = Field(min_length=2, max_length=21)
+    weights: list[Annotated[float, Field(gt=0)]] | None = None
+
+
+Segment = Annotated[LineSegment | ArcSegment | EllipseArcSegment | BezierSegment, Field(discriminator="type")]
+Loop = Annotated[list[Segment] | list[Point], Field(min_length=1, description="segments in order, or polygon vertices")]
+
+
+class PartDocument(_Doc):
+    """A planar part (conventions §5): one closed ``boundary`` (or the ``polygon``
+    shorthand), optional holes and centre of mass."""
+
+    name: str | None = None
+    units: str = "mm"
+    boundary: Loop | None = None
+    polygon: list[Point] | None = Field(None, min_length=3)
+    holes: list[Loop] = Field(default_factory=list)
+    center_of_mass: Point | None = None
+    approximate: bool | None = Field(None, description="set by mesh imports: the outline is a polygon approximation")
+    source: dict[str, Any] | None = Field(None, description="where an imported part came from (file, layer, warnings)")
+
+
+class ErrorDetail(BaseModel):
+    """What went wrong: ``type`` (``part_document_error``, ``config_error``,
+    ``limit_exceeded``, ``not_orientable``, ``time_limit_exceeded``, ``unavailable``,
+    ``storage_error``, ``too_many_requests``, ``unauthorized``, ``not_found``, …) and the
+    typed fields of that error."""
+
+    model_config = ConfigDict(extra="allow")
+
+    type: str
+    message: str
+    field: str | None = None
+    segment_index: int | None = None
+    reason: str | None = None
+    retry_after_s: float | None = None
+    stage: str | None = None
+    limit_s: float | None = None
+    errors: list[dict[str, Any]] | None = None
+
+
+class ErrorBody(BaseModel):
+    """Every error response: ``{"error": {...}}``."""
+
+    error: ErrorDetail
+
+
+def _error(description: str) -> dict[str, Any]:
+    return {"model": ErrorBody, "description": description}
+
+
+ERRORS: dict[int | str, dict[str, Any]] = {
+    401: _error("missing or wrong API key (only when keys are configured)"),
+    413: _error("request body or archive too large"),
+    422: _error("malformed request or part, not orientable, or past a time limit; `field` names the place"),
+    429: _error("this client has too many requests in flight; see Retry-After"),
+    500: _error("a bug: please report it with the request"),
+    503: _error("queue full, worker lost or storage fault; see Retry-After"),
+}
+"""The error responses every operation may give (documented on each)."""
+
+NOT_FOUND: dict[int | str, dict[str, Any]] = {404: _error("no such run or job"), 409: _error("the job already finished")}
+
+
+def inline(schema: dict[str, Any]) -> dict[str, Any]:
+    """A JSON schema with its ``$defs`` inlined (no references left), to embed in another."""
+    defs = schema.pop("$defs", {})
+
+    def walk(x: Any) -> Any:
+        if isinstance(x, dict):
+            if "$ref" in x:
+                return walk(defs[x["$ref"].rsplit("/", 1)[-1]])
+            return {k: walk(v) for k, v in x.items()}
+        return [walk(v) for v in x] if isinstance(x, list) else x
+
+    return walk(schema)  # type: ignore[no-any-return]
+
+
+def part_schema() -> dict[str, Any]:
+    """The part document's JSON Schema (draft 2020-12, no references)."""
+    return {"$schema": "https://json-schema.org/draft/2020-12/schema", **inline(PartDocument.model_json_schema())}
+
+
+def json_errors(spec: dict[str, Any]) -> dict[str, Any]:
+    """Error responses are JSON on every operation, also where the success is SVG, text
+    or a file (FastAPI files them under the success's media type)."""
+    for ops in spec.get("paths", {}).values():
+        for op in ops.values():
+            for code, response in op.get("responses", {}).items():
+                content = response.get("content", {})
+                if code[0] in "45" and content and "application/json" not in content:
+                    response["content"] = {"application/json": next(iter(content.values()))}
+    return spec
