@@ -21,11 +21,11 @@ from fastapi.responses import Response
 from algrasp.errors import ConfigError
 from service.admission import Gate
 from service.catalogue import canonical_hash
-from service.contract import ERRORS, NOT_FOUND, json_errors
+from service.contract import ERRORS, IMPORTED, NOT_FOUND, AnalysisOut, PlanOut, ok, typed
 from service.executor import make_executor
 from service.jobs import JobRunner, RunnerConfig
 from service.middleware import Metrics, MetricsMiddleware, RequestGuard, install_error_handlers
-from service.models import PlanBody
+from service.models import PartJson, PlanBody
 from service.runtime import AUTH, VERSION, ServiceState, encoded, require_key, run_task, state, who
 from service.settings import Settings
 from service.store import Store
@@ -113,12 +113,12 @@ router = APIRouter()
 
 
 def _typed_openapi(app: FastAPI) -> None:
-    """``/openapi.json`` with every error response typed as JSON (see ``contract.json_errors``)."""
+    """``/openapi.json`` completed by ``contract.typed`` (part components, JSON errors)."""
     from fastapi.openapi.utils import get_openapi
 
     def openapi() -> dict[str, Any]:
         if app.openapi_schema is None:
-            app.openapi_schema = json_errors(get_openapi(title=app.title, version=app.version,
+            app.openapi_schema = typed(get_openapi(title=app.title, version=app.version,
                                                          description=app.description, routes=app.routes))
         return app.openapi_schema
 
@@ -136,8 +136,8 @@ async def _cached(request: Request, key: str, compute: Any, option: str) -> Resp
     return Response(body, media_type="application/json", headers={"X-Cache": "miss" if hit is None else "hit"})
 
 
-@router.post("/v1/analyses", tags=["plans"], dependencies=AUTH)
-async def analyses(request: Request, part: dict[str, Any],
+@router.post("/v1/analyses", tags=["plans"], dependencies=AUTH, responses=ok(AnalysisOut))
+async def analyses(request: Request, part: PartJson,
                    exact: bool = Query(False, description="the paper's exact frictionless model (no dead band)")) -> Response:
     """Part document → the analysis object of ``algrasp analyze --json`` (robust model
     with the default physics, or ``?exact=true``)."""
@@ -156,7 +156,7 @@ async def analyses(request: Request, part: dict[str, Any],
     return response
 
 
-@router.post("/v1/plans", tags=["plans"], dependencies=AUTH)
+@router.post("/v1/plans", tags=["plans"], dependencies=AUTH, responses=ok(PlanOut))
 async def plans(request: Request, body: PlanBody) -> Response:
     """The shortest plan (plus optimised execution and Drake validation when asked
     for) and its ``run_id``; a same-input request is answered from the cache."""
@@ -181,7 +181,7 @@ async def plans(request: Request, body: PlanBody) -> Response:
     return response
 
 
-@router.post("/v1/imports", tags=["plans"], dependencies=AUTH)
+@router.post("/v1/imports", tags=["plans"], dependencies=AUTH, responses=IMPORTED)
 async def imports(request: Request, file: Annotated[UploadFile, File(description="DXF, SVG or STL/OBJ/PLY/OFF/GLB file")],
                   layer: Annotated[str | None, Form(max_length=256)] = None,
                   id: Annotated[str | None, Form(max_length=256)] = None,  # noqa: A002

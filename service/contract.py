@@ -57,7 +57,8 @@ class BezierSegment(_Doc):
 
 
 Segment = Annotated[LineSegment | ArcSegment | EllipseArcSegment | BezierSegment, Field(discriminator="type")]
-Loop = Annotated[list[Segment] | list[Point], Field(min_length=1, description="segments in order, or polygon vertices")]
+Loop = Annotated[list[Segment | Point], Field(min_length=1, description="segments in order, or polygon vertices "
+                                                                       "(one kind per loop)")]
 
 
 class PartDocument(_Doc):
@@ -99,6 +100,128 @@ class ErrorBody(BaseModel):
     error: ErrorDetail
 
 
+class _Open(BaseModel):
+    """A response document: the fields named here are guaranteed, others may be added
+    (a documented superset)."""
+
+    model_config = ConfigDict(extra="allow")
+
+
+class PlanStepOut(_Open):
+    gripper_angle_deg: float = Field(description="gripper angle in the world frame, [0, 360)")
+    margin_deg: float | None = Field(description="gripper error this transition tolerates (None: the first action)")
+    push_distance: float | None = Field(None, description="push-grasp: push length (part units), with optimise")
+    duration_s: float | None = Field(None, description="with optimise: the action's duration")
+
+
+class PlanOut(_Open):
+    """``POST /v1/plans``: the plan document (conventions §6), its run and validation."""
+
+    action: Literal["squeeze", "push_grasp"]
+    symmetry_period_deg: float
+    intervals_deg: list[list[float]] = Field(description="Θ intervals of Algorithm A′, last to first")
+    steps: list[PlanStepOut]
+    final_orientations_deg: list[float]
+    final_uncertainty_deg: float
+    verified: bool
+    model: str = Field(description="robust or exact")
+    run_id: str
+    cycle_time_s: float | None = Field(None, description="with optimise")
+    validation: dict[str, Any] | None = Field(None, description="with validate: agreement and per-sample outcomes")
+
+
+class AnalysisOut(_Open):
+    """``POST /v1/analyses``: the part, its functions and transfer functions."""
+
+    part: dict[str, Any]
+    diameter: dict[str, Any]
+    radius: dict[str, Any]
+    squeeze: dict[str, Any]
+    push: dict[str, Any]
+    push_grasp: dict[str, Any]
+    model: str
+    run_id: str
+
+
+class SheetOut(_Open):
+    """``POST /v1/imports`` with ``list=true``: the parts of a drawing sheet."""
+
+    parts: list[dict[str, Any]]
+    ignored: list[str]
+    warnings: list[str]
+
+
+class RunOut(_Open):
+    run_id: str
+    created_at: float
+    command: str
+    part_name: str | None
+    action: str | None
+    steps: int | None
+    agreement: float | None
+    cycle_time_s: float | None
+    status: str
+    error: dict[str, Any] | None
+    job_id: str | None
+
+
+class RunDetailOut(RunOut):
+    record: dict[str, Any] | None = Field(description="the record's /run summary; null when damaged")
+    record_error: str | None = None
+
+
+class RunsOut(_Open):
+    total: int
+    limit: int
+    offset: int
+    runs: list[RunOut]
+
+
+class HealthOut(_Open):
+    status: Literal["ok"]
+    version: str
+    executor: str
+
+
+class ReadyOut(_Open):
+    status: Literal["ready"]
+    checks: dict[str, str]
+    load: dict[str, int]
+
+
+class JobCreatedOut(_Open):
+    id: str
+    state: str
+    total: int
+    links: dict[str, str]
+
+
+class JobsOut(_Open):
+    jobs: list[dict[str, Any]]
+
+
+class JobOut(_Open):
+    id: str
+    state: str
+    total: int
+    done: int
+    failed: int
+    cancelled: int
+    pending: int
+    parts: list[dict[str, Any]]
+    progress: dict[str, int]
+
+
+class CancelOut(_Open):
+    id: str
+    state: Literal["cancelled"]
+
+
+def ok(model: type[BaseModel], description: str = "success") -> dict[int | str, dict[str, Any]]:
+    """The documented 200 response of an operation that builds its own Response."""
+    return {200: {"model": model, "description": description}}
+
+
 def _error(description: str) -> dict[str, Any]:
     return {"model": ErrorBody, "description": description}
 
@@ -122,7 +245,7 @@ def inline(schema: dict[str, Any]) -> dict[str, Any]:
 
     def walk(x: Any) -> Any:
         if isinstance(x, dict):
-            if "$ref" in x:
+            if "$ref" in x and x["$ref"].startswith("#/$defs/"):
                 return walk(defs[x["$ref"].rsplit("/", 1)[-1]])
             return {k: walk(v) for k, v in x.items()}
         return [walk(v) for v in x] if isinstance(x, list) else x
@@ -135,6 +258,22 @@ def part_schema() -> dict[str, Any]:
     return {"$schema": "https://json-schema.org/draft/2020-12/schema", **inline(PartDocument.model_json_schema())}
 
 
+def typed(spec: dict[str, Any]) -> dict[str, Any]:
+    """The OpenAPI document completed: the part document's components, and error
+    responses as JSON on every operation (:func:`json_errors`)."""
+    spec.setdefault("components", {}).setdefault("schemas", {}).update(components())
+
+    def walk(x: Any) -> Any:
+        if isinstance(x, dict):
+            if x.get("x-algrasp") == "part-document":
+                return {"$ref": "#/components/schemas/PartDocument", **{k: v for k, v in x.items()
+                                                                        if k in ("description", "title")}}
+            return {k: walk(v) for k, v in x.items()}
+        return [walk(v) for v in x] if isinstance(x, list) else x
+
+    return json_errors(walk(spec))  # type: ignore[no-any-return]
+
+
 def json_errors(spec: dict[str, Any]) -> dict[str, Any]:
     """Error responses are JSON on every operation, also where the success is SVG, text
     or a file (FastAPI files them under the success's media type)."""
@@ -145,3 +284,32 @@ def json_errors(spec: dict[str, Any]) -> dict[str, Any]:
                 if code[0] in "45" and content and "application/json" not in content:
                     response["content"] = {"application/json": next(iter(content.values()))}
     return spec
+
+
+IMPORTED: dict[int | str, dict[str, Any]] = {200: {"description": "the part document, or with list=true the sheet's parts",
+                                                   "content": {"application/json": {"schema": {"anyOf": [
+                                                       {"$ref": "#/components/schemas/PartDocument"},
+                                                       {"$ref": "#/components/schemas/SheetOut"}]}}}}}
+
+PART_REF = {"type": "object", "x-algrasp": "part-document"}
+"""Placeholder schema of a part-document field; :func:`typed` replaces it by a reference
+to the ``PartDocument`` component (pydantic cannot emit a reference it does not own)."""
+
+
+def components() -> dict[str, Any]:
+    """Schemas the OpenAPI document needs beyond those FastAPI collects: the part document
+    (with its segment types) and the sheet listing, as components."""
+    out: dict[str, Any] = {}
+    for model in (PartDocument, SheetOut):
+        schema = model.model_json_schema(ref_template="#/components/schemas/{model}")
+        out.update(schema.pop("$defs", {}))
+        out[model.__name__] = schema
+    return out
+
+
+def media(description: str, types: dict[str, dict[str, Any]]) -> dict[int | str, dict[str, Any]]:
+    """A documented 200 response in other media types (``{media type: schema}``)."""
+    return {200: {"description": description, "content": {k: {"schema": v} for k, v in types.items()}}}
+
+
+BINARY = {"type": "string", "format": "binary"}

@@ -10,11 +10,11 @@ from typing import Annotated, Any, Literal
 from fastapi import Query
 from pydantic import BaseModel, ConfigDict, Field, WithJsonSchema
 
-from service.contract import PartDocument, inline
+from service.contract import PART_REF
 
-PartJson = Annotated[dict[str, Any], WithJsonSchema(inline(PartDocument.model_json_schema()))]
+PartJson = Annotated[dict[str, Any], WithJsonSchema(PART_REF)]
 """A part document: validated by the core parser (errors name the segment), described in
-the OpenAPI schema by :class:`service.contract.PartDocument`."""
+the OpenAPI schema by :class:`service.contract.PartDocument` (a component)."""
 
 LIMIT = Query(50, ge=1, le=1000, description="page size")
 OFFSET = Query(0, ge=0, le=1_000_000_000, description="rows to skip")

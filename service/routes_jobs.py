@@ -14,7 +14,7 @@ from starlette.datastructures import UploadFile
 
 from algrasp.errors import ConfigError, LimitExceededError, PartDocumentError
 from service.catalogue import Entry, read_archive
-from service.contract import inline
+from service.contract import CancelOut, JobCreatedOut, JobOut, JobsOut, inline, ok
 from service.guard import parse_json
 from service.models import LIMIT, OFFSET, JobBody, JobOptions
 from service.reports import report_zip, results_jsonl
@@ -69,7 +69,8 @@ async def _entries(request: Request, max_parts: int, max_bytes: int) -> tuple[li
     return [(n, p, None) for n, p in zip(names, body.parts)], body.options
 
 
-@router.post("", status_code=202, openapi_extra={"requestBody": _BODY})
+@router.post("", status_code=202, openapi_extra={"requestBody": _BODY},
+             responses={202: {"model": JobCreatedOut, "description": "queued"}})
 async def create_job(request: Request) -> JSONResponse:
     """Queue a batch: fixture design for every part. Returns ``202`` and the job id."""
     svc = _svc(request)
@@ -90,7 +91,7 @@ def _links(job_id: str) -> dict[str, str]:
     return {"self": f"/v1/jobs/{job_id}", "results": f"/v1/jobs/{job_id}/results"}
 
 
-@router.get("")
+@router.get("", response_model=None, responses=ok(JobsOut))
 async def list_jobs(request: Request, limit: int = LIMIT, offset: int = OFFSET) -> dict[str, Any]:
     return {"jobs": await asyncio.to_thread(_svc(request).store.jobs, limit, offset)}
 
@@ -102,14 +103,15 @@ async def _progress(request: Request, job_id: str) -> dict[str, Any]:
     return p  # type: ignore[no-any-return]
 
 
-@router.get("/{job_id}")
+@router.get("/{job_id}", response_model=None, responses=ok(JobOut))
 async def job(request: Request, job_id: str = Path(pattern=JOB_ID)) -> dict[str, Any]:
     """State, progress (done/total) and per-part status."""
     p = await _progress(request, job_id)
     return {**p, "progress": {"finished": p["total"] - p["pending"], "total": p["total"]}, "links": _links(job_id)}
 
 
-@router.get("/{job_id}/results", response_class=Response)
+@router.get("/{job_id}/results", response_class=Response, responses={200: {"description": "JSON lines or a zip", "content": {
+    "application/x-ndjson": {"schema": {"type": "string"}}, "application/zip": {"schema": {"type": "string", "format": "binary"}}}}})
 async def results(request: Request, job_id: str = Path(pattern=JOB_ID),
                   format: str = Query("jsonl", pattern="^(jsonl|zip)$")) -> Response:  # noqa: A002
     """JSON lines (one part per line) or a zip with results, summary, report and gripper
@@ -123,7 +125,7 @@ async def results(request: Request, job_id: str = Path(pattern=JOB_ID),
                     headers={"Content-Disposition": f'attachment; filename="job-{job_id}.zip"'})
 
 
-@router.delete("/{job_id}")
+@router.delete("/{job_id}", response_model=None, responses=ok(CancelOut))
 async def cancel(request: Request, job_id: str = Path(pattern=JOB_ID)) -> dict[str, Any]:
     """Cancel a queued or running job (parts already finished keep their results)."""
     p = await _progress(request, job_id)

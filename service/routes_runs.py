@@ -18,6 +18,7 @@ from prometheus_client import CONTENT_TYPE_LATEST, generate_latest
 
 from algrasp.errors import AlgraspError
 from service.catalogue import canonical_hash
+from service.contract import BINARY, HealthOut, ReadyOut, RunDetailOut, RunsOut, media, ok
 from service.executor import ping
 from service.models import LIMIT, OFFSET
 from service.runtime import AUTH, VERSION, ServiceState, index_run, run_task, state, who
@@ -29,14 +30,15 @@ MIN_FREE_BYTES = 50_000_000
 """Below this much free space in the record directory the service is not ready."""
 
 
-@router.get("/healthz", tags=["service"])
+@router.get("/healthz", tags=["service"], response_model=None, responses=ok(HealthOut))
 async def healthz(request: Request) -> dict[str, Any]:
     """Alive: the process answers (says nothing of its pools or storage: see ``/readyz``)."""
     svc = state(request)
     return {"status": "ok", "version": VERSION, "executor": svc.runner.executor.name}
 
 
-@router.get("/v1/schemas/part", tags=["service"])
+@router.get("/v1/schemas/part", tags=["service"],
+            responses=media("JSON Schema (draft 2020-12)", {"application/schema+json": {"type": "object"}}))
 async def part_schema_endpoint() -> JSONResponse:
     """The part document's JSON Schema (conventions §5), as in ``algrasp/schemas/part.schema.json``."""
     from service.contract import part_schema
@@ -44,7 +46,7 @@ async def part_schema_endpoint() -> JSONResponse:
     return JSONResponse(part_schema(), media_type="application/schema+json")
 
 
-@router.get("/readyz", tags=["service"])
+@router.get("/readyz", tags=["service"], responses=ok(ReadyOut))
 async def readyz(request: Request) -> JSONResponse:
     """Ready: every pool answers a task, the database takes a write, the record directory
     takes a file and has room. 503 names the failing part."""
@@ -105,13 +107,13 @@ async def metrics(request: Request) -> Response:
     return Response(generate_latest(svc.metrics.registry), media_type=CONTENT_TYPE_LATEST)
 
 
-@router.get("/v1/runs", tags=["runs"], dependencies=AUTH)
+@router.get("/v1/runs", tags=["runs"], dependencies=AUTH, response_model=None, responses=ok(RunsOut))
 async def runs(request: Request, limit: int = LIMIT, offset: int = OFFSET) -> dict[str, Any]:
     total, rows = await asyncio.to_thread(state(request).store.runs, limit, offset)
     return {"total": total, "limit": limit, "offset": offset, "runs": rows}
 
 
-@router.get("/v1/runs/{run_id}", tags=["runs"], dependencies=AUTH)
+@router.get("/v1/runs/{run_id}", tags=["runs"], dependencies=AUTH, response_model=None, responses=ok(RunDetailOut))
 async def run(request: Request, run_id: str = Path(pattern=RUN_ID)) -> dict[str, Any]:
     """The stored run and its record's summary (``record: null`` and ``record_error``
     when the record is damaged)."""
@@ -124,13 +126,15 @@ async def run(request: Request, run_id: str = Path(pattern=RUN_ID)) -> dict[str,
         return {**row, "record": None, "record_error": exc.message}
 
 
-@router.get("/v1/runs/{run_id}/record", tags=["runs"], dependencies=AUTH, response_class=FileResponse)
+@router.get("/v1/runs/{run_id}/record", tags=["runs"], dependencies=AUTH, response_class=FileResponse,
+            responses=media("the MCAP record", {"application/octet-stream": BINARY}))
 async def record(request: Request, run_id: str = Path(pattern=RUN_ID)) -> FileResponse:
     _, path = _run_file(request, run_id)
     return FileResponse(path, media_type="application/octet-stream", filename=path.name)
 
 
-@router.get("/v1/runs/{run_id}/figure.svg", tags=["runs"], dependencies=AUTH, response_class=Response)
+@router.get("/v1/runs/{run_id}/figure.svg", tags=["runs"], dependencies=AUTH, response_class=Response,
+            responses=media("the plan figure", {"image/svg+xml": {"type": "string"}}))
 async def figure(request: Request, run_id: str = Path(pattern=RUN_ID)) -> Response:
     """The plan figure of a recorded plan run (422 when the run has no plan or its record
     is damaged)."""

@@ -1,6 +1,6 @@
 """Schemathesis fuzzes every operation of the OpenAPI schema (bodies, paths, queries,
 both job content types): no request may get a 5xx, and every error body conforms to the
-documented ``ErrorBody``.
+documented ``ErrorBody``; every response conforms to its documented schema.
 
 Cases are drawn from schemathesis' per-operation Hypothesis strategies and sent to the
 real server (its pytest plugin does not support this pytest yet)."""
@@ -13,6 +13,7 @@ import pytest
 import schemathesis
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from schemathesis.specs.openapi.checks import response_schema_conformance
 
 from service.contract import ErrorBody
 from tests.service.conftest import Server
@@ -43,5 +44,6 @@ def test_no_server_errors(operations: list[Any], server: Server) -> None:
         assert response.status_code < 500, f"{case.method} {case.formatted_path}: {response.status_code} {response.text[:500]}"
         if response.status_code >= 400:  # every error body is the documented ErrorBody
             ErrorBody.model_validate(response.json())
+        case.validate_response(response, checks=[response_schema_conformance])  # and every body its schema
 
     check()
