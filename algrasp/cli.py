@@ -350,12 +350,21 @@ def build_parser() -> argparse.ArgumentParser:
     _record_options(p)
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_validate)
-    from algrasp.record.commands import add_commands
-    from service.commands import add_commands as add_service_commands
-
-    add_commands(sub)
-    add_service_commands(sub)
+    _registered_commands(sub)
     return parser
+
+
+def _registered_commands(sub: Any) -> None:
+    """Sub-commands of the layers above (``replay``/``runs``, ``serve``/``batch``), registered
+    as ``algrasp.commands`` entry points; a layer whose extra is not installed is left out."""
+    from importlib.metadata import entry_points
+
+    for ep in sorted(entry_points(group="algrasp.commands"), key=lambda e: e.name):
+        try:
+            add = ep.load()
+        except ImportError:  # e.g. the service without the [service] extra
+            continue
+        add(sub)
 
 
 def _plan_arguments(p: argparse.ArgumentParser) -> None:

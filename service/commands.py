@@ -16,7 +16,10 @@ EXAMPLE = "pie-20.json"
 
 
 def cmd_serve(args: argparse.Namespace) -> int:
-    import uvicorn
+    try:
+        import uvicorn
+    except ImportError:
+        raise ConfigError("serve", "the service needs its extra: pip install 'algrasp[service]'") from None
 
     from service.app import create_app
     from service.settings import load_settings

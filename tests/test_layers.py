@@ -15,7 +15,6 @@ PACKAGES = ("algrasp", "optimisation", "service")
 ADAPTERS = ("algrasp.cad", "algrasp.sim", "algrasp.record", "algrasp.plots", "algrasp.cli", "algrasp.api",
             "algrasp.lifecycle", "algrasp.pipeline")
 KNOWN = {
-    ("algrasp.cli", "service.commands"): "serve/batch commands are imported, not registered",
     ("algrasp.cli", "optimisation.profile"): "the CLI loads --gripper profiles itself",
     ("algrasp.pipeline", "optimisation.execution"): "the one pipeline calls the optimiser",
     ("algrasp.pipeline", "optimisation.profile"): "the one pipeline calls the optimiser",

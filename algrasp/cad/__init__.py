@@ -38,6 +38,19 @@ def _scale(seg: dict[str, Any], k: float) -> dict[str, Any]:
     return out
 
 
+_READERS = {".dxf": "ezdxf", ".svg": "svgelements", ".stl": "trimesh", ".obj": "trimesh", ".ply": "trimesh",
+            ".off": "trimesh", ".glb": "trimesh"}
+
+
+def _need_cad_extra(suffix: str) -> None:
+    """A clear error when the reader of ``suffix`` is not installed (the ``cad`` extra)."""
+    import importlib.util
+
+    reader = _READERS.get(suffix)
+    if reader is not None and importlib.util.find_spec(reader) is None:
+        raise ConfigError("FILE", f"reading {suffix} files needs {reader}: pip install 'algrasp[cad]'")
+
+
 def import_bytes(filename: str, data: bytes, layer: str | None = None, element_id: str | None = None,
                  pose: int | None = None, tolerance: float | None = None, units: str | None = None,
                  part: int | None = None) -> dict[str, Any]:
@@ -48,6 +61,7 @@ def import_bytes(filename: str, data: bytes, layer: str | None = None, element_i
     (meshes carry none: default mm)."""
     suffix = PurePath(filename).suffix.lower()
     name = PurePath(filename).stem
+    _need_cad_extra(suffix)
     if suffix in (".stl", ".obj", ".ply", ".off", ".glb"):
         from algrasp.cad.mesh import mesh_document
 
