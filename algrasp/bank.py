@@ -101,7 +101,8 @@ def points(coef: FloatArray, idx: IntArray, t: FloatArray) -> FloatArray:
 def normal_angles(coef: FloatArray, t: FloatArray) -> FloatArray:
     """Outward-normal angles (counter-clockwise loops) of pieces (P, 7, L) at t (P, m)."""
     tx, ty = horner_rows(coef[:, None, [TX, TY]], t)
-    return np.arctan2(-tx, ty)
+    angle: FloatArray = np.arctan2(-tx, ty)
+    return angle
 
 
 @dataclass(frozen=True, eq=False)
@@ -177,7 +178,8 @@ class FeatureTable:
             t = np.minimum(np.maximum(t - step, lo), hi)
             if not np.any(np.abs(step) >= 1e-15):
                 break
-        return t
+        result: FloatArray = t
+        return result
 
     def points(self, idx: IntArray, psi: FloatArray) -> FloatArray:
         """Support points (n, 2) of features ``idx`` for outward normals ψ (n,)."""
@@ -188,7 +190,8 @@ class FeatureTable:
         if np.any(curve):
             sl = slots[curve]
             out[curve] = points(self.coef, sl, self.params(sl, psi[curve]))
-        return out
+        result: FloatArray = out
+        return result
 
     def curve_lengths(self, nodes: FloatArray, weights: FloatArray) -> FloatArray:
         """Arc lengths (C,) of the curve features by the quadrature rule (nodes, weights) on [0, 1]."""

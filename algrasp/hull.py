@@ -16,7 +16,7 @@ piece (control-polygon bound, then the exact extreme point from a polynomial roo
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from scipy.spatial import ConvexHull as Qhull
@@ -110,7 +110,8 @@ class ConvexHull:
     def support_many(self, psi: FloatArray) -> FloatArray:
         """h(ψ) for an array of normals, vectorised per feature; O(m log n)."""
         psi = np.asarray(psi, dtype=float)
-        return np.sum(self.support_points(psi) * unit(psi), axis=-1)
+        out: FloatArray = np.sum(self.support_points(psi) * unit(psi), axis=-1)
+        return out
 
     def inside_margin(self, p: FloatArray) -> float:
         """min over ψ of h(ψ) − ⟨p, u(ψ)⟩ at every feature end and 2,048 normals.
@@ -133,7 +134,7 @@ class ConvexHull:
 
 # --------------------------------------------------------------------------- the walk
 
-_Element = tuple  # ("edge", a, b) | ("curve", pid, s, e) | ("point", (x, y))
+_Element = tuple[Any, ...]  # ("edge", a, b) | ("curve", pid, s, e) | ("point", (x, y))
 
 
 def _link(ma: list[tuple[int, int]], mb: list[tuple[int, int]]) -> int:
