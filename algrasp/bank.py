@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
+from algrasp.angles import TWO_PI
 from algrasp.curves import FloatArray, Piece, bernstein_matrix, horner_rows
 
 if TYPE_CHECKING:
@@ -30,7 +31,6 @@ if TYPE_CHECKING:
 IntArray = NDArray[np.intp]
 X, Y, W, TX, TY, DTX, DTY = range(7)
 POINT_ROWS = [X, Y, W]
-TWO_PI = 2.0 * np.pi
 _NEWTON_STEPS = 6  # from an interpolated start: quadratic convergence reaches rounding in 3–4
 _TABLE_SIZE = 33  # normal-angle samples per feature that start Newton
 

@@ -30,9 +30,10 @@ from typing import Literal
 
 import numpy as np
 
+from algrasp.angles import TWO_PI
 from algrasp.bank import IntArray
 from algrasp.curves import FloatArray
-from algrasp.hull import TWO_PI, ConvexHull, HullFeature, unit
+from algrasp.hull import ConvexHull, HullFeature, unit
 from algrasp.tolerances import Tolerances
 
 Kind = Literal["diameter", "radius"]

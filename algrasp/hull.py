@@ -22,6 +22,7 @@ import numpy as np
 from scipy.spatial import ConvexHull as Qhull
 from scipy.spatial import QhullError
 
+from algrasp.angles import TWO_PI
 from algrasp.bank import FeatureTable
 from algrasp.curves import FloatArray, Piece
 from algrasp.errors import GeometryError
@@ -35,8 +36,6 @@ from algrasp.hull_loop import (
 )
 from algrasp.segments import Segment, gauss_legendre_01
 from algrasp.tolerances import Tolerances
-
-TWO_PI = 2.0 * np.pi
 
 
 def unit(psi: FloatArray | float) -> FloatArray:

@@ -12,13 +12,13 @@ from functools import cached_property
 
 import numpy as np
 
+from algrasp.angles import TWO_PI
 from algrasp.bank import IntArray, coefficient_stack, normal_angles, points
 from algrasp.curves import FloatArray, Piece, horner_float, real_roots_in
 from algrasp.errors import GeometryError
 from algrasp.segments import Line, Segment
 from algrasp.tolerances import Tolerances
 
-TWO_PI = 2.0 * np.pi
 _SAMPLE_GRID = 33  # uniform parameters per piece before refining by turn
 
 

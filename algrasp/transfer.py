@@ -15,9 +15,9 @@ from functools import cached_property
 
 import numpy as np
 
+from algrasp.angles import TWO_PI
 from algrasp.curves import FloatArray
 from algrasp.functions import Run, wrap
-from algrasp.hull import TWO_PI
 
 
 @dataclass(frozen=True)

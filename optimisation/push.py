@@ -38,9 +38,10 @@ from typing import Any
 import numpy as np
 
 from algrasp.analysis import Analysis
+from algrasp.angles import TWO_PI
 from algrasp.curves import FloatArray
 from algrasp.errors import AlgraspError
-from algrasp.hull import TWO_PI, unit
+from algrasp.hull import unit
 
 TABLE_POINTS = 7200
 """Samples of q_x(θ) per turn (0.05°): exact support points, linearly interpolated."""

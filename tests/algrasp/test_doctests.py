@@ -7,11 +7,11 @@ import doctest
 
 import pytest
 
-from algrasp import api, arcforms, recognise
+from algrasp import angles, api, arcforms, recognise
 from service import guard, settings
 
 
-@pytest.mark.parametrize("module", [recognise, arcforms, api, guard, settings], ids=lambda m: m.__name__)
+@pytest.mark.parametrize("module", [recognise, arcforms, angles, api, guard, settings], ids=lambda m: m.__name__)
 def test_docstring_examples(module: object) -> None:
     result = doctest.testmod(module, raise_on_error=False)  # type: ignore[arg-type]
     assert result.attempted > 0 and result.failed == 0
