@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from algrasp.analysis import Analysis, Model, analyse_document
-from algrasp.errors import AlgraspError, LimitExceededError, PartDocumentError
+from algrasp.errors import AlgraspError, ConfigError, LimitExceededError, PartDocumentError
 from algrasp.limits import DEFAULT_LIMITS
 from algrasp.part import load_part
 from algrasp.plans import Plan
@@ -146,7 +146,7 @@ def _request(args: argparse.Namespace) -> Any:
     from algrasp.pipeline import PlanRequest
 
     if getattr(args, "gripper", None) and not args.optimise:
-        raise AlgraspError("--gripper needs --optimise")
+        raise ConfigError("--gripper", "needs --optimise")
     profile = _gripper_profile(args.gripper).to_dict() if getattr(args, "gripper", None) else None
     extra = {k: getattr(args, k) for k in ("samples", "seed", "placement", "tolerance_deg", "push_scale") if hasattr(args, k)}
     model = model_from_args(args)
@@ -270,9 +270,9 @@ def cmd_validate(args: argparse.Namespace) -> int:
     from algrasp.pipeline import plan_part
 
     if args.samples < 1 or args.samples > 10_000:
-        raise AlgraspError(f"--samples must be in [1, 10000], got {args.samples}")
+        raise ConfigError("--samples", f"must be in [1, 10000], got {args.samples}")
     if not (0.0 < args.push_scale <= 10.0):
-        raise AlgraspError(f"--push-scale must be in (0, 10], got {args.push_scale}")
+        raise ConfigError("--push-scale", f"must be in (0, 10], got {args.push_scale}")
     doc = read_document(args.part, args)
     with _recording(args, "validate", doc) as rec:
         out = plan_part(doc, _request(args), rec, sim_workers=args.workers, record_sim=not args.no_record)

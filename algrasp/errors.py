@@ -94,6 +94,17 @@ class ConfigError(AlgraspError):
         self.problem = problem
 
 
+class RecordError(AlgraspError):
+    """A run record is missing, damaged or holds no such content (``record``: its file name)."""
+
+    kind = "record_error"
+    public_fields = ("record",)
+
+    def __init__(self, record: str, message: str) -> None:
+        super().__init__(message)
+        self.record = record
+
+
 class SimulationError(AlgraspError):
     """The physics engine could not simulate the part (``detail``: the engine's message)."""
 

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any, Literal
 
 from algrasp.analysis import Analysis, Model, analyse_document
-from algrasp.errors import AlgraspError, ConfigError
+from algrasp.errors import ConfigError
 from algrasp.plans import Plan, make_plan
 
 Action = Literal["squeeze", "push_grasp"]
@@ -103,7 +103,7 @@ def _validate(out: PlanOutcome, req: PlanRequest, sim_workers: int, record_sim: 
         from algrasp.sim.config import sim_config
         from algrasp.sim.validate import validate_plan
     except ImportError:  # pragma: no cover - drake is an optional extra
-        raise AlgraspError("validation needs Drake: pip install 'algrasp[sim]'") from None
+        raise ConfigError("validate", "validation needs Drake: pip install 'algrasp[sim]'") from None
     ex = out.execution
     base = sim_config(req.model.physics)
     sim = {"cfg": base} if ex is None else {"sim_schedule": ex.sim_schedule(), "cfg": ex.sim_config(base)}

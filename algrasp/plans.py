@@ -18,7 +18,7 @@ import numpy as np
 
 from algrasp.analysis import Analysis
 from algrasp.curves import FloatArray
-from algrasp.errors import AlgraspError, NotOrientableError
+from algrasp.errors import ConfigError, NotOrientableError
 from algrasp.functions import wrap
 from algrasp.planner import GUARD_RAD, algorithm_a_prime, images, set_a_prime
 from algrasp.setvalued import SetTransfer
@@ -184,7 +184,7 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -
     Raises NotOrientableError (constant width, no step, margin too large).
     """
     if not (np.isfinite(min_margin_deg) and 0.0 <= min_margin_deg < 180.0):
-        raise AlgraspError(f"min_margin_deg must be in [0, 180), got {min_margin_deg}")
+        raise ConfigError("min_margin_deg", f"must be in [0, 180), got {min_margin_deg}")
     band = None if analysis.robust is None else analysis.robust.band
     if band is not None and (band.kappa_d > 0.0 or band.kappa_r > 0.0):
         return _robust_plan(analysis, action, np.radians(min_margin_deg))

@@ -19,7 +19,7 @@ from matplotlib.axes import Axes  # noqa: E402
 
 from algrasp.analysis import Analysis  # noqa: E402
 from algrasp.curves import FloatArray  # noqa: E402
-from algrasp.errors import AlgraspError  # noqa: E402
+from algrasp.errors import ConfigError  # noqa: E402
 from algrasp.plans import Plan  # noqa: E402
 from algrasp.segments import loop_polyline  # noqa: E402
 
@@ -127,7 +127,7 @@ def plan_figure(analysis: Analysis, plan: Plan, path: str | Path) -> Path:
     """Write the figure to ``path`` (.svg or .png). Returns the path."""
     out = Path(path)
     if out.suffix.lower() not in (".svg", ".png"):
-        raise AlgraspError(f"--figure: unsupported format {out.suffix!r} (use .svg or .png)")
+        raise ConfigError("--figure", f"unsupported format {out.suffix!r} (use .svg or .png)")
     fig = plt.figure(figsize=(11, 8.5))
     grid = fig.add_gridspec(2, 2, width_ratios=[1.1, 1], height_ratios=[1, 1])
     _function_panel(fig.add_subplot(grid[0, 0]), analysis, plan)
@@ -139,7 +139,7 @@ def plan_figure(analysis: Analysis, plan: Plan, path: str | Path) -> Path:
     try:
         fig.savefig(out, dpi=110)
     except OSError as exc:
-        raise AlgraspError(f"--figure: cannot write {out}: {exc.strerror}") from None
+        raise ConfigError("--figure", f"cannot write {out}: {exc.strerror}") from None
     finally:
         plt.close(fig)
     return out

@@ -10,7 +10,7 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from algrasp.errors import AlgraspError, StorageError
+from algrasp.errors import AlgraspError, RecordError, StorageError
 from algrasp.record.session import Recording, recording
 
 TaskResult = tuple[dict[str, Any] | None, dict[str, Any], AlgraspError | None]
@@ -95,13 +95,13 @@ def figure_task(record_path: str) -> bytes:
 
     rec = read_record(Path(record_path), {"/request", "/plan"})
     if "/plan" not in rec or "/request" not in rec:
-        raise AlgraspError("run: this run has no plan to draw (an analysis, or a failed request)")
+        raise RecordError(Path(record_path).name, "run: this run has no plan to draw (an analysis, or a failed request)")
     try:
         request, plan_doc = rec["/request"][0], rec["/plan"][0]
         options = plan_options(request["options"], plan_doc)
         part = request["part"]
     except (KeyError, TypeError, IndexError) as exc:
-        raise AlgraspError(f"run: the record is damaged (no {exc!s:.100})") from None
+        raise RecordError(Path(record_path).name, f"run: the record is damaged (no {exc!s:.100})") from None
     analysis = analyse_document(part, Model.from_record(options))
     plan = make_plan(analysis, options["action"], options["min_margin_deg"])
     with tempfile.TemporaryDirectory() as tmp:

@@ -41,13 +41,13 @@ def cmd_replay(args: argparse.Namespace) -> int:
 
 def _figure(result: dict[str, Any], out: str) -> None:
     from algrasp.analysis import Model, analyse_document
-    from algrasp.errors import AlgraspError
+    from algrasp.errors import ConfigError
     from algrasp.plans import make_plan
     from algrasp.plots import plan_figure
 
     opts = result["request"]["options"]
     if not opts.get("action"):
-        raise AlgraspError("--figure: this run has no plan (it was an analysis)")
+        raise ConfigError("--figure", "this run has no plan (it was an analysis)")
     analysis = analyse_document(result["request"]["part"], Model.from_record(opts))
     plan_figure(analysis, make_plan(analysis, opts["action"], opts.get("min_margin_deg", 0.0)), out)
 

@@ -11,7 +11,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from algrasp.errors import AlgraspError
+from algrasp.errors import AlgraspError, RecordError
 
 COMPARE_REL = 1e-9
 """Recomputed numbers within this relative difference (or 1e-9 absolute) are equal."""
@@ -25,7 +25,7 @@ def read_record(path: Path, topics: set[str] | None = None, partial_ok: bool = F
     from mcap.reader import NonSeekingReader, make_reader
 
     if not path.is_file():
-        raise AlgraspError(f"RUN: no such record: {path}")
+        raise RecordError(path.name, f"RUN: no such record: {path}")
     out: dict[str, list[dict[str, Any]]] = {}
     try:
         with open(path, "rb") as f:
@@ -38,9 +38,9 @@ def read_record(path: Path, topics: set[str] | None = None, partial_ok: bool = F
                     out.setdefault(channel.topic, []).append(json.loads(message.data))
     except (McapError, EOFError, ValueError) as exc:
         if not partial_ok:
-            raise AlgraspError(f"RUN: {path.name} is not a complete MCAP record ({str(exc)[:200]})") from None
+            raise RecordError(path.name, f"RUN: {path.name} is not a complete MCAP record ({str(exc)[:200]})") from None
     except Exception as exc:  # noqa: BLE001 - a damaged file fails in the decompressor, seek, struct…: all "damaged"
-        raise AlgraspError(f"RUN: {path.name} is damaged ({type(exc).__name__}: {str(exc)[:200]})") from None
+        raise RecordError(path.name, f"RUN: {path.name} is damaged ({type(exc).__name__}: {str(exc)[:200]})") from None
     return out
 
 
@@ -48,7 +48,7 @@ def summary(path: Path) -> dict[str, Any]:
     """The ``/run`` message of a record (its main figures)."""
     runs = read_record(path, {"/run"}).get("/run", [])
     if not runs:
-        raise AlgraspError(f"RUN: {path.name} has no /run summary (unfinished run?)")
+        raise RecordError(path.name, f"RUN: {path.name} has no /run summary (unfinished run?)")
     return {**runs[-1], "record_path": str(path)}
 
 
@@ -70,11 +70,11 @@ def replay(path: Path) -> dict[str, Any]:
     difference is ``{"what", "path", "recorded", "recomputed"}``."""
     rec = read_record(path)
     if "/request" not in rec:
-        raise AlgraspError(f"RUN: {path.name} has no /request: nothing to replay")
+        raise RecordError(path.name, f"RUN: {path.name} has no /request: nothing to replay")
     try:
         return _replay(rec)
     except (KeyError, TypeError, IndexError, AttributeError) as exc:  # decodable JSON, but not what we wrote
-        raise AlgraspError(f"RUN: {path.name} is damaged: its messages lack {exc!s:.100}") from None
+        raise RecordError(path.name, f"RUN: {path.name} is damaged: its messages lack {exc!s:.100}") from None
 
 
 def _replay(rec: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:

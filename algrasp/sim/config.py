@@ -25,7 +25,7 @@ import math
 from dataclasses import dataclass
 
 from algrasp.deadband import DEFAULT_PHYSICS, Physics
-from algrasp.errors import AlgraspError
+from algrasp.errors import ConfigError
 
 UNIT_TO_M = {"mm": 1e-3, "cm": 1e-2, "m": 1.0, "in": 0.0254, "um": 1e-6}
 
@@ -80,7 +80,7 @@ def meters_per_unit(units: str) -> float:
     try:
         return UNIT_TO_M[units]
     except KeyError:
-        raise AlgraspError(f"units: simulation needs a known length unit ({', '.join(UNIT_TO_M)}), got {units!r}") from None
+        raise ConfigError("units", f"simulation needs a known length unit ({', '.join(UNIT_TO_M)}), got {units!r}") from None
 
 
 @dataclass(frozen=True)
