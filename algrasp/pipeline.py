@@ -66,17 +66,20 @@ class PlanOutcome:
         return None if self.validation is None else self.validation.to_dict(self.plan_doc)
 
 
-def plan_part(doc: dict[str, Any], req: PlanRequest, rec: Any, sim_workers: int = 2, record_sim: bool = True) -> PlanOutcome:
+def plan_part(doc: dict[str, Any], req: PlanRequest, rec: Any, sim_workers: int = 2, record_sim: bool = True,
+              analysis: Analysis | None = None, plan: Plan | None = None) -> PlanOutcome:
     """Analyse, plan, optionally optimise and validate one part document; feed ``rec``
-    (a :class:`~algrasp.record.session.Recording`) with every result as it comes."""
+    (a :class:`~algrasp.record.session.Recording`) with every result as it comes.
+    ``analysis``/``plan``: work the caller has already done for this document and
+    request (a batch part compares both actions first), so nothing is computed twice."""
     if req.gripper_profile is not None and not req.optimise:
         raise ConfigError("gripper", "a gripper profile needs optimise")
     t0 = time.perf_counter()
-    analysis = analyse_document(doc, req.model)
+    analysis = analysis if analysis is not None else analyse_document(doc, req.model)
     rec.analysis(analysis.to_dict())
     t1 = time.perf_counter()
-    plan = make_plan(analysis, req.action, req.min_margin_deg)
-    plan.timings_s["analysis"] = t1 - t0
+    plan = plan if plan is not None else make_plan(analysis, req.action, req.min_margin_deg)
+    plan.timings_s.setdefault("analysis", t1 - t0)
     out = PlanOutcome(analysis, plan)
     if req.optimise:
         out.execution = _optimise(analysis, plan, req)

@@ -88,7 +88,7 @@ def design_part(doc: dict[str, Any], opts: DesignOptions, rec: Any, analysis: An
         return out
     req = PlanRequest(best.action, opts.min_margin_deg, True, opts.gripper_profile, samples=opts.samples, seed=opts.seed,
                       placement=opts.placement, exact=opts.exact, physics=opts.physics)
-    res = plan_part(doc, req, rec, sim_workers=sim_workers)
+    res = plan_part(doc, req, rec, sim_workers=sim_workers, analysis=analysis, plan=best)  # analysed and planned once
     out["action"] = best.action
     out["plan"] = res.plan_doc
     v = res.validation

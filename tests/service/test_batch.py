@@ -7,6 +7,7 @@ import json
 import math
 import tarfile
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -92,3 +93,33 @@ def test_catalogue_reading_is_safe(tmp_path: Path) -> None:
     with pytest.raises(PartDocumentError, match="no such directory"):
         read_catalogue(tmp_path / "missing", 10, 1000)
     assert not (tmp_path.parent / "evil.json").exists()
+
+
+def test_a_batch_part_is_analysed_once_and_each_action_planned_once(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 19/21: the fixture design of one part parses and analyses it once and plans
+    each action once (it used to analyse twice and plan three times)."""
+    import algrasp.analysis
+    import algrasp.pipeline
+    import algrasp.plans
+    import service.fixture
+    import service.work
+    from algrasp.shapes import rectangle
+    from service.work import design_task
+
+    calls = {"analyse": 0, "plan": 0}
+
+    def counting(name: str, fn: Any) -> Any:
+        def wrapped(*a: Any, **k: Any) -> Any:
+            calls[name] += 1
+            return fn(*a, **k)
+        return wrapped
+
+    analyse = counting("analyse", algrasp.analysis.analyse_document)
+    plan = counting("plan", algrasp.plans.make_plan)
+    for module in (algrasp.analysis, service.work, algrasp.pipeline):
+        monkeypatch.setattr(module, "analyse_document", analyse, raising=False)
+    for module in (algrasp.plans, service.fixture, algrasp.pipeline):
+        monkeypatch.setattr(module, "make_plan", plan, raising=False)
+    response, _, err = design_task(dict(rectangle(10.0, 4.0), name="r"), {"min_margin_deg": 0.0}, str(tmp_path), 1)
+    assert err is None and response is not None and response["orientable"]
+    assert calls == {"analyse": 1, "plan": 2}
