@@ -10,7 +10,7 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from algrasp.errors import AlgraspError, RecordError, StorageError
+from algrasp.errors import AlgraspError, StorageError
 from algrasp.record.session import Recording, recording
 
 TaskResult = tuple[dict[str, Any] | None, dict[str, Any], AlgraspError | None]
@@ -88,22 +88,10 @@ def design_task(doc: dict[str, Any], options: dict[str, Any], record_dir: str, s
 
 def figure_task(record_path: str) -> bytes:
     """The plan figure (SVG) of a recorded plan run, recomputed from its request."""
-    from algrasp.analysis import Model, analyse_document
-    from algrasp.plans import make_plan
     from algrasp.plots import plan_figure
-    from algrasp.record.replay import plan_options, read_record
+    from algrasp.record.replay import recorded_plan
 
-    rec = read_record(Path(record_path), {"/request", "/plan"})
-    if "/plan" not in rec or "/request" not in rec:
-        raise RecordError(Path(record_path).name, "run: this run has no plan to draw (an analysis, or a failed request)")
-    try:
-        request, plan_doc = rec["/request"][0], rec["/plan"][0]
-        options = plan_options(request["options"], plan_doc)
-        part = request["part"]
-    except (KeyError, TypeError, IndexError) as exc:
-        raise RecordError(Path(record_path).name, f"run: the record is damaged (no {exc!s:.100})") from None
-    analysis = analyse_document(part, Model.from_record(options))
-    plan = make_plan(analysis, options["action"], options["min_margin_deg"])
+    analysis, plan = recorded_plan(Path(record_path))
     with tempfile.TemporaryDirectory() as tmp:
         return plan_figure(analysis, plan, Path(tmp) / "figure.svg").read_bytes()
 

@@ -15,7 +15,7 @@ from algrasp.record.replay import list_runs, replay
 def cmd_replay(args: argparse.Namespace) -> int:
     result = replay(Path(args.run))
     if args.figure:
-        _figure(result, args.figure)
+        _figure(Path(args.run), args.figure)
     if args.json:
         print(json.dumps({k: result[k] for k in ("run_id", "action", "steps", "differences")}, indent=2))
         return 0
@@ -39,17 +39,12 @@ def cmd_replay(args: argparse.Namespace) -> int:
     return 0
 
 
-def _figure(result: dict[str, Any], out: str) -> None:
-    from algrasp.analysis import Model, analyse_document
-    from algrasp.errors import ConfigError
-    from algrasp.plans import make_plan
+def _figure(path: Path, out: str) -> None:
     from algrasp.plots import plan_figure
+    from algrasp.record.replay import recorded_plan
 
-    opts = result["request"]["options"]
-    if not opts.get("action"):
-        raise ConfigError("--figure", "this run has no plan (it was an analysis)")
-    analysis = analyse_document(result["request"]["part"], Model.from_record(opts))
-    plan_figure(analysis, make_plan(analysis, opts["action"], opts.get("min_margin_deg", 0.0)), out)
+    analysis, plan = recorded_plan(path)
+    plan_figure(analysis, plan, out)
 
 
 def cmd_runs(args: argparse.Namespace) -> int:

@@ -77,21 +77,42 @@ def replay(path: Path) -> dict[str, Any]:
         raise RecordError(path.name, f"RUN: {path.name} is damaged: its messages lack {exc!s:.100}") from None
 
 
-def _replay(rec: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
+def recorded_plan(path: Path) -> tuple[Any, Any]:
+    """``(Analysis, Plan)`` of a recorded plan run, rebuilt from its request — the one
+    way replay, ``replay --figure`` and the service's ``figure.svg`` read a plan back.
+    Raises RecordError for a run without a plan or a damaged record."""
+    rec = read_record(path, {"/request", "/plan"})
+    if "/plan" not in rec or "/request" not in rec:
+        raise RecordError(path.name, f"RUN: {path.name} has no plan (an analysis, or a failed request)")
+    try:
+        request, plan_doc = rec["/request"][0], rec["/plan"][0]
+        return _rebuild(request, plan_options(request["options"], plan_doc))
+    except (KeyError, TypeError, IndexError, AttributeError) as exc:
+        raise RecordError(path.name, f"RUN: {path.name} is damaged: its messages lack {exc!s:.100}") from None
+
+
+def _rebuild(request: dict[str, Any], options: dict[str, Any]) -> tuple[Any, Any]:
+    """Analysis and (when ``options`` name an action) plan of a recorded request."""
     from algrasp.analysis import Model, analyse_document
     from algrasp.plans import make_plan
 
+    analysis = analyse_document(request["part"], Model.from_record(options))
+    action = options.get("action")
+    return analysis, None if not action else make_plan(analysis, action, options.get("min_margin_deg", 0.0))
+
+
+def _replay(rec: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
     request = rec["/request"][0]
     options = request["options"]
     diffs: list[dict[str, Any]] = []
-    analysis = analyse_document(request["part"], Model.from_record(options))
+    recorded = rec["/plan"][0] if "/plan" in rec else None
+    if recorded is not None:
+        options = plan_options(options, recorded)
+    analysis, plan = _rebuild(request, options if recorded is not None else {**options, "action": None})
     if "/analysis" in rec:
         diffs += _compare("analysis", rec["/analysis"][0], analysis.to_dict())
     steps: list[Any] = []
-    if "/plan" in rec:
-        recorded = rec["/plan"][0]
-        options = plan_options(options, recorded)
-        plan = make_plan(analysis, options["action"], options["min_margin_deg"])
+    if recorded is not None:
         doc: dict[str, Any] = plan.to_dict()
         if options["optimise"]:
             doc = _optimised(analysis, plan, options, doc)
