@@ -16,9 +16,10 @@ __version__ = "0.1.0"
 _API = {
     "load_part": "algrasp.api", "analyse": "algrasp.api", "plan": "algrasp.api", "validate": "algrasp.api",
     "import_drawing": "algrasp.api", "document": "algrasp.api", "model": "algrasp.api",
-    "Part": "algrasp.part", "Analysis": "algrasp.analysis", "Plan": "algrasp.plans", "Model": "algrasp.analysis",
-    "Physics": "algrasp.deadband", "DEFAULT_PHYSICS": "algrasp.deadband", "Tolerances": "algrasp.tolerances",
-    "DEFAULT_TOLERANCES": "algrasp.tolerances",
+    "Part": "algrasp.geometry.part", "Tolerances": "algrasp.geometry.tolerances",
+    "DEFAULT_TOLERANCES": "algrasp.geometry.tolerances",
+    "Analysis": "algrasp.planning.analysis", "Plan": "algrasp.planning.plans", "Model": "algrasp.planning.analysis",
+    "Physics": "algrasp.planning.deadband", "DEFAULT_PHYSICS": "algrasp.planning.deadband",
     "AlgraspError": "algrasp.errors", "PartDocumentError": "algrasp.errors", "LimitExceededError": "algrasp.errors",
     "GeometryError": "algrasp.errors", "NotOrientableError": "algrasp.errors", "ConfigError": "algrasp.errors",
     "SimulationError": "algrasp.errors", "TimeLimitError": "algrasp.errors", "UnavailableError": "algrasp.errors",
@@ -32,9 +33,7 @@ __all__ = ["AlgraspError", "Analysis", "ConfigError", "DEFAULT_PHYSICS", "DEFAUL
 # (kept literal for linters; a test checks it equals the lazy table)
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
-    from algrasp.analysis import Analysis, Model
     from algrasp.api import analyse, document, import_drawing, load_part, model, plan, validate
-    from algrasp.deadband import DEFAULT_PHYSICS, Physics
     from algrasp.errors import (
         AlgraspError,
         ConfigError,
@@ -47,9 +46,11 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
         TimeLimitError,
         UnavailableError,
     )
-    from algrasp.part import Part
-    from algrasp.plans import Plan
-    from algrasp.tolerances import DEFAULT_TOLERANCES, Tolerances
+    from algrasp.geometry.part import Part
+    from algrasp.geometry.tolerances import DEFAULT_TOLERANCES, Tolerances
+    from algrasp.planning.analysis import Analysis, Model
+    from algrasp.planning.deadband import DEFAULT_PHYSICS, Physics
+    from algrasp.planning.plans import Plan
 
 
 def __getattr__(name: str) -> Any:

@@ -23,12 +23,12 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, Literal
 
-from algrasp.analysis import Analysis, Model, analyse_document
-from algrasp.deadband import DEFAULT_PHYSICS, Physics
 from algrasp.errors import ConfigError, PartDocumentError
-from algrasp.part import Part
-from algrasp.part import load_part as _load_part
-from algrasp.plans import Plan, make_plan
+from algrasp.geometry.part import Part
+from algrasp.geometry.part import load_part as _load_part
+from algrasp.planning.analysis import Analysis, Model, analyse_document
+from algrasp.planning.deadband import DEFAULT_PHYSICS, Physics
+from algrasp.planning.plans import Plan, make_plan
 
 PartSource = Mapping[str, Any] | str | Path
 """A part document (a mapping), or the path of a part document (``.json``) or of a
@@ -41,7 +41,7 @@ def import_drawing(path: str | Path, **options: Any) -> dict[str, Any]:
     approximate polygon). ``options``: ``layer``, ``element_id``, ``pose``, ``part`` (one
     of several parts on a sheet), ``tolerance``, ``units`` — as ``algrasp import``.
     Raises PartDocumentError naming the entity (and the parts to choose from)."""
-    from algrasp.cad import import_file
+    from algrasp.io.cad import import_file
 
     return import_file(str(path), **options)
 
@@ -99,8 +99,8 @@ def validate(source: PartSource, action: Action = "squeeze", *, samples: int = 3
              exact: bool = False, workers: int = 2) -> dict[str, Any]:
     """Simulate the plan in Drake from ``samples`` start orientations (needs the ``sim``
     extra); returns the validation document (``agreement``, per-sample outcomes)."""
+    from algrasp.io.record.session import recording
     from algrasp.pipeline import PlanRequest, plan_part
-    from algrasp.record.session import recording
 
     doc = document(source)
     req = PlanRequest(action=action, optimise=optimise, samples=samples, seed=seed, placement=placement,

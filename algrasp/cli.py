@@ -14,11 +14,11 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from algrasp.analysis import Analysis, Model, analyse_document
 from algrasp.errors import AlgraspError, ConfigError, LimitExceededError, PartDocumentError
-from algrasp.limits import DEFAULT_LIMITS
-from algrasp.part import load_part
-from algrasp.plans import Plan
+from algrasp.geometry.limits import DEFAULT_LIMITS
+from algrasp.geometry.part import load_part
+from algrasp.planning.analysis import Analysis, Model, analyse_document
+from algrasp.planning.plans import Plan
 
 EXIT_USER_ERROR = 2
 
@@ -26,7 +26,7 @@ EXIT_USER_ERROR = 2
 def read_document(path: str, args: argparse.Namespace | None = None) -> dict[str, Any]:
     """Read a part document file (size-limited JSON), or import a DXF/SVG/mesh file with
     the ``--layer``/``--id``/``--pose`` options of ``args``."""
-    from algrasp.cad import import_file, is_cad
+    from algrasp.io.cad import import_file, is_cad
 
     if is_cad(path):
         return import_file(path, **_import_options(args))
@@ -50,7 +50,7 @@ def _import_options(args: argparse.Namespace | None) -> dict[str, Any]:
 
 
 def cmd_import(args: argparse.Namespace) -> int:
-    from algrasp.cad import import_file
+    from algrasp.io.cad import import_file
 
     if args.list:
         return _list_parts(args)
@@ -73,7 +73,7 @@ def cmd_import(args: argparse.Namespace) -> int:
 
 def _list_parts(args: argparse.Namespace) -> int:
     """``algrasp import FILE --list [--json]``: the parts on a sheet."""
-    from algrasp.cad import list_parts
+    from algrasp.io.cad import list_parts
 
     opts = {k: v for k, v in _import_options(args).items() if k not in ("part", "pose")}
     p = Path(args.file)
@@ -171,7 +171,7 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def _recording(args: argparse.Namespace, command: str, doc: dict[str, Any]) -> Any:
-    from algrasp.record.session import recording
+    from algrasp.io.record.session import recording
 
     return recording(not args.no_record, Path(args.record_dir) if args.record_dir else None, command, doc, _options(args))
 

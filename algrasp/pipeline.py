@@ -11,9 +11,9 @@ import time
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
-from algrasp.analysis import Analysis, Model, analyse_document
 from algrasp.errors import ConfigError
-from algrasp.plans import Plan, make_plan
+from algrasp.planning.analysis import Analysis, Model, analyse_document
+from algrasp.planning.plans import Plan, make_plan
 
 Action = Literal["squeeze", "push_grasp"]
 
@@ -69,7 +69,7 @@ class PlanOutcome:
 def plan_part(doc: dict[str, Any], req: PlanRequest, rec: Any, sim_workers: int = 2, record_sim: bool = True,
               analysis: Analysis | None = None, plan: Plan | None = None) -> PlanOutcome:
     """Analyse, plan, optionally optimise and validate one part document; feed ``rec``
-    (a :class:`~algrasp.record.session.Recording`) with every result as it comes.
+    (a :class:`~algrasp.io.record.session.Recording`) with every result as it comes.
     ``analysis``/``plan``: work the caller has already done for this document and
     request (a batch part compares both actions first), so nothing is computed twice."""
     if req.gripper_profile is not None and not req.optimise:

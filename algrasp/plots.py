@@ -17,11 +17,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.axes import Axes  # noqa: E402
 
-from algrasp.analysis import Analysis  # noqa: E402
-from algrasp.curves import FloatArray  # noqa: E402
 from algrasp.errors import ConfigError  # noqa: E402
-from algrasp.plans import Plan  # noqa: E402
-from algrasp.segments import loop_polyline  # noqa: E402
+from algrasp.geometry.curves import FloatArray  # noqa: E402
+from algrasp.geometry.segments import loop_polyline  # noqa: E402
+from algrasp.planning.analysis import Analysis  # noqa: E402
+from algrasp.planning.plans import Plan  # noqa: E402
 
 MAX_TRACE_ROWS = 8
 

@@ -2,7 +2,7 @@
 
 Writes (ezdxf) a drawing of 10,000 LINE entities — a 9,000-edge serrated outline with
 25 forty-edge holes — in shuffled order with CRLF line endings, then times
-``algrasp.cad.import_bytes`` (read, chain, classify loops).
+``algrasp.io.cad.import_bytes`` (read, chain, classify loops).
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ def sheet(n_outline: int = 9000, holes: int = 25, hole_edges: int = 40) -> bytes
 
 
 def main() -> None:
-    from algrasp.cad import import_bytes
+    from algrasp.io.cad import import_bytes
 
     data = sheet()
     t = time.perf_counter()

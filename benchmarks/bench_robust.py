@@ -12,11 +12,11 @@ import statistics
 import time
 from typing import Any
 
-from algrasp import shapes
-from algrasp.analysis import EXACT, ROBUST, Model, analyse_document
-from algrasp.arcforms import document, fig11_outline
 from algrasp.errors import NotOrientableError
-from algrasp.plans import make_plan
+from algrasp.geometry import shapes
+from algrasp.geometry.arcforms import document, fig11_outline
+from algrasp.planning.analysis import EXACT, ROBUST, Model, analyse_document
+from algrasp.planning.plans import make_plan
 
 
 def median_ms(doc: dict[str, Any], model: Model, plan: bool, repeats: int = 15) -> float:

@@ -16,10 +16,10 @@ from __future__ import annotations
 import argparse
 import time
 
-from algrasp import shapes
-from algrasp.analysis import EXACT, ROBUST, analyse_document
-from algrasp.arcforms import document, fig11_outline
-from algrasp.plans import make_plan
+from algrasp.geometry import shapes
+from algrasp.geometry.arcforms import document, fig11_outline
+from algrasp.planning.analysis import EXACT, ROBUST, analyse_document
+from algrasp.planning.plans import make_plan
 from algrasp.sim.validate import validate_plan
 
 CASES = [

@@ -23,8 +23,8 @@ from typing import Any
 
 import numpy as np
 
-from algrasp.curves import FloatArray
 from algrasp.errors import AlgraspError
+from algrasp.geometry.curves import FloatArray
 
 INTERVALS_PER_SEGMENT = 12
 IPOPT_OPTIONS: dict[str, Any] = {"print_level": 0, "sb": "yes", "max_iter": 400, "mu_strategy": "adaptive", "tol": 1e-8}

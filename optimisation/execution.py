@@ -29,10 +29,10 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from algrasp.analysis import Analysis
-from algrasp.curves import FloatArray
-from algrasp.deadband import mean_radius
-from algrasp.plans import Plan
+from algrasp.geometry.curves import FloatArray
+from algrasp.planning.analysis import Analysis
+from algrasp.planning.deadband import mean_radius
+from algrasp.planning.plans import Plan
 from algrasp.sim.config import SimConfig, SimSchedule, meters_per_unit, sampled_schedule
 from optimisation.chains import Chain, Profile1D, solve_chains, trapezoid_duration
 from optimisation.profile import DEFAULT_PROFILE, GripperProfile

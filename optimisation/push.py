@@ -37,11 +37,11 @@ from typing import Any
 
 import numpy as np
 
-from algrasp.analysis import Analysis
-from algrasp.angles import TWO_PI
-from algrasp.curves import FloatArray
 from algrasp.errors import AlgraspError
-from algrasp.hull import unit
+from algrasp.geometry.angles import TWO_PI
+from algrasp.geometry.curves import FloatArray
+from algrasp.geometry.hull import unit
+from algrasp.planning.analysis import Analysis
 
 TABLE_POINTS = 7200
 """Samples of q_x(θ) per turn (0.05°): exact support points, linearly interpolated."""

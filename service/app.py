@@ -141,7 +141,7 @@ async def analyses(request: Request, part: PartJson,
                    exact: bool = Query(False, description="the paper's exact frictionless model (no dead band)")) -> Response:
     """Part document → the analysis object of ``algrasp analyze --json`` (robust model
     with the default physics, or ``?exact=true``)."""
-    from algrasp.record.recorder import new_run_id
+    from algrasp.io.record.recorder import new_run_id
 
     svc = state(request)
     key = canonical_hash(["analysis", VERSION, part, exact])
@@ -160,7 +160,7 @@ async def analyses(request: Request, part: PartJson,
 async def plans(request: Request, body: PlanBody) -> Response:
     """The shortest plan (plus optimised execution and Drake validation when asked
     for) and its ``run_id``; a same-input request is answered from the cache."""
-    from algrasp.record.recorder import new_run_id
+    from algrasp.io.record.recorder import new_run_id
 
     svc = state(request)
     _limits(svc, body)
@@ -192,7 +192,7 @@ async def imports(request: Request, file: Annotated[UploadFile, File(description
     polygon), ready for ``/v1/plans``; ``part`` chooses one of several parts on a sheet,
     ``list=true`` returns ``{"parts": [...], "ignored", "warnings"}`` instead. Only the file
     name's suffix is used."""
-    from algrasp.cad import CAD_SUFFIXES, is_cad
+    from algrasp.io.cad import CAD_SUFFIXES, is_cad
 
     svc = state(request)
     name = (file.filename or "upload").replace("\\", "/").rsplit("/", 1)[-1].encode("utf-8", "replace").decode()

@@ -29,7 +29,7 @@ options: every DXF layer, every SVG shape, a mesh's most probable pose)."""
 
 def part_from_bytes(filename: str, data: bytes) -> dict[str, Any]:
     """A part document from one file's bytes (JSON part document or a CAD file)."""
-    from algrasp.cad import import_bytes, is_cad
+    from algrasp.io.cad import import_bytes, is_cad
 
     if is_cad(filename):
         return import_bytes(filename, data)
@@ -44,7 +44,7 @@ def part_from_bytes(filename: str, data: bytes) -> dict[str, Any]:
 def _entries(filename: str, data: bytes) -> list[Entry]:
     """The catalogue items of one file: a DXF/SVG sheet gives one item per part
     (``FILE#K``), anything else one item (with its error if it cannot be read)."""
-    from algrasp.cad import import_all_parts, is_cad
+    from algrasp.io.cad import import_all_parts, is_cad
 
     stem = PurePosixPath(filename).stem
     try:

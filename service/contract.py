@@ -1,7 +1,7 @@
 """The typed HTTP contract: the part document (conventions §5) and the error body as
 pydantic models, so ``/openapi.json`` describes what the service takes and sends.
 
-The part document is still parsed by the core (``algrasp.document``), whose errors name
+The part document is still parsed by the core (``algrasp.geometry.document``), whose errors name
 the segment; these models give its JSON Schema (published at ``/v1/schemas/part`` and as
 ``algrasp/schemas/part.schema.json``, which a test keeps equal to the model).
 """

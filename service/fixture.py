@@ -15,10 +15,10 @@ from typing import Any, Literal
 
 import numpy as np
 
-from algrasp.analysis import Analysis, Model
 from algrasp.errors import NotOrientableError
 from algrasp.pipeline import PlanRequest, plan_part
-from algrasp.plans import Plan, make_plan
+from algrasp.planning.analysis import Analysis, Model
+from algrasp.planning.plans import Plan, make_plan
 from algrasp.sim.config import meters_per_unit
 
 ACTIONS = ("squeeze", "push_grasp")

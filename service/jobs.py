@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from algrasp.errors import AlgraspError, UnavailableError
-from algrasp.record.recorder import new_run_id
+from algrasp.io.record.recorder import new_run_id
 from service.executor import Executor
 from service.store import Store
 from service.work import design_task

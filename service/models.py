@@ -1,6 +1,6 @@
 """Request bodies of the HTTP API (pydantic): unknown fields are refused, every bound is
 stated, so a malformed request gets a 422 naming the field before any work starts.
-The part document itself is checked by the core parser (``algrasp.document``), whose
+The part document itself is checked by the core parser (``algrasp.geometry.document``), whose
 errors name the segment."""
 
 from __future__ import annotations

@@ -117,7 +117,7 @@ async def runs(request: Request, limit: int = LIMIT, offset: int = OFFSET) -> di
 async def run(request: Request, run_id: str = Path(pattern=RUN_ID)) -> dict[str, Any]:
     """The stored run and its record's summary (``record: null`` and ``record_error``
     when the record is damaged)."""
-    from algrasp.record.replay import summary
+    from algrasp.io.record.replay import summary
 
     row, path = _run_file(request, run_id)
     try:

@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from algrasp.errors import AlgraspError, StorageError
-from algrasp.record.session import Recording, recording
+from algrasp.io.record.session import Recording, recording
 
 TaskResult = tuple[dict[str, Any] | None, dict[str, Any], AlgraspError | None]
 
@@ -29,7 +29,7 @@ def analysis_task(doc: dict[str, Any], record_dir: str, options: dict[str, Any] 
                   run_id: str | None = None) -> TaskResult:
     """``POST /v1/analyses``: the analysis object of ``algrasp analyze``; ``options``
     ``{"exact", "physics"}`` choose the model (default robust)."""
-    from algrasp.analysis import Model, analyse_document
+    from algrasp.planning.analysis import Model, analyse_document
 
     model = Model.from_options(options or {})
     try:
@@ -66,7 +66,7 @@ def plan_task(doc: dict[str, Any], request: dict[str, Any], record_dir: str, sim
 def design_task(doc: dict[str, Any], options: dict[str, Any], record_dir: str, sim_workers: int,
                 run_id: str | None = None) -> TaskResult:
     """One part of a batch job: its fixture design (``service.fixture.design_part``)."""
-    from algrasp.analysis import analyse_document
+    from algrasp.planning.analysis import analyse_document
     from service.fixture import DesignOptions, design_part
 
     opts = DesignOptions(**options)
@@ -88,8 +88,8 @@ def design_task(doc: dict[str, Any], options: dict[str, Any], record_dir: str, s
 
 def figure_task(record_path: str) -> bytes:
     """The plan figure (SVG) of a recorded plan run, recomputed from its request."""
+    from algrasp.io.record.replay import recorded_plan
     from algrasp.plots import plan_figure
-    from algrasp.record.replay import recorded_plan
 
     analysis, plan = recorded_plan(Path(record_path))
     with tempfile.TemporaryDirectory() as tmp:
@@ -99,8 +99,8 @@ def figure_task(record_path: str) -> bytes:
 def import_task(filename: str, data: bytes, options: dict[str, Any]) -> dict[str, Any]:
     """``POST /v1/imports``: a CAD file's part document (checked to be a valid part), or
     with ``list_parts`` the list of the parts on the sheet."""
-    from algrasp.cad import import_bytes, list_parts
-    from algrasp.part import load_part
+    from algrasp.geometry.part import load_part
+    from algrasp.io.cad import import_bytes, list_parts
 
     if options.pop("list_parts", False):
         options.pop("part", None)

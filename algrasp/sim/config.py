@@ -24,8 +24,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from algrasp.deadband import DEFAULT_PHYSICS, Physics
 from algrasp.errors import ConfigError
+from algrasp.planning.deadband import DEFAULT_PHYSICS, Physics
 
 UNIT_TO_M = {"mm": 1e-3, "cm": 1e-2, "m": 1.0, "in": 0.0254, "um": 1e-6}
 
@@ -34,7 +34,7 @@ UNIT_TO_M = {"mm": 1e-3, "cm": 1e-2, "m": 1.0, "in": 0.0254, "um": 1e-6}
 class SimConfig:
     """Physical and numerical parameters (SI units)."""
 
-    # Shared with the planner's dead band (algrasp.deadband): plan and simulation model one gripper.
+    # Shared with the planner's dead band (algrasp.planning.deadband): plan and simulation model one gripper.
     part_mass_kg: float = DEFAULT_PHYSICS.part_mass_kg
     support_friction: float = DEFAULT_PHYSICS.support_friction
     gravity_m_s2: float = DEFAULT_PHYSICS.gravity_m_s2

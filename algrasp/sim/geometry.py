@@ -6,9 +6,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from algrasp.curves import FloatArray
-from algrasp.deadband import mean_radius
-from algrasp.part import Part
+from algrasp.geometry.curves import FloatArray
+from algrasp.geometry.part import Part
+from algrasp.planning.deadband import mean_radius
 from algrasp.sim.config import SimConfig, meters_per_unit
 
 

@@ -33,8 +33,8 @@ from pydrake.multibody.tree import (
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import BasicVector, DiagramBuilder, LeafSystem
 
-from algrasp.curves import FloatArray
-from algrasp.part import Part
+from algrasp.geometry.curves import FloatArray
+from algrasp.geometry.part import Part
 from algrasp.sim.config import DEFAULT_SIM, Phase, SimConfig
 from algrasp.sim.geometry import extent_midpoint, jaw_size_m, part_geometry
 

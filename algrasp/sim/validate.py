@@ -19,9 +19,9 @@ from typing import Any, Literal
 
 import numpy as np
 
-from algrasp.analysis import Analysis
 from algrasp.errors import SimulationError
-from algrasp.plans import Plan
+from algrasp.planning.analysis import Analysis
+from algrasp.planning.plans import Plan
 from algrasp.sim.config import DEFAULT_SIM, SimConfig, SimSchedule, schedule
 from algrasp.sim.geometry import Geometry, part_geometry
 
@@ -100,7 +100,7 @@ def _key(doc: dict[str, Any], cfg: SimConfig) -> str:
 def simulate_one(task: SimTask) -> tuple[float, list[float], float, list[tuple[float, ...]]]:
     """Run one sample (in a worker or in-process): final φ (rad), φ at each push end,
     simulated seconds and (if recorded) trajectory samples."""
-    from algrasp.part import load_part
+    from algrasp.geometry.part import load_part
     from algrasp.sim.model import PlanarGripperSim
 
     key = _key(task.doc, task.cfg)

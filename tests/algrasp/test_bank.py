@@ -1,4 +1,4 @@
-"""Batched evaluation (algrasp.bank, algrasp.moments, loop_polyline) against independent
+"""Batched evaluation (algrasp.geometry.bank, algrasp.geometry.moments, loop_polyline) against independent
 per-point evaluation and closed forms."""
 
 from __future__ import annotations
@@ -8,12 +8,12 @@ import math
 import numpy as np
 import pytest
 
-from algrasp import shapes
-from algrasp.bank import POINT_ROWS, coefficient_stack
-from algrasp.curves import Piece, horner_rows
-from algrasp.hull import unit
-from algrasp.part import load_part
-from algrasp.segments import loop_polyline
+from algrasp.geometry import shapes
+from algrasp.geometry.bank import POINT_ROWS, coefficient_stack
+from algrasp.geometry.curves import Piece, horner_rows
+from algrasp.geometry.hull import unit
+from algrasp.geometry.part import load_part
+from algrasp.geometry.segments import loop_polyline
 
 
 def _de_casteljau_point(points: np.ndarray, weights: np.ndarray, t: float | np.ndarray) -> np.ndarray:

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from algrasp import shapes
 from algrasp.cli import main
+from algrasp.geometry import shapes
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "algrasp" / "examples" / "pie-20.json"
 

@@ -7,7 +7,8 @@ import doctest
 
 import pytest
 
-from algrasp import angles, api, arcforms, recognise
+from algrasp import api
+from algrasp.geometry import angles, arcforms, recognise
 from service import guard, settings
 
 

@@ -7,10 +7,10 @@ from typing import Any
 
 import pytest
 
-from algrasp import shapes
 from algrasp.errors import LimitExceededError, PartDocumentError
-from algrasp.limits import Limits
-from algrasp.part import load_part
+from algrasp.geometry import shapes
+from algrasp.geometry.limits import Limits
+from algrasp.geometry.part import load_part
 
 SQUARE = [[0, 0], [1, 0], [1, 1], [0, 1]]
 

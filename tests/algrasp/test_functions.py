@@ -8,9 +8,9 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-from algrasp import shapes
-from algrasp.analysis import analyse_part
-from algrasp.part import load_part
+from algrasp.geometry import shapes
+from algrasp.geometry.part import load_part
+from algrasp.planning.analysis import analyse_part
 from tests.algrasp.helpers import diameter_of_points, match_angles, squeeze_by_flow, wrapped_close
 
 DEG = math.pi / 180
@@ -181,7 +181,7 @@ def test_squeeze_matches_brute_force_flow(seed: int) -> None:
 def test_diameter_values_match_brute_force_on_curves() -> None:
     doc = shapes.bezier_blob(9, 5)
     a = analyse_part(load_part(doc))
-    from algrasp.part import load_part as lp
+    from algrasp.geometry.part import load_part as lp
     part = lp(doc)
     dense = np.concatenate([np.asarray(s.piece().point(np.linspace(0, 1, 4001))) for s in part.boundary])
     theta = np.linspace(0, np.pi, 181)

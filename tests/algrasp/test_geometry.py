@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from algrasp import shapes
-from algrasp.analysis import analyse_part
-from algrasp.part import load_part
+from algrasp.geometry import shapes
+from algrasp.geometry.part import load_part
+from algrasp.planning.analysis import analyse_part
 
 
 def test_pie_area_centroid_perimeter() -> None:

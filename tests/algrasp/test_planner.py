@@ -8,11 +8,11 @@ import math
 import numpy as np
 import pytest
 
-from algrasp import shapes
-from algrasp.analysis import Analysis, analyse_part
 from algrasp.errors import NotOrientableError
-from algrasp.part import load_part
-from algrasp.plans import Plan, make_plan
+from algrasp.geometry import shapes
+from algrasp.geometry.part import load_part
+from algrasp.planning.analysis import Analysis, analyse_part
+from algrasp.planning.plans import Plan, make_plan
 
 GRID = 36000  # 0.01° grid for the independent simulation
 

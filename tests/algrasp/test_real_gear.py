@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 import shapely
 
-from algrasp.analysis import EXACT, ROBUST, analyse_document
-from algrasp.cad import import_bytes, import_file
-from algrasp.plans import make_plan
+from algrasp.io.cad import import_bytes, import_file
+from algrasp.planning.analysis import EXACT, ROBUST, analyse_document
+from algrasp.planning.plans import make_plan
 from tests.algrasp.meshes import extrude_stl
 
 GEAR = Path(__file__).parents[1] / "data" / "real" / "koppi-involute-teeth-20.dxf"
@@ -46,7 +46,7 @@ def test_tessellated_gear_stl_gets_18_degrees_and_no_facet_plan() -> None:
 
 def test_crlf_and_lf_import_identically() -> None:
     """27 of 34 real DXFs are saved with Windows line endings (issue 17)."""
-    from algrasp.cad import import_bytes
+    from algrasp.io.cad import import_bytes
 
     lf = GEAR.read_bytes().replace(b"\r\n", b"\n")
     a = import_bytes("gear.dxf", lf)
@@ -59,8 +59,8 @@ def test_damaged_dxf_is_repaired_or_refused_in_one_line(capsys) -> None:  # type
     error; ezdxf prints nothing either way."""
     import pytest
 
-    from algrasp.cad import import_bytes
     from algrasp.errors import PartDocumentError
+    from algrasp.io.cad import import_bytes
 
     data = GEAR.read_bytes().replace(b"\r\n", b"\n")
     doc = import_bytes("gear.dxf", data.replace(b"  0\nEOF\n", b""))

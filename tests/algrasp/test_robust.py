@@ -14,10 +14,10 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from algrasp.analysis import EXACT, ROBUST, Model, analyse_document
-from algrasp.arcforms import document, fig11_outline, pie_outline
-from algrasp.deadband import DEFAULT_PHYSICS, Physics
-from algrasp.plans import make_plan
+from algrasp.geometry.arcforms import document, fig11_outline, pie_outline
+from algrasp.planning.analysis import EXACT, ROBUST, Model, analyse_document
+from algrasp.planning.deadband import DEFAULT_PHYSICS, Physics
+from algrasp.planning.plans import make_plan
 from tests.algrasp.brute import ExactPart, fig11, pie, run_plan, worst_miss_deg
 from tests.algrasp.helpers import wrapped_close
 
@@ -183,8 +183,8 @@ def test_more_friction_never_shortens_the_guarantee() -> None:
 
 
 def test_constant_width_part_is_refused_with_why() -> None:
-    from algrasp import shapes
     from algrasp.errors import NotOrientableError
+    from algrasp.geometry import shapes
 
     with pytest.raises(NotOrientableError) as e:
         make_plan(analyse_document(shapes.disk(), ROBUST), "squeeze")

@@ -10,8 +10,8 @@ from typing import Any
 
 import pytest
 
-from algrasp.record.replay import read_record
-from algrasp.shapes import rectangle
+from algrasp.geometry.shapes import rectangle
+from algrasp.io.record.replay import read_record
 from tests.service.conftest import Server, wait_job
 
 
@@ -145,7 +145,7 @@ def test_metrics_count_requests_and_plans(server: Server, pie: dict[str, Any]) -
 def test_cad_upload_and_cad_files_in_a_job_archive(server: Server) -> None:
     import json
 
-    from tests.algrasp.cad.test_svg_mesh import SVG
+    from tests.algrasp.io.cad.test_svg_mesh import SVG
 
     with server.client() as c:
         r = c.post("/v1/imports", files={"file": ("drawing.svg", SVG, "image/svg+xml")}, data={"id": "oval"})

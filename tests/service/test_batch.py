@@ -12,7 +12,7 @@ from typing import Any
 import pytest
 
 from algrasp.cli import main
-from algrasp.shapes import rectangle, regular_polygon
+from algrasp.geometry.shapes import rectangle, regular_polygon
 from service.catalogue import read_archive, read_catalogue
 from service.store import Store
 
@@ -98,12 +98,12 @@ def test_catalogue_reading_is_safe(tmp_path: Path) -> None:
 def test_a_batch_part_is_analysed_once_and_each_action_planned_once(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """Issue 19/21: the fixture design of one part parses and analyses it once and plans
     each action once (it used to analyse twice and plan three times)."""
-    import algrasp.analysis
     import algrasp.pipeline
-    import algrasp.plans
+    import algrasp.planning.analysis
+    import algrasp.planning.plans
     import service.fixture
     import service.work
-    from algrasp.shapes import rectangle
+    from algrasp.geometry.shapes import rectangle
     from service.work import design_task
 
     calls = {"analyse": 0, "plan": 0}
@@ -114,11 +114,11 @@ def test_a_batch_part_is_analysed_once_and_each_action_planned_once(tmp_path: Pa
             return fn(*a, **k)
         return wrapped
 
-    analyse = counting("analyse", algrasp.analysis.analyse_document)
-    plan = counting("plan", algrasp.plans.make_plan)
-    for module in (algrasp.analysis, service.work, algrasp.pipeline):
+    analyse = counting("analyse", algrasp.planning.analysis.analyse_document)
+    plan = counting("plan", algrasp.planning.plans.make_plan)
+    for module in (algrasp.planning.analysis, service.work, algrasp.pipeline):
         monkeypatch.setattr(module, "analyse_document", analyse, raising=False)
-    for module in (algrasp.plans, service.fixture, algrasp.pipeline):
+    for module in (algrasp.planning.plans, service.fixture, algrasp.pipeline):
         monkeypatch.setattr(module, "make_plan", plan, raising=False)
     response, _, err = design_task(dict(rectangle(10.0, 4.0), name="r"), {"min_margin_deg": 0.0}, str(tmp_path), 1)
     assert err is None and response is not None and response["orientable"]

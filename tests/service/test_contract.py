@@ -10,7 +10,7 @@ from pathlib import Path
 import jsonschema
 import pytest
 
-from algrasp.cad import import_bytes
+from algrasp.io.cad import import_bytes
 from service.contract import part_schema
 from tests.service.conftest import Server
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from algrasp.shapes import rectangle
+from algrasp.geometry.shapes import rectangle
 from service.store import Store
 from tests.service.conftest import start_server, wait_job
 

@@ -9,10 +9,10 @@ import pytest
 
 pytest.importorskip("pydrake")
 
-from algrasp import shapes  # noqa: E402
-from algrasp.analysis import analyse_part  # noqa: E402
-from algrasp.part import load_part  # noqa: E402
-from algrasp.plans import make_plan  # noqa: E402
+from algrasp.geometry import shapes  # noqa: E402
+from algrasp.geometry.part import load_part  # noqa: E402
+from algrasp.planning.analysis import analyse_part  # noqa: E402
+from algrasp.planning.plans import make_plan  # noqa: E402
 from algrasp.sim.config import SimConfig, schedule  # noqa: E402
 from algrasp.sim.model import PlanarGripperSim  # noqa: E402
 from algrasp.sim.validate import validate_plan  # noqa: E402

@@ -1,0 +1,200 @@
+"""Many curve pieces evaluated in single array passes.
+
+The exact geometry works piece by piece, but the work per piece (a few Horner steps of
+a low-degree polynomial) is far smaller than numpy's per-call overhead. Here the
+power-basis coefficients of all pieces are stacked into one array (P, 7, L) — rows X,
+Y, W, TX, TY, TX′, TY′ of :class:`~algrasp.geometry.curves.Piece`, zero-padded to a common
+length L (padding with zero high-order coefficients leaves every value unchanged) — so
+that evaluating any number of (piece, parameter) pairs is one gather plus L Horner
+steps, whatever the number of pieces.
+
+:class:`FeatureTable` applies this to the Gauss map of a hull: support points and arc
+lengths of all features at once (used for the diameter/radius analysis).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from functools import cached_property
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+from algrasp.geometry.angles import TWO_PI
+from algrasp.geometry.curves import FloatArray, Piece, bernstein_matrix, horner_rows
+
+if TYPE_CHECKING:
+    from algrasp.geometry.hull import HullFeature
+
+IntArray = NDArray[np.intp]
+X, Y, W, TX, TY, DTX, DTY = range(7)
+POINT_ROWS = [X, Y, W]
+_NEWTON_STEPS = 6  # from an interpolated start: quadratic convergence reaches rounding in 3–4
+_TABLE_SIZE = 33  # normal-angle samples per feature that start Newton
+
+
+def _der(c: FloatArray) -> FloatArray:
+    """Derivatives of stacked power-basis polynomials (P, m) → (P, m)."""
+    out = np.zeros_like(c)
+    out[:, :-1] = c[:, 1:] * np.arange(1, c.shape[1])
+    return out
+
+
+def _mul(a: FloatArray, b: FloatArray) -> FloatArray:
+    """Products of stacked polynomials (P, m) × (P, n) → (P, m + n − 1)."""
+    out = np.zeros((a.shape[0], a.shape[1] + b.shape[1] - 1))
+    for j in range(b.shape[1]):
+        out[:, j : j + a.shape[1]] += a * b[:, j : j + 1]
+    return out
+
+
+def _group_rows(pieces: Sequence[Piece]) -> list[FloatArray]:
+    """The seven coefficient rows of pieces sharing degree and rationality, (P, m) each."""
+    degree, rational = pieces[0].degree, pieces[0].is_rational
+    M = bernstein_matrix(degree)
+    w = np.stack([p.weights for p in pieces])
+    pts = np.stack([p.points for p in pieces])
+    Xc, Yc = (pts[..., 0] * w) @ M.T, (pts[..., 1] * w) @ M.T
+    if rational:
+        Wc = w @ M.T
+        dW = _der(Wc)
+        TXc = _mul(_der(Xc), Wc) - _mul(Xc, dW)
+        TYc = _mul(_der(Yc), Wc) - _mul(Yc, dW)
+    else:  # constant weight: W is exactly that constant, as in Piece.lists
+        Wc = np.zeros_like(Xc)
+        Wc[:, 0] = w[:, 0]
+        TXc, TYc = w[:, :1] * _der(Xc), w[:, :1] * _der(Yc)
+    return [Xc, Yc, Wc, TXc, TYc, _der(TXc), _der(TYc)]
+
+
+def coefficient_stack(pieces: Sequence[Piece]) -> FloatArray:
+    """Stacked rows (P, 7, L) of ``pieces``, in their order; read-only. O(P·L²)."""
+    groups: dict[tuple[int, bool], list[int]] = {}
+    for i, p in enumerate(pieces):
+        groups.setdefault((p.degree, p.is_rational), []).append(i)
+    built = {key: _group_rows([pieces[i] for i in idx]) for key, idx in groups.items()}
+    length = max((r.shape[1] for rows in built.values() for r in rows), default=1)
+    out = np.zeros((len(pieces), 7, length))
+    for key, idx in groups.items():
+        for r, rows in enumerate(built[key]):
+            out[idx, r, : rows.shape[1]] = rows
+    out.setflags(write=False)
+    return out
+
+
+def _horner2(coef: FloatArray, t: FloatArray) -> FloatArray:
+    """Row-wise Horner: coef (n, L), t (n,) → (n,)."""
+    y = coef[:, -1] + 0.0 * t
+    for j in range(coef.shape[1] - 2, -1, -1):
+        y = y * t + coef[:, j]
+    return y
+
+
+def points(coef: FloatArray, idx: IntArray, t: FloatArray) -> FloatArray:
+    """Points of pieces ``idx`` of the stack ``coef`` (P, 7, L) at t (n,) → (n, 2)."""
+    x, y, w = (_horner2(coef[idx, r], t) for r in POINT_ROWS)
+    return np.stack([x / w, y / w], axis=-1)
+
+
+def normal_angles(coef: FloatArray, t: FloatArray) -> FloatArray:
+    """Outward-normal angles (counter-clockwise loops) of pieces (P, 7, L) at t (P, m)."""
+    tx, ty = horner_rows(coef[:, None, [TX, TY]], t)
+    angle: FloatArray = np.arctan2(-tx, ty)
+    return angle
+
+
+@dataclass(frozen=True, eq=False)
+class FeatureTable:
+    """All features of a hull's Gauss map as arrays (F features, C of them curves).
+
+    Attributes:
+        breakpoints: (F,) psi0 of each feature (sorted, lifted).
+        centers, radii: (F, 2), (F,) for points and circular arcs (zero for curves).
+        slot: (F,) row of each curve feature in the curve arrays, −1 otherwise.
+        coef: (C, 7, L) coefficient rows of the curve features' pieces.
+        s0, s1, psi0: (C,) parameter range and first normal of each curve feature.
+    """
+
+    breakpoints: FloatArray
+    centers: FloatArray
+    radii: FloatArray
+    slot: IntArray
+    coef: FloatArray
+    s0: FloatArray
+    s1: FloatArray
+    psi0: FloatArray
+
+    @classmethod
+    def build(cls, features: Sequence[HullFeature]) -> FeatureTable:
+        curves = [f for f in features if f.kind == "curve"]
+        slot = np.full(len(features), -1, dtype=np.intp)
+        slot[[i for i, f in enumerate(features) if f.kind == "curve"]] = np.arange(len(curves))
+        centers = np.array([f.center if f.kind != "curve" else (0.0, 0.0) for f in features], dtype=float)
+        radii = np.array([f.radius if f.kind != "curve" else 0.0 for f in features], dtype=float)
+        coef = coefficient_stack([f.piece for f in curves]) if curves else np.zeros((0, 7, 1))  # type: ignore[misc]
+        return cls(np.array([f.psi0 for f in features]), centers, radii, slot, coef,
+                   np.array([f.s0 for f in curves]), np.array([f.s1 for f in curves]),
+                   np.array([f.psi0 for f in curves]))
+
+    @cached_property
+    def _normal_table(self) -> tuple[FloatArray, FloatArray]:
+        """(ψ, t) samples (C, 33) per curve feature, ψ lifted above psi0 and monotone."""
+        u = np.linspace(0.0, 1.0, _TABLE_SIZE)
+        ts = self.s0[:, None] + (self.s1 - self.s0)[:, None] * u
+        raw = normal_angles(self.coef, ts)
+        p0 = self.psi0[:, None]
+        return np.maximum.accumulate(p0 + (raw - p0 + np.pi) % TWO_PI - np.pi, axis=1), ts
+
+    def feature_index(self, psi: FloatArray) -> tuple[IntArray, FloatArray]:
+        """Feature holding each normal ψ (right-open ranges) and ψ lifted into the table's turn."""
+        base = self.breakpoints[0]
+        x = base + (np.asarray(psi, dtype=float) - base) % TWO_PI
+        idx = np.clip(np.searchsorted(self.breakpoints, x, side="right") - 1, 0, len(self.breakpoints) - 1)
+        return idx, x
+
+    def params(self, slots: IntArray, psi: FloatArray) -> FloatArray:
+        """Parameters where curve features ``slots`` have outward normal ψ: Newton on
+        ⟨T(t), u(ψ)⟩ = 0 from the interpolated table, kept in [s0, s1]. O(n·(33 + L))."""
+        tab_psi, tab_t = self._normal_table
+        p0 = self.psi0[slots]
+        local = p0 + (psi - p0 + np.pi) % TWO_PI - np.pi
+        rows, trows = tab_psi[slots], tab_t[slots]
+        k = np.minimum(np.maximum(np.sum(rows <= local[:, None], axis=1), 1), _TABLE_SIZE - 1)
+        n = np.arange(len(slots))
+        lo_p, hi_p, lo_t, hi_t = rows[n, k - 1], rows[n, k], trows[n, k - 1], trows[n, k]
+        span = hi_p - lo_p
+        frac = np.minimum(np.maximum(np.divide(local - lo_p, span, out=np.zeros_like(span), where=span > 0.0), 0.0), 1.0)
+        t = lo_t + frac * (hi_t - lo_t)
+        lo, hi = self.s0[slots], self.s1[slots]
+        c, s = np.cos(psi)[:, None], np.sin(psi)[:, None]
+        # ⟨T(t), u(ψ)⟩ and its t-derivative as one polynomial each per query.
+        q_coef = self.coef[slots, TX] * c + self.coef[slots, TY] * s
+        dq_coef = self.coef[slots, DTX] * c + self.coef[slots, DTY] * s
+        for _ in range(_NEWTON_STEPS):
+            q, dq = _horner2(q_coef, t), _horner2(dq_coef, t)
+            step = np.divide(q, dq, out=np.zeros_like(q), where=dq != 0.0)
+            t = np.minimum(np.maximum(t - step, lo), hi)
+            if not np.any(np.abs(step) >= 1e-15):
+                break
+        result: FloatArray = t
+        return result
+
+    def points(self, idx: IntArray, psi: FloatArray) -> FloatArray:
+        """Support points (n, 2) of features ``idx`` for outward normals ψ (n,)."""
+        psi = np.asarray(psi, dtype=float)
+        out = self.centers[idx] + self.radii[idx, None] * np.stack([np.cos(psi), np.sin(psi)], axis=-1)
+        slots = self.slot[idx]
+        curve = slots >= 0
+        if np.any(curve):
+            sl = slots[curve]
+            out[curve] = points(self.coef, sl, self.params(sl, psi[curve]))
+        result: FloatArray = out
+        return result
+
+    def curve_lengths(self, nodes: FloatArray, weights: FloatArray) -> FloatArray:
+        """Arc lengths (C,) of the curve features by the quadrature rule (nodes, weights) on [0, 1]."""
+        t = self.s0[:, None] + (self.s1 - self.s0)[:, None] * nodes
+        tx, ty, w = horner_rows(self.coef[:, [TX, TY, W]][:, None], t)
+        return np.asarray((self.s1 - self.s0) * ((np.hypot(tx, ty) / (w * w)) @ weights))

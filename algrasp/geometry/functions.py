@@ -1,0 +1,309 @@
+"""Diameter d(θ) and radius r(θ) functions (conventions §3) and their exact extrema.
+
+Both are sums of two support terms. With u(ψ) = (cos ψ, sin ψ) and ψ = π/2 − θ:
+
+    d(θ) = h(ψ) + h(ψ + π),        r(θ) = ⟨c, u(ψ)⟩ + h(ψ + π),
+
+h being the hull's support function. S¹ is split into *cells* at the Gauss-map
+breakpoints of both terms; in a cell the two contact features F (at ψ) and G (at
+ψ + π) are fixed and f(ψ) = ⟨c_F(ψ) − c_G(ψ + π), u⟩, f′(ψ) = ⟨c_F − c_G, u′⟩.
+
+* Both features point-like (vertices, circular arcs, the centre of mass):
+  f = ⟨Δ, u⟩ + R_F + R_G with Δ the difference of centres — f′ has the closed-form
+  zeros ψ = atan2(Δ) + kπ, and the cell is a region of constant value exactly when
+  the centres coincide (concentric arcs, an arc centred on the opposite vertex or on
+  the centre of mass). This is decided from the geometry, not from samples.
+* Otherwise (a curve piece is involved) f′ = 0 is Lemma 1's system: the chord is
+  normal to both curves. Roots are isolated by sign changes of f′ on a grid no
+  coarser than ``root_grid_rad`` and refined (all cells together, by a vectorised Dekker
+  iteration) to machine precision.
+
+The result is a cyclic list of monotone *runs* (sign of dd/dθ: +1, −1 or 0) whose
+boundaries are the extrema, classified as in Appendix A.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+
+from algrasp.geometry.angles import TWO_PI
+from algrasp.geometry.bank import IntArray
+from algrasp.geometry.curves import FloatArray
+from algrasp.geometry.hull import ConvexHull, HullFeature, unit
+from algrasp.geometry.tolerances import Tolerances
+
+Kind = Literal["diameter", "radius"]
+Equilibrium = Literal["stable", "unstable", "semistable", "semiunstable"]
+
+_CLASSIFY: dict[tuple[int, int], tuple[str, Equilibrium]] = {
+    (1, -1): ("max", "unstable"),
+    (-1, 1): ("min", "stable"),
+    (-1, 0): ("min", "semistable"),
+    (0, 1): ("min", "semistable"),
+    (1, 0): ("max", "semiunstable"),
+    (0, -1): ("max", "semiunstable"),
+}
+
+
+@dataclass(frozen=True)
+class Run:
+    """θ-interval [start, end) (radians, lifted) on which the function has ``sign``."""
+
+    start: float
+    end: float
+    sign: int
+
+
+@dataclass(frozen=True)
+class Extremum:
+    theta: float  # radians, wrapped to [0, period)
+    value: float
+    kind: str  # "min" | "max"
+    equilibrium: Equilibrium
+
+
+@dataclass(frozen=True, eq=False)
+class SupportPairFunction:
+    """d or r of one part: evaluation at any θ plus the exact monotone runs.
+
+    Attributes:
+        kind: "diameter" (period π) or "radius" (period 2π).
+        hull: the part's exact hull.
+        com: centre of mass (radius function only).
+        runs: cyclic θ-runs over one full turn, sorted, covering [runs[0].start, +2π).
+        extrema: extrema over one period, sorted by θ.
+        constant_intervals: [start, end) θ-intervals of constant value over one period
+            (end may exceed the period when the interval wraps).
+    """
+
+    kind: Kind
+    hull: ConvexHull
+    com: tuple[float, float]
+    runs: tuple[Run, ...]
+    extrema: tuple[Extremum, ...]
+    constant_intervals: tuple[tuple[float, float], ...]
+
+    @property
+    def period(self) -> float:
+        return np.pi if self.kind == "diameter" else TWO_PI
+
+    def __call__(self, theta: float) -> float:
+        """Value at θ (radians): exact support-function evaluation, O(log n)."""
+        psi = np.pi / 2 - theta
+        u = unit(psi)
+        far = self.hull.support(psi + np.pi)
+        near = self.hull.support(psi) if self.kind == "diameter" else float(np.asarray(self.com) @ u)
+        return float(near + far)
+
+
+    def values(self, theta: FloatArray) -> FloatArray:
+        """Values at an array of θ (radians), vectorised; O(m log n)."""
+        psi = np.pi / 2 - np.asarray(theta, dtype=float)
+        far = self.hull.support_many(psi + np.pi)
+        if self.kind == "diameter":
+            return self.hull.support_many(psi) + far
+        return np.asarray(unit(psi) @ np.asarray(self.com)) + far
+
+
+def wrap(theta: float, period: float, tol: float) -> float:
+    """θ mod period in [0, period), with values within ``tol`` of the period sent to 0."""
+    x = theta % period
+    return 0.0 if period - x <= tol else float(x)
+
+
+def _cells(kind: Kind, hull: ConvexHull, tol: Tolerances) -> list[tuple[float, float]]:
+    """Cells [a, b] in ψ over one turn: breakpoints of both terms merged."""
+    far = hull.breakpoints - np.pi
+    cuts = far if kind == "radius" else np.concatenate([hull.breakpoints, far])
+    base = float(cuts.min())
+    cuts = np.sort(base + (cuts - base) % TWO_PI)
+    keep = np.concatenate([[True], np.diff(cuts) > tol.angle_rad])
+    cuts = cuts[keep]
+    edges = np.append(cuts, cuts[0] + TWO_PI)
+    return [(float(a), float(b)) for a, b in zip(edges[:-1], edges[1:]) if b - a > tol.angle_rad]
+
+
+def _grid(a: float, b: float, tol: Tolerances) -> FloatArray:
+    """Sign-change grid of a cell: spacing ≤ root_grid_rad, at least 9 points."""
+    return np.linspace(a, b, max(8, int(np.ceil((b - a) / tol.root_grid_rad))) + 1)
+
+
+def _point_like_runs(F: HullFeature, G: HullFeature, a: float, b: float, size: float, tol: Tolerances) -> list[Run]:
+    """Closed form: f′ = ⟨Δ, u′(ψ)⟩ = |Δ| sin(atan2 Δ − ψ); constant iff Δ = 0."""
+    dx, dy = F.center[0] - G.center[0], F.center[1] - G.center[1]
+    if math.hypot(dx, dy) <= tol.concentric_rel * size:
+        return [Run(a, b, 0)]
+    phi = math.atan2(dy, dx)
+    k0 = math.ceil((a - phi) / math.pi)
+    roots = [phi + k * math.pi for k in range(k0, k0 + 3) if a < phi + k * math.pi < b]
+    edges = [a, *roots, b]
+    runs = []
+    for x, y in zip(edges[:-1], edges[1:]):
+        m = 0.5 * (x + y)
+        sign = -dx * math.sin(m) + dy * math.cos(m)
+        if y - x > tol.angle_rad:
+            runs.append(Run(x, y, (sign > 0) - (sign < 0)))
+    return runs
+
+
+@dataclass(frozen=True)
+class _Derivative:
+    """f′(ψ) = ⟨c_F(ψ) − c_G(ψ + π), u′(ψ)⟩ for many (F, G, ψ) at once.
+
+    ``near``/``far`` index the hull's features; near index −1 is the centre of mass.
+    Every call is one vectorised pass over all features (support points by Newton on
+    the exact curves, :class:`~algrasp.geometry.bank.FeatureTable`).
+    """
+
+    hull: ConvexHull
+    com: FloatArray
+
+    def __call__(self, near: IntArray, far: IntArray, psi: FloatArray) -> FloatArray:
+        # One pass for both ends of every chord (the centre of mass needs none).
+        own = near >= 0
+        pts = self.hull.table.points(np.concatenate([far, near[own]]), np.concatenate([psi + np.pi, psi[own]]))
+        chord = -pts[: len(psi)]
+        chord[own] += pts[len(psi):]
+        chord[~own] += self.com
+        return np.asarray(-chord[:, 0] * np.sin(psi) + chord[:, 1] * np.cos(psi))
+
+
+def _refine(f: _Derivative, near: IntArray, far: IntArray, lo: FloatArray, hi: FloatArray,
+            flo: FloatArray, fhi: FloatArray) -> FloatArray:
+    """Roots of f′ in the brackets [lo, hi] (opposite signs at the ends), all at once.
+
+    Dekker's method, vectorised: each pass takes the secant step through the last two
+    iterates when it lands inside the bracket (superlinear at a simple root), else the
+    bracket's regula-falsi point, else its midpoint, and shrinks the bracket. Stops when
+    the bracket or the last step is below rounding (1e-15 rad) or f′ = 0; ≤ 100 passes,
+    each one evaluation for all unfinished roots.
+    """
+    lo, hi, flo, fhi = lo.copy(), hi.copy(), flo.copy(), fhi.copy()
+    first = np.abs(flo) < np.abs(fhi)  # the better end is the current iterate
+    x, fx = np.where(first, lo, hi), np.where(first, flo, fhi)
+    xp, fp = np.where(first, hi, lo), np.where(first, fhi, flo)
+    active = np.ones(lo.shape, dtype=bool)
+    for _ in range(100):
+        a = np.nonzero(active)[0]
+        if not a.size:
+            break
+        xn = _next_point(lo[a], hi[a], flo[a], fhi[a], x[a], fx[a], xp[a], fp[a])
+        fn = f(near[a], far[a], xn)
+        step = np.abs(xn - x[a])
+        xp[a], fp[a], x[a], fx[a] = x[a], fx[a], xn, fn
+        left = fn * fhi[a] > 0.0  # the root lies left of xn: xn is the new right end
+        hi[a[left]], fhi[a[left]] = xn[left], fn[left]
+        lo[a[~left]], flo[a[~left]] = xn[~left], fn[~left]
+        tiny = 1e-15 + 4e-16 * np.abs(xn)
+        active[a[(fn == 0.0) | (step <= tiny) | (hi[a] - lo[a] <= tiny)]] = False
+    return x
+
+
+def _next_point(lo: FloatArray, hi: FloatArray, flo: FloatArray, fhi: FloatArray,
+                x: FloatArray, fx: FloatArray, xp: FloatArray, fp: FloatArray) -> FloatArray:
+    """Secant point if strictly inside the bracket, else regula falsi, else the midpoint."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        secant = x - fx * (x - xp) / (fx - fp)
+        falsi = (lo * fhi - hi * flo) / (fhi - flo)
+    falsi = np.where((falsi > lo) & (falsi < hi), falsi, 0.5 * (lo + hi))
+    return np.where((secant > lo) & (secant < hi), secant, falsi)
+
+
+def _curve_cell_runs(f: _Derivative, cells: list[tuple[int, int, float, float]], tol: Tolerances) -> list[list[Run]]:
+    """Monotone ψ-runs of every cell with a curve piece: f′ on each cell's grid (one
+    batch), sign changes refined together (:func:`_refine`), run signs read at the run
+    midpoints (one batch). O(g) for g grid points in all, independent of the cell count."""
+    grids = [_grid(a, b, tol) for _, _, a, b in cells]
+    cell = np.repeat(np.arange(len(cells)), [len(g) for g in grids])
+    cell_near = np.array([c[0] for c in cells], dtype=np.intp)
+    cell_far = np.array([c[1] for c in cells], dtype=np.intp)
+    near, far = cell_near[cell], cell_far[cell]
+    psi = np.concatenate(grids)
+    vals = f(near, far, psi)
+    change = np.nonzero((vals[:-1] * vals[1:] < 0.0) & (cell[:-1] == cell[1:]))[0]
+    roots = _refine(f, near[change], far[change], psi[change], psi[change + 1], vals[change], vals[change + 1])
+    edges: list[list[float]] = [[a] for _, _, a, _ in cells]
+    for k, r in zip(cell[change].tolist(), roots.tolist()):
+        edges[k].append(r)
+    for k, (_, _, _, b) in enumerate(cells):
+        edges[k].append(b)
+    spans = [(k, x, y) for k, e in enumerate(edges) for x, y in zip(e[:-1], e[1:])]
+    ks = np.array([k for k, _, _ in spans], dtype=np.intp)
+    mids = np.array([0.5 * (x + y) for _, x, y in spans])
+    signs = np.copysign(1.0, f(cell_near[ks], cell_far[ks], mids))
+    out: list[list[Run]] = [[] for _ in cells]
+    for (k, x, y), sgn in zip(spans, signs.tolist()):
+        if y - x > tol.angle_rad:
+            out[k].append(Run(x, y, int(sgn)))
+    return out
+
+
+def _merge(runs: list[Run], sliver: float) -> list[Run]:
+    """Join neighbours of equal sign; rounding slivers join their left neighbour."""
+    out: list[Run] = []
+    for r in runs:
+        if out and r.end - r.start <= sliver:
+            out[-1] = Run(out[-1].start, r.end, out[-1].sign)
+            continue
+        if out and out[-1].sign == r.sign:
+            out[-1] = Run(out[-1].start, r.end, r.sign)
+        else:
+            out.append(r)
+    if len(out) > 1 and out[0].sign == out[-1].sign:
+        first = out.pop(0)
+        out[-1] = Run(out[-1].start, first.end + TWO_PI, first.sign)
+    return out
+
+
+def theta_runs(kind: Kind, hull: ConvexHull, com: tuple[float, float], size: float, tol: Tolerances) -> list[Run]:
+    """Cyclic θ-runs of d or r over one turn. O(c + g) array work for c cells and g
+    grid points in all (the cells with curves are handled in one batch)."""
+    cells = _cells(kind, hull, tol)
+    mids = np.array([(a + b) / 2 for a, b in cells])
+    near, _ = hull.table.feature_index(mids)
+    far, _ = hull.table.feature_index(mids + np.pi)
+    com_feature = HullFeature("point", -np.inf, np.inf, center=com)
+    near_ids = [-1] * len(cells) if kind == "radius" else near.tolist()
+    keyed = [(i, j, a, b) for i, j, (a, b) in zip(near_ids, far.tolist(), cells)]
+    feats = hull.features
+
+    def point_like(i: int) -> bool:
+        return i < 0 or feats[i].point_like
+
+    curved = [c for c in keyed if not (point_like(c[0]) and point_like(c[1]))]
+    curve_runs = iter(_curve_cell_runs(_Derivative(hull, np.asarray(com, dtype=float)), curved, tol) if curved else [])
+    psi_runs: list[Run] = []
+    for i, j, a, b in keyed:
+        if point_like(i) and point_like(j):
+            psi_runs.extend(_point_like_runs(com_feature if i < 0 else feats[i], feats[j], a, b, size, tol))
+        else:
+            psi_runs.extend(next(curve_runs))
+    merged = _merge(psi_runs, tol.sliver_rad)
+    # θ = π/2 − ψ reverses the order and the sign of the derivative.
+    return [Run(np.pi / 2 - r.end, np.pi / 2 - r.start, -r.sign) for r in reversed(merged)]
+
+
+def analyse(kind: Kind, hull: ConvexHull, com: tuple[float, float], size: float, tol: Tolerances) -> SupportPairFunction:
+    """Exact runs, extrema and constant regions of the diameter or radius function."""
+    runs = theta_runs(kind, hull, com, size, tol)
+    shell = SupportPairFunction(kind, hull, com, tuple(runs), (), ())
+    period = shell.period
+    labelled = [(nxt.start, _CLASSIFY[(prev.sign, nxt.sign)]) for prev, nxt in zip([runs[-1], *runs[:-1]], runs)
+                if (prev.sign, nxt.sign) in _CLASSIFY]
+    values = shell.values(np.array([t for t, _ in labelled])) if labelled else np.zeros(0)
+    extrema: dict[float, Extremum] = {}
+    for (theta, label), value in zip(labelled, values.tolist()):
+        key = wrap(theta, period, tol.angle_rad)
+        extrema.setdefault(round(key, 9), Extremum(key, value, label[0], label[1]))
+    const = {round(wrap(r.start, period, tol.angle_rad), 9): (wrap(r.start, period, tol.angle_rad),
+                                                             wrap(r.start, period, tol.angle_rad) + r.end - r.start)
+             for r in runs if r.sign == 0}
+    if len(runs) == 1 and runs[0].sign == 0:
+        const = {0.0: (0.0, period)}
+    return SupportPairFunction(kind, hull, com, tuple(runs),
+                               tuple(sorted(extrema.values(), key=lambda e: e.theta)),
+                               tuple(sorted(const.values())))

@@ -1,0 +1,225 @@
+"""The validated part: immutable, counter-clockwise, with exact area, centre of mass and hull.
+
+``load_part(document)`` is the one entry point: it parses (``algrasp.geometry.document``),
+checks closure, degeneracy and simplicity, orients the loop counter-clockwise and
+computes the exact convex hull (``algrasp.geometry.hull``).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import shapely
+from shapely.geometry import LineString, Point, Polygon
+
+from algrasp.errors import PartDocumentError
+from algrasp.geometry.curves import FloatArray
+from algrasp.geometry.document import number, parse_loops
+from algrasp.geometry.hull import ConvexHull, exact_hull
+from algrasp.geometry.limits import DEFAULT_LIMITS, Limits
+from algrasp.geometry.moments import loop_moments
+from algrasp.geometry.recognise import exact_circles, snap_tessellations
+from algrasp.geometry.segments import Bezier, Line, Segment, loop_polyline
+from algrasp.geometry.tolerances import DEFAULT_TOLERANCES, Tolerances
+
+_TESSELLATION_TURN_RAD = np.radians(2.0)  # only for the simplicity check, never for analysis
+
+
+@dataclass(frozen=True)
+class Part:
+    """A validated planar part.
+
+    Attributes:
+        name, units: from the document (units default "mm").
+        boundary: segments of the outer loop, counter-clockwise.
+        holes: segment loops of the holes, each clockwise.
+        area: area of boundary minus holes (unit²).
+        center_of_mass: given, or the area centroid (unit).
+        com_given: whether the document gave the centre of mass.
+        size: diagonal of the bounding box of all control points (unit).
+        hull: the exact convex hull of the boundary.
+        source_document: the document as given (for records and replay).
+        polar_moment: ∬ |p − c|² dA over the region, about the centre of mass (unit⁴);
+            times the areal density it is the rotational inertia.
+        recognised: what the robust model read into the drawing (tessellated arcs).
+    """
+
+    name: str
+    units: str
+    boundary: tuple[Segment, ...]
+    holes: tuple[tuple[Segment, ...], ...]
+    area: float
+    center_of_mass: tuple[float, float]
+    com_given: bool
+    size: float
+    hull: ConvexHull
+    source_document: Mapping[str, Any]
+    polar_moment: float
+    recognised: tuple[str, ...] = ()
+
+
+def load_part(doc: Mapping[str, Any], tol: Tolerances = DEFAULT_TOLERANCES, limits: Limits = DEFAULT_LIMITS,
+              snap: bool = False) -> Part:
+    """Validate a part document and build the :class:`Part`. Raises PartDocumentError.
+
+    Rational Beziers and ellipse arcs that are exactly circular become arcs. With
+    ``snap`` (the robust model) polygon runs that tessellate circular arcs become the
+    arcs too (:func:`algrasp.geometry.recognise.snap_tessellations`); ``Part.recognised`` says so.
+    """
+    boundary, holes = parse_loops(doc, limits)
+    drawn_size = _size([boundary, *holes])
+    # Exact circles in any form (conventions §7): analysed as the arcs they are.
+    boundary = exact_circles(boundary, drawn_size, tol)
+    holes = [exact_circles(h, drawn_size, tol) for h in holes]
+    recognised = 0
+    if snap:
+        boundary, recognised = snap_tessellations(boundary, tol)
+    size = _size([boundary, *holes])
+    field = "polygon" if "polygon" in doc else "boundary"
+    _check_precision([boundary, *holes], size, field, tol)
+    _check_loop(boundary, field, size, tol)
+    for i, hole in enumerate(holes):
+        _check_loop(hole, f"holes[{i}]", size, tol)
+    moments = loop_moments(boundary)
+    if abs(moments[0]) <= tol.zero_area_rel * size * size:
+        raise PartDocumentError(field, f"the boundary encloses zero area ({moments[0]:.3g})")
+    _check_simple(boundary, holes, field)
+    if moments[0] < 0.0:
+        boundary = [s.reversed() for s in reversed(boundary)]
+        moments = -moments
+    oriented_holes = []
+    for hole in holes:
+        hm = loop_moments(hole)
+        if hm[0] > 0.0:
+            hole = [s.reversed() for s in reversed(hole)]
+            hm = -hm
+        moments = moments + hm
+        oriented_holes.append(tuple(hole))
+    area, sx, sy, ixx, iyy = (float(m) for m in moments)
+    if area <= tol.zero_area_rel * size * size:
+        raise PartDocumentError("holes", "the holes leave the part with zero area")
+    hull = exact_hull(boundary, size, tol)
+    com, given = _center_of_mass(doc, (sx / area, sy / area), hull)
+    polar = ixx + iyy - area * (com[0] ** 2 + com[1] ** 2)
+    notes = (f"{recognised} tessellated arc(s) recognised as circular arcs",) if recognised else ()
+    return Part(str(doc.get("name", "part")), str(doc.get("units", "mm")), tuple(boundary), tuple(oriented_holes),
+                float(area), com, given, size, hull, doc, float(polar), notes)
+
+
+def _center_of_mass(doc: Mapping[str, Any], centroid: tuple[float, float],
+                    hull: ConvexHull) -> tuple[tuple[float, float], bool]:
+    """The given centre of mass (checked inside the hull), or the area centroid."""
+    if "center_of_mass" not in doc:
+        return (float(centroid[0]), float(centroid[1])), False
+    raw = doc["center_of_mass"]
+    if not isinstance(raw, (list, tuple)) or len(raw) != 2:
+        raise PartDocumentError("center_of_mass", "expected a point [x, y]")
+    com = (number(raw[0], "center_of_mass[0]"), number(raw[1], "center_of_mass[1]"))
+    margin = hull.inside_margin(np.array(com))
+    if margin <= 0.0:
+        raise PartDocumentError("center_of_mass", f"({com[0]:g}, {com[1]:g}) lies outside the convex hull (by {-margin:.3g})")
+    return com, True
+
+
+def _check_precision(loops: list[list[Segment]], size: float, field: str, tol: Tolerances) -> None:
+    """A part far smaller than its distance from the origin has no exact analysis in
+    double precision (its coordinates differ in the last digits only)."""
+    reach = max(max(abs(c) for c in s.start) for loop in loops for s in loop)
+    if size < tol.position_rel * reach:
+        raise PartDocumentError(field, f"the part ({size:.3g} across) lies {reach:.3g} from the origin: too small "
+                                "for its position in double precision; move it near the origin")
+
+
+def _size(loops: list[list[Segment]]) -> float:
+    """Diagonal of the bounding box of all control points (arcs: their full circle)."""
+    pts: list[tuple[float, float]] = []
+    for loop in loops:
+        for seg in loop:
+            if isinstance(seg, Line):
+                pts.append(seg.start)
+            elif isinstance(seg, Bezier):
+                pts.extend(map(tuple, seg.points.tolist()))
+            else:
+                r = max(seg.rx, seg.ry)
+                pts.extend([(seg.center[0] - r, seg.center[1] - r), (seg.center[0] + r, seg.center[1] + r)])
+    arr = np.asarray(pts)
+    return float(np.hypot(*np.ptp(arr, axis=0)))
+
+
+def _length(seg: Segment) -> float:
+    """Length for the zero-length test: exact for lines and circular arcs, the control
+    polygon's extent for Bezier curves (zero exactly when all control points coincide)."""
+    if isinstance(seg, Line):
+        return math.hypot(seg.end[0] - seg.start[0], seg.end[1] - seg.start[1])
+    if isinstance(seg, Bezier):
+        return float(np.hypot(*np.ptp(seg.points, axis=0)))
+    return abs(seg.end_t - seg.start_t) * min(seg.rx, seg.ry)
+
+
+def _check_loop(loop: list[Segment], field: str, size: float, tol: Tolerances) -> None:
+    """Zero-length segments and gaps between consecutive segments."""
+    if all(isinstance(s, Line) for s in loop):
+        starts = np.array([s.start for s in loop])
+        ends = np.array([s.end for s in loop])
+        short = np.hypot(*(ends - starts).T) <= tol.zero_length_rel * size
+        gaps = np.hypot(*(np.roll(starts, -1, axis=0) - ends).T) > tol.closure_rel * size
+        if not (short.any() or gaps.any()):
+            return  # a valid polygon: no per-segment diagnosis needed
+    for i, seg in enumerate(loop):
+        length = _length(seg)
+        if length <= tol.zero_length_rel * size:
+            raise PartDocumentError(f"{field}[{i}]", f"zero-length segment (length {length:.3g})", i)
+    for i, seg in enumerate(loop):
+        nxt = loop[(i + 1) % len(loop)]
+        gap = math.hypot(seg.end[0] - nxt.start[0], seg.end[1] - nxt.start[1])
+        if gap > tol.closure_rel * size:
+            j = (i + 1) % len(loop)
+            raise PartDocumentError(f"{field}[{i}].end",
+                                    f"open loop: gap of {gap:.6g} between the end of segment {i} and the start of segment {j}", i)
+
+
+def _polyline(loop: list[Segment]) -> tuple[FloatArray, list[FloatArray]]:
+    if all(isinstance(s, Line) for s in loop):
+        starts = np.array([s.start for s in loop])
+        return starts, list(starts[:, None, :])
+    return loop_polyline(loop, _TESSELLATION_TURN_RAD)
+
+
+def _check_simple(boundary: list[Segment], holes: list[list[Segment]], field: str) -> None:
+    """Self-intersection of the boundary and holes (tessellated only for this test)."""
+    shell, parts = _polyline(boundary)
+    if len(np.unique(np.round(shell, 12), axis=0)) < 3:
+        raise PartDocumentError(field, "the loop is degenerate: it has fewer than three distinct points")
+    reason = shapely.is_valid_reason(Polygon(shell))
+    if reason != "Valid Geometry":
+        raise PartDocumentError(field, _explain(reason, parts, field))
+    rings = []
+    for i, hole in enumerate(holes):
+        ring, hparts = _polyline(hole)
+        r = shapely.is_valid_reason(Polygon(ring))
+        if r != "Valid Geometry":
+            raise PartDocumentError(f"holes[{i}]", _explain(r, hparts, f"holes[{i}]"))
+        rings.append(ring)
+    if rings:
+        reason = shapely.is_valid_reason(Polygon(shell, rings))
+        if reason != "Valid Geometry":
+            raise PartDocumentError("holes", f"holes must lie inside the boundary without touching: {reason}")
+
+
+def _explain(reason: str, parts: list[FloatArray], field: str) -> str:
+    m = re.search(r"\[([-\d.eE+]+) ([-\d.eE+]+)\]", reason)
+    if not m:
+        return f"invalid loop: {reason}"
+    p = Point(float(m.group(1)), float(m.group(2)))
+    dists = []
+    for i, seg_pts in enumerate(parts):
+        nxt = parts[(i + 1) % len(parts)][:1]
+        dists.append((LineString(np.vstack([seg_pts, nxt])).distance(p), i))
+    near = sorted(i for d, i in sorted(dists)[:2])
+    kind = "self-intersecting" if "Self-intersection" in reason or "Ring" in reason else "invalid"
+    return f"{kind} boundary near ({p.x:.6g}, {p.y:.6g}): segments {near[0]} and {near[1]} of {field}"

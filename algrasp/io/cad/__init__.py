@@ -1,0 +1,176 @@
+"""CAD import adapters: DXF (ezdxf), SVG (svgelements) and 3-D meshes (trimesh) become
+part documents (conventions §5). Curves stay exact (arcs, ellipse arcs, rational
+Beziers); only meshes, already tessellated, give polygons marked ``approximate``.
+
+These adapters read bytes and import their libraries lazily; the core never imports them.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path, PurePath
+from typing import Any
+
+from algrasp.errors import ConfigError, LimitExceededError, PartDocumentError
+from algrasp.geometry.limits import DEFAULT_LIMITS
+
+MAX_WARNINGS = 20
+"""Warnings kept in a document's ``source`` (ezdxf may log hundreds on a damaged file)."""
+CAD_SUFFIXES = (".dxf", ".svg", ".stl", ".obj", ".ply", ".off", ".glb")
+
+
+def is_cad(filename: str) -> bool:
+    return PurePath(filename).suffix.lower() in CAD_SUFFIXES
+
+
+def _scale(seg: dict[str, Any], k: float) -> dict[str, Any]:
+    if k == 1.0:
+        return seg
+    out = dict(seg)
+    for key in ("start", "end", "center"):
+        if key in out:
+            out[key] = [k * out[key][0], k * out[key][1]]
+    for key in ("radius", "rx", "ry"):
+        if key in out:
+            out[key] = k * out[key]
+    if "points" in out:
+        out["points"] = [[k * x, k * y] for x, y in out["points"]]
+    return out
+
+
+_READERS = {".dxf": "ezdxf", ".svg": "svgelements", ".stl": "trimesh", ".obj": "trimesh", ".ply": "trimesh",
+            ".off": "trimesh", ".glb": "trimesh"}
+
+
+def _need_cad_extra(suffix: str) -> None:
+    """A clear error when the reader of ``suffix`` is not installed (the ``cad`` extra)."""
+    import importlib.util
+
+    reader = _READERS.get(suffix)
+    if reader is not None and importlib.util.find_spec(reader) is None:
+        raise ConfigError("FILE", f"reading {suffix} files needs {reader}: pip install 'algrasp[cad]'")
+
+
+def import_bytes(filename: str, data: bytes, layer: str | None = None, element_id: str | None = None,
+                 pose: int | None = None, tolerance: float | None = None, units: str | None = None,
+                 part: int | None = None) -> dict[str, Any]:
+    """The part document of a DXF/SVG/mesh file's bytes. ``layer`` (DXF), ``element_id``
+    (SVG), ``pose`` (mesh) choose what to import; ``part`` chooses one of several parts on
+    a sheet (:func:`list_parts` lists them); ``tolerance`` is the chaining tolerance in
+    drawing units (default: 1e-6 of the drawing's size); ``units`` overrides the unit
+    (meshes carry none: default mm)."""
+    suffix = PurePath(filename).suffix.lower()
+    name = PurePath(filename).stem
+    _need_cad_extra(suffix)
+    if suffix in (".stl", ".obj", ".ply", ".off", ".glb"):
+        from algrasp.io.cad.mesh import mesh_document
+
+        _check_options(suffix, layer, element_id, pose)
+        if part not in (None, 0):
+            raise ConfigError("--part", "a mesh is one part (choose a resting pose with --pose)")
+        return mesh_document(data, suffix[1:], name, pose, units or "mm")
+    sheet, doc_units, k, source = _sheet(filename, data, layer, element_id, pose, tolerance, units)
+    if part is None and len(sheet.parts) > 1:
+        rows = sheet.summary(units or doc_units)["parts"]
+        listing = "; ".join(f"{r['index']}: {r['segments']} segments, {r['holes']} hole(s), area {k * k * r['area']:.4g}"
+                            for r in rows[:10])
+        raise PartDocumentError("part", f"the drawing holds {len(rows)} parts ({listing}{'; …' if len(rows) > 10 else ''}); "
+                                "choose one with --part K (algrasp import FILE --list shows them)"
+                                + "".join(f"; {w}" for w in sheet.warnings if w.startswith("overlapping")))
+    index = 0 if part is None else part
+    if not 0 <= index < len(sheet.parts):
+        raise ConfigError("--part", f"no part {index}: the drawing holds {len(sheet.parts)} (0 to {len(sheet.parts) - 1})")
+    return _part_document(sheet, index, name, units or doc_units, k, source)
+
+
+def import_all_parts(filename: str, data: bytes) -> list[dict[str, Any]]:
+    """Every part of a DXF/SVG sheet as its own document (``FILE#K`` when there are
+    several), read once; a mesh or a one-part drawing gives one document. For catalogues."""
+    suffix = PurePath(filename).suffix.lower()
+    if suffix not in (".dxf", ".svg"):
+        return [import_bytes(filename, data)]
+    sheet, doc_units, k, source = _sheet(filename, data, None, None, None, None, None)
+    name = PurePath(filename).stem
+    return [_part_document(sheet, i, name, doc_units, k, dict(source)) for i in range(len(sheet.parts))]
+
+
+def _part_document(sheet: Any, index: int, name: str, units: str, k: float, source: dict[str, Any]) -> dict[str, Any]:
+    outline, holes = sheet.parts[index]
+    warnings = [*source.pop("warnings", []), *sheet.warnings, *sheet.ignored][:MAX_WARNINGS]
+    if warnings:
+        source["warnings"] = warnings
+    if len(sheet.parts) > 1:
+        source["part"] = index
+    doc_name = name if len(sheet.parts) == 1 else f"{name}#{index}"
+    return {"name": doc_name, "units": units, "boundary": [_scale(s, k) for s in outline],
+            "holes": [[_scale(s, k) for s in h] for h in holes], "source": source}
+
+
+def list_parts(filename: str, data: bytes, layer: str | None = None, element_id: str | None = None,
+               tolerance: float | None = None, units: str | None = None) -> dict[str, Any]:
+    """``{"parts": [{"index", "bbox", "area", "holes", "segments", "units"}], "ignored",
+    "warnings"}`` of a DXF/SVG sheet, lengths in the document's unit."""
+    sheet, doc_units, k, source = _sheet(filename, data, layer, element_id, None, tolerance, units)
+    out = sheet.summary(units or doc_units)
+    for row in out["parts"]:
+        row["bbox"] = [k * v for v in row["bbox"]]
+        row["area"] = k * k * row["area"]
+    out["warnings"] = [*source.get("warnings", []), *out["warnings"]]
+    return out
+
+
+def _sheet(filename: str, data: bytes, layer: str | None, element_id: str | None, pose: int | None,
+           tolerance: float | None, units: str | None) -> tuple[Any, str, float, dict[str, Any]]:
+    """The parts of a DXF/SVG drawing, its unit, scale and source description."""
+    from algrasp.io.cad.chain import default_tolerance, point_at
+    from algrasp.io.cad.sheet import find_parts
+
+    suffix = PurePath(filename).suffix.lower()
+    _check_options(suffix, layer, element_id, pose)
+    if suffix == ".dxf":
+        from algrasp.io.cad.dxf import captured_ezdxf_log, dxf_pieces, read_dxf
+
+        drawing = read_dxf(data)
+        with captured_ezdxf_log() as log:  # expanding blocks logs too
+            pieces, doc_units, k = dxf_pieces(drawing, layer)
+        drawing.algrasp_warnings += sorted(set(log))
+        source: dict[str, Any] = {"format": "dxf", "layer": layer}
+        hatched = drawing.algrasp_hatches
+        # With --units the unit assumption is the user's, not ours to warn about.
+        kept = [w for w in drawing.algrasp_warnings if units is None or "$INSUNITS" not in w][:MAX_WARNINGS]
+        if kept:
+            source["warnings"] = kept
+    elif suffix == ".svg":
+        from algrasp.io.cad.svg import svg_pieces
+
+        pieces, doc_units, k = svg_pieces(data, element_id), "mm", 1.0
+        hatched = []
+        source = {"format": "svg", "id": element_id}
+    else:
+        raise PartDocumentError("FILE", f"unsupported file type {suffix or '(none)'}: use .json, {', '.join(CAD_SUFFIXES)}")
+    for p in pieces:  # a transform can overflow (SVG scale(1e308) scale(1e308))
+        if not all(math.isfinite(c) for e in (False, True) for c in point_at(p.segment, e)):
+            raise PartDocumentError(p.origin, "coordinates overflow to infinity (an extreme scale or transform?)")
+    ends = [point_at(p.segment, e) for p in pieces for e in (False, True)]
+    size = float(max(max(abs(c) for pt in ends for c in pt), 1e-300))
+    tol = tolerance if tolerance is not None else default_tolerance(pieces)
+    return find_parts(pieces, tol, size, hatched), doc_units, k, source
+
+
+def _check_options(suffix: str, layer: str | None, element_id: str | None, pose: int | None) -> None:
+    if layer is not None and suffix != ".dxf":
+        raise ConfigError("--layer", "only DXF drawings have layers")
+    if element_id is not None and suffix != ".svg":
+        raise ConfigError("--id", "only SVG documents have element ids")
+    if pose is not None and suffix in (".dxf", ".svg"):
+        raise ConfigError("--pose", "only 3-D meshes have resting poses")
+
+
+def import_file(path: str, **options: Any) -> dict[str, Any]:
+    """``import_bytes`` of a file on disk (size-limited)."""
+    p = Path(path)
+    if not p.is_file():
+        raise PartDocumentError("FILE", f"no such file: {path}")
+    if p.stat().st_size > DEFAULT_LIMITS.max_document_bytes * 8:
+        raise LimitExceededError("FILE", f"file larger than {DEFAULT_LIMITS.max_document_bytes * 8} bytes")
+    return import_bytes(p.name, p.read_bytes(), **options)

@@ -1,0 +1,296 @@
+"""DXF drawings (ezdxf) → exact part documents.
+
+LINE, ARC, CIRCLE, ELLIPSE, LWPOLYLINE/POLYLINE (bulges become exact arcs), SPLINE (split
+exactly into rational Bezier segments) and INSERT (block references, expanded with their
+transformation by ezdxf). Annotation (text, dimensions, hatches, points) is skipped;
+any other entity is refused by name. Entities must lie in the XY plane (extrusion ±Z).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import logging
+import math
+import re
+from collections.abc import Iterator
+from typing import Any
+
+import numpy as np
+
+from algrasp.errors import PartDocumentError
+from algrasp.io.cad.chain import Piece, Segment
+from algrasp.io.cad.nurbs import nurbs_to_beziers
+
+SKIPPED = {"TEXT", "MTEXT", "DIMENSION", "ARC_DIMENSION", "LEADER", "MLEADER", "MULTILEADER", "ATTRIB", "ATTDEF",
+           "POINT", "HATCH", "MPOLYGON", "VIEWPORT", "IMAGE", "WIPEOUT", "TOLERANCE", "SOLID", "TRACE", "3DFACE", "RAY",
+           "XLINE", "ACAD_TABLE", "SHAPE", "OLE2FRAME", "ACAD_PROXY_ENTITY", "MESH", "3DSOLID", "BODY", "REGION",
+           "SURFACE", "EXTRUDEDSURFACE", "LOFTEDSURFACE", "REVOLVEDSURFACE", "SWEPTSURFACE", "PLANESURFACE", "UNDERLAY",
+           "PDFUNDERLAY", "DWFUNDERLAY", "DGNUNDERLAY", "LIGHT", "HELIX"}
+"""Annotation, fills, construction and 3-D entities: set aside (and counted in the warnings)."""
+INSUNITS = {1: ("in", 1.0), 2: ("mm", 304.8), 3: ("m", 1609.344), 4: ("mm", 1.0), 5: ("cm", 1.0), 6: ("m", 1.0),
+            7: ("m", 1000.0), 8: ("um", 0.0254), 9: ("um", 25.4), 10: ("mm", 914.4), 11: ("um", 1e-4), 12: ("um", 1e-3),
+            13: ("um", 1.0), 14: ("mm", 100.0), 15: ("m", 10.0), 16: ("m", 100.0), 17: ("m", 1e9), 18: ("m", 1.495978707e11),
+            19: ("m", 9.4607304725808e15), 20: ("m", 3.0856775814913673e16), 21: ("mm", 304.8006096),
+            22: ("mm", 25.4000508), 23: ("mm", 914.4018288), 24: ("m", 1609.347219)}
+"""$INSUNITS code (every code DXF defines) → (document unit, factor applied to the
+coordinates). Units the part document has no name for (feet, mils, yards, US survey
+units, …) are converted to one it has."""
+
+
+BINARY_SENTINEL = b"AutoCAD Binary DXF"
+
+
+def read_dxf(data: bytes) -> Any:
+    """The drawing as AutoCAD reads it: any line endings (CRLF is the normal case), the
+    encoding its ``$DWGCODEPAGE`` names, binary DXF, R12 to current; structural flaws are
+    repaired by ezdxf's recover mode. ezdxf's log messages are kept on the drawing
+    (``algrasp_warnings``), never printed."""
+    from ezdxf import recover
+
+    with captured_ezdxf_log() as messages:
+        try:
+            doc = _read_binary(data) if data.startswith(BINARY_SENTINEL) else _read_text(data)
+        except Exception:  # noqa: BLE001 - a damaged file: let the recover mode repair it
+            try:
+                doc, _ = recover.read(io.BytesIO(data))
+                messages.append("the drawing was damaged and has been repaired (ezdxf recover mode)")
+            except Exception as exc:  # noqa: BLE001 - ezdxf raises several types for a malformed file
+                raise PartDocumentError("dxf", f"not a readable DXF drawing: {exc}") from None
+    doc.algrasp_warnings = list(messages)
+    # ezdxf fills a missing header with its defaults ($INSUNITS = 6, metres): keep which
+    # variables the file itself sets.
+    doc.algrasp_header_vars = {v for v in ("$INSUNITS", "$MEASUREMENT") if v.encode() in data}
+    return doc
+
+
+_ACADVER = re.compile(rb"\$ACADVER\s*\r?\n\s*1\s*\r?\n\s*(AC\d{4})")
+_CODEPAGE = re.compile(rb"\$DWGCODEPAGE\s*\r?\n\s*3\s*\r?\n\s*(\S+)")
+
+
+def _read_text(data: bytes) -> Any:
+    """The fast path for a sound ASCII DXF: UTF-8 from R2007 (AC1021) on, before that the
+    $DWGCODEPAGE encoding; CR, LF or CRLF line ends all read as one."""
+    import ezdxf
+    from ezdxf.tools.codepage import toencoding
+
+    version = _ACADVER.search(data[:65536])
+    codepage = _CODEPAGE.search(data[:65536])
+    if version is not None and version.group(1) >= b"AC1021":
+        encoding = "utf-8"
+    else:
+        encoding = toencoding(codepage.group(1).decode("ascii", "replace")) if codepage else "cp1252"
+    text = data.decode(encoding, errors="replace").replace("\r\n", "\n").replace("\r", "\n")
+    return ezdxf.read(io.StringIO(text))
+
+
+def _read_binary(data: bytes) -> Any:
+    import tempfile
+
+    import ezdxf
+
+    with tempfile.NamedTemporaryFile(suffix=".dxf") as f:  # ezdxf reads binary DXF from files only
+        f.write(data)
+        f.flush()
+        return ezdxf.readfile(f.name)
+
+
+class _ListHandler(logging.Handler):
+    def __init__(self, out: list[str]) -> None:
+        super().__init__(logging.WARNING)
+        self.out = out
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.out.append(record.getMessage())
+
+
+@contextlib.contextmanager
+def captured_ezdxf_log() -> Iterator[list[str]]:
+    """ezdxf's warnings go into a list instead of stderr while a drawing is read."""
+    log = logging.getLogger("ezdxf")
+    messages: list[str] = []
+    handler = _ListHandler(messages)
+    old = log.propagate
+    log.addHandler(handler)
+    log.propagate = False
+    try:
+        yield messages
+    finally:
+        log.removeHandler(handler)
+        log.propagate = old
+
+
+def _xy(v: Any) -> list[float]:
+    return [float(v[0]), float(v[1])]
+
+
+def _normal_sign(e: Any) -> float:
+    z = e.dxf.extrusion if e.dxf.hasattr("extrusion") else (0.0, 0.0, 1.0)
+    if abs(abs(z[2]) - 1.0) > 1e-12:
+        raise PartDocumentError(_origin(e), "not in the XY plane (extrusion is not ±Z)")
+    return 1.0 if z[2] > 0 else -1.0
+
+
+def _origin(e: Any) -> str:
+    handle = e.dxf.get("handle")
+    return f"{e.dxftype()} #{handle}" if handle else e.dxftype()
+
+
+def _arc(e: Any, full: bool) -> Segment:
+    sign = _normal_sign(e)
+    c = e.ocs().to_wcs(e.dxf.center)
+    a0 = 0.0 if full else float(e.dxf.start_angle)
+    sweep = 360.0 if full else (float(e.dxf.end_angle) - a0) % 360.0 or 360.0
+    start = a0 if sign > 0 else 180.0 - a0  # OCS with −Z extrusion mirrors x
+    return {"type": "arc", "center": _xy(c), "radius": float(e.dxf.radius), "start_deg": start,
+            "end_deg": start + sign * sweep}
+
+
+def _ellipse(e: Any) -> Segment:
+    sign = _normal_sign(e)
+    major = e.dxf.major_axis
+    rx = math.hypot(major[0], major[1])
+    t0, t1 = float(e.dxf.start_param), float(e.dxf.end_param)
+    sweep = (t1 - t0) % (2 * math.pi) or 2 * math.pi
+    # minor axis = extrusion × major · ratio: with −Z the parameter runs clockwise
+    return {"type": "ellipse_arc", "center": _xy(e.dxf.center), "rx": rx, "ry": rx * float(e.dxf.ratio),
+            "rotation_deg": math.degrees(math.atan2(major[1], major[0])),
+            "start_deg": sign * math.degrees(t0), "end_deg": sign * math.degrees(t0 + sweep)}
+
+
+def bulge_segment(p1: list[float], p2: list[float], bulge: float) -> Segment:
+    """The exact segment between two polyline vertices: a line (bulge 0) or the arc of
+    included angle 4·atan(bulge), counter-clockwise for a positive bulge."""
+    if bulge == 0.0:
+        return {"type": "line", "start": p1, "end": p2}
+    theta = 4.0 * math.atan(bulge)
+    v = np.subtract(p2, p1)
+    L = float(np.hypot(*v))
+    c = (np.add(p1, p2) / 2 + np.array([-v[1], v[0]]) / L * (L / (2 * math.tan(theta / 2)))) if L > 0 else np.array(p1)
+    start = math.degrees(math.atan2(p1[1] - c[1], p1[0] - c[0]))
+    return {"type": "arc", "center": _xy(c), "radius": L / (2 * abs(math.sin(theta / 2))), "start_deg": start,
+            "end_deg": start + math.degrees(theta)}
+
+
+def _polyline(e: Any) -> list[Segment]:
+    sign = _normal_sign(e)
+    ocs = e.ocs()
+    if e.dxftype() == "LWPOLYLINE":
+        verts = [(_xy(ocs.to_wcs((x, y, 0.0))), sign * b) for x, y, b in e.get_points("xyb")]
+        closed = bool(e.closed)
+    elif e.is_2d_polyline:
+        verts = [(_xy(ocs.to_wcs(v.dxf.location)), sign * float(v.dxf.bulge)) for v in e.vertices]
+        closed = bool(e.is_closed)
+    else:
+        verts = [(_xy(v.dxf.location), 0.0) for v in e.vertices]
+        closed = bool(e.is_closed)
+    pairs = list(zip(verts, verts[1:] + (verts[:1] if closed else [])))
+    return [bulge_segment(a, b, bulge) for (a, bulge), (b, _) in pairs if a != b]
+
+
+def _spline(e: Any) -> list[Segment]:
+    _normal_sign(e)
+    bs = e.construction_tool()
+    ctrl = np.array([_xy(p) for p in bs.control_points])
+    w = np.array(bs.weights(), float) if bs.is_rational else np.ones(len(ctrl))
+    segs = nurbs_to_beziers(bs.degree, ctrl, w, np.array(bs.knots(), float), _origin(e))
+    out = []
+    for P, W in segs:
+        seg: Segment = {"type": "bezier", "points": P.tolist()}
+        if bs.is_rational:
+            seg["weights"] = W.tolist()
+        out.append(seg)
+    return out
+
+
+MAX_BLOCK_DEPTH = 16
+"""Nested INSERTs deeper than this (or a block inserting itself) are refused."""
+
+
+def entity_pieces(e: Any, within: str = "", depth: int = 0) -> list[Piece]:
+    """The exact segments of one entity (INSERT: of its expanded block; their origins name
+    the block and the INSERT's handle, as block content has no handle of its own)."""
+    t = e.dxftype()
+    if t in SKIPPED or t.endswith("DIMENSION"):  # every dimension flavour is annotation
+        return []
+    if t == "INSERT":
+        if depth >= MAX_BLOCK_DEPTH:
+            raise PartDocumentError(f"INSERT #{e.dxf.handle}", f"blocks nested deeper than {MAX_BLOCK_DEPTH} "
+                                    f"(block {e.dxf.name!r} inserts itself?)")
+        where = f" in block {e.dxf.name!r} (INSERT #{e.dxf.handle}{within})"
+        return [p for v in e.virtual_entities() for p in entity_pieces(v, where, depth + 1)]
+    handlers = {"LINE": lambda: [{"type": "line", "start": _xy(e.dxf.start), "end": _xy(e.dxf.end)}],
+                "ARC": lambda: [_arc(e, False)], "CIRCLE": lambda: [_arc(e, True)], "ELLIPSE": lambda: [_ellipse(e)],
+                "LWPOLYLINE": lambda: _polyline(e), "POLYLINE": lambda: _polyline(e), "SPLINE": lambda: _spline(e)}
+    origin = _origin(e) + within
+    if t not in handlers:
+        raise PartDocumentError(origin, f"unsupported DXF entity {t} on layer {e.dxf.layer!r} "
+                                "(supported: LINE, ARC, CIRCLE, ELLIPSE, LWPOLYLINE, POLYLINE, SPLINE, INSERT)")
+    try:
+        segments = handlers[t]()
+    except (ValueError, ArithmeticError, IndexError, TypeError) as exc:  # malformed data (bad knots, …)
+        raise PartDocumentError(origin, f"malformed {t} on layer {e.dxf.layer!r}: {exc}") from None
+    return [Piece(s, origin, e.dxf.layer) for s in segments]
+
+
+def dxf_pieces(doc: Any, layer: str | None) -> tuple[list[Piece], str, float]:
+    """Pieces of the model space (only ``layer`` if given), the unit and the coordinate
+    scale from the header's $INSUNITS (unitless drawings are taken as millimetres)."""
+    msp = doc.modelspace()
+    layers = sorted({e.dxf.layer for e in msp})
+    chosen = [e for e in msp if layer is None or e.dxf.layer.lower() == layer.lower()]
+    pieces = [p for e in chosen for p in entity_pieces(e)]
+    skipped: dict[str, int] = {}
+    for e in chosen:
+        if e.dxftype() in SKIPPED or e.dxftype().endswith("DIMENSION"):
+            skipped[e.dxftype()] = skipped.get(e.dxftype(), 0) + 1
+    if hasattr(doc, "algrasp_warnings"):
+        doc.algrasp_hatches = hatch_points([e for e in chosen if e.dxftype() == "HATCH"])
+    if skipped and hasattr(doc, "algrasp_warnings"):
+        doc.algrasp_warnings.append("set aside (annotation, fills, construction, 3-D): "
+                                    + ", ".join(f"{n} {t}" for t, n in sorted(skipped.items())))
+    if not pieces:
+        where = f"layer {layer!r}" if layer is not None else "the drawing"
+        raise PartDocumentError("layer" if layer else "dxf",
+                                f"{where} has no outline geometry (layers: {', '.join(layers) or 'none'})")
+    units, k = dxf_units(doc)
+    return pieces, units, k
+
+
+def hatch_points(hatches: list[Any]) -> list[tuple[float, float]]:
+    """One point inside each hatched region (section views are hatched; parts to cut are
+    not). A hatch whose boundary cannot be read is skipped: it only ever sets a loop aside."""
+    import ezdxf.path
+    from shapely.errors import GEOSException
+    from shapely.geometry import Polygon
+
+    out = []
+    for h in hatches:
+        try:
+            rings = [np.asarray([(v.x, v.y) for v in p.flattening(0.01)]) for p in ezdxf.path.from_hatch(h)]
+            rings = sorted((r for r in rings if len(r) >= 3), key=lambda r: -abs(Polygon(r).area))
+            if rings:
+                region = Polygon(rings[0], [r for r in rings[1:]]).buffer(0)
+                pt = region.representative_point()
+                out.append((float(pt.x), float(pt.y)))
+        except (ValueError, TypeError, AttributeError, IndexError, GEOSException):
+            continue
+    return out
+
+
+def dxf_units(doc: Any) -> tuple[str, float]:
+    """Unit and scale: ``$INSUNITS`` when the file sets it, else ``$MEASUREMENT`` (0:
+    imperial → inches, 1: metric → millimetres), else millimetres. Whatever was assumed is
+    added to the drawing's warnings (``algrasp_warnings``): never silent."""
+    present: set[str] = getattr(doc, "algrasp_header_vars", set())
+    warnings: list[str] = getattr(doc, "algrasp_warnings", [])
+    code = int(doc.header.get("$INSUNITS", 0)) if "$INSUNITS" in present else 0
+    if code in INSUNITS:
+        return INSUNITS[code]
+    if "$MEASUREMENT" in present:
+        imperial = int(doc.header.get("$MEASUREMENT", 1)) == 0
+        warnings.append(f"no $INSUNITS: units taken from $MEASUREMENT = {0 if imperial else 1} "
+                        f"({'imperial: inches' if imperial else 'metric: millimetres'})")
+        return ("in", 1.0) if imperial else ("mm", 1.0)
+    warnings.append("unitless drawing (no $INSUNITS or $MEASUREMENT): assumed millimetres; use --units to say otherwise")
+    return "mm", 1.0

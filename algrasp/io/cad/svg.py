@@ -1,0 +1,84 @@
+"""SVG outlines (svgelements) → exact part documents.
+
+svgelements applies every transform and unit (``reify``) and gives user units at 96 px
+per inch; coordinates become millimetres, and y is flipped (SVG's y axis points down) so
+the part is not mirrored. Lines and quadratic/cubic Beziers stay Beziers of the same
+degree; elliptical arcs become exact ``arc``/``ellipse_arc`` segments.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+from typing import Any
+
+from algrasp.errors import PartDocumentError
+from algrasp.io.cad.chain import Piece, Segment
+
+MM_PER_PX = 1.0 / (96.0 * 0.0393701)
+"""svgelements turns mm into px with its rounded 0.0393701 in/mm at 96 px/in; inverting
+the same constant gives mm drawings back exactly (inch drawings: 1e-7 relative off)."""
+CIRCULAR_REL = 1e-12
+"""An SVG arc whose radii differ by less than this (relative) is written as a circular arc."""
+
+
+def _pt(p: Any) -> list[float]:
+    return [float(p[0]) * MM_PER_PX, -float(p[1]) * MM_PER_PX]
+
+
+def _arc(s: Any) -> Segment:
+    rot = float(s.get_rotation())
+    t0, sweep = float(s.get_start_t()), float(s.sweep)
+    c, rx, ry = _pt(s.center), float(s.rx) * MM_PER_PX, float(s.ry) * MM_PER_PX
+    # after y ↦ −y: rotation ↦ −rotation and parameter t ↦ −t
+    if abs(rx - ry) <= CIRCULAR_REL * max(rx, ry):
+        start = -math.degrees(t0 + rot)
+        return {"type": "arc", "center": c, "radius": rx, "start_deg": start, "end_deg": start - math.degrees(sweep)}
+    return {"type": "ellipse_arc", "center": c, "rx": rx, "ry": ry, "rotation_deg": -math.degrees(rot),
+            "start_deg": -math.degrees(t0), "end_deg": -math.degrees(t0 + sweep)}
+
+
+def _segment(s: Any) -> Segment | None:
+    from svgelements import Arc, Close, CubicBezier, Line, Move, QuadraticBezier
+
+    if isinstance(s, Move):
+        return None
+    if isinstance(s, (Line, Close)):
+        if s.start is None or s.end is None or s.start == s.end:
+            return None
+        return {"type": "line", "start": _pt(s.start), "end": _pt(s.end)}
+    if isinstance(s, QuadraticBezier):
+        return {"type": "bezier", "points": [_pt(s.start), _pt(s.control), _pt(s.end)]}
+    if isinstance(s, CubicBezier):
+        return {"type": "bezier", "points": [_pt(s.start), _pt(s.control1), _pt(s.control2), _pt(s.end)]}
+    if isinstance(s, Arc):
+        return _arc(s)
+    raise PartDocumentError("svg", f"unsupported path segment {type(s).__name__}")
+
+
+def svg_pieces(data: bytes, element_id: str | None) -> list[Piece]:
+    """Exact segments of the element ``element_id`` (default: every shape)."""
+    from svgelements import SVG, Path, Shape
+
+    try:
+        svg = SVG.parse(io.BytesIO(data), reify=True, ppi=96.0)
+    except Exception as exc:  # noqa: BLE001 - the XML parser raises several types
+        raise PartDocumentError("svg", f"not a readable SVG document: {exc}") from None
+    if element_id is not None:
+        el = svg.get_element_by_id(element_id)
+        if el is None:
+            # Every element with an id: groups (boxes.py's parts are <g id="p-0">) as well as shapes.
+            ids = sorted({str(e.id) for e in svg.elements() if getattr(e, "id", None)})
+            shown = ", ".join(ids[:40]) + (", …" if len(ids) > 40 else "")
+            raise PartDocumentError("id", f"no element with id {element_id!r} (elements with ids: {shown or 'none'})")
+        shapes = [e for e in ([el] if isinstance(el, Shape) else el.select()) if isinstance(e, Shape)]
+    else:
+        shapes = [e for e in svg.elements() if isinstance(e, Shape)]
+    pieces = []
+    for shape in shapes:
+        origin = f"{type(shape).__name__}#{shape.id}" if shape.id else type(shape).__name__
+        path = shape if isinstance(shape, Path) else Path(shape)
+        pieces += [Piece(seg, origin) for seg in map(_segment, path.segments()) if seg is not None]
+    if not pieces:
+        raise PartDocumentError("id" if element_id else "svg", "no outline geometry (paths or shapes) found")
+    return pieces

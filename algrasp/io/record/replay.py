@@ -1,0 +1,166 @@
+"""Read run records back: summaries, listing, and replay (recompute and compare).
+
+Reading streams the file, so a crashed run's ``.mcap.partial`` reads up to its last
+complete chunk (``read_record(..., partial_ok=True)``).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+from algrasp.errors import AlgraspError, RecordError
+
+COMPARE_REL = 1e-9
+"""Recomputed numbers within this relative difference (or 1e-9 absolute) are equal."""
+IGNORED_KEYS = {"timings_s", "optimisation_timings_s"}
+"""Wall-clock fields differ on every run by nature; they are not differences."""
+
+
+def read_record(path: Path, topics: set[str] | None = None, partial_ok: bool = False) -> dict[str, list[dict[str, Any]]]:
+    """JSON messages of a record grouped by topic, in log-time order."""
+    from mcap.exceptions import McapError
+    from mcap.reader import NonSeekingReader, make_reader
+
+    if not path.is_file():
+        raise RecordError(path.name, f"RUN: no such record: {path}")
+    out: dict[str, list[dict[str, Any]]] = {}
+    try:
+        with open(path, "rb") as f:
+            reader = make_reader(f) if not partial_ok else NonSeekingReader(f)
+            # A partial file is read in file order: sorting by log time would read to
+            # the end (and fail there) before yielding anything.
+            messages = reader.iter_messages(topics=list(topics) if topics else None, log_time_order=not partial_ok)
+            for _schema, channel, message in messages:
+                if channel.message_encoding == "json":
+                    out.setdefault(channel.topic, []).append(json.loads(message.data))
+    except (McapError, EOFError, ValueError) as exc:
+        if not partial_ok:
+            raise RecordError(path.name, f"RUN: {path.name} is not a complete MCAP record ({str(exc)[:200]})") from None
+    except Exception as exc:  # noqa: BLE001 - a damaged file fails in the decompressor, seek, struct…: all "damaged"
+        raise RecordError(path.name, f"RUN: {path.name} is damaged ({type(exc).__name__}: {str(exc)[:200]})") from None
+    return out
+
+
+def summary(path: Path) -> dict[str, Any]:
+    """The ``/run`` message of a record (its main figures)."""
+    runs = read_record(path, {"/run"}).get("/run", [])
+    if not runs:
+        raise RecordError(path.name, f"RUN: {path.name} has no /run summary (unfinished run?)")
+    return {**runs[-1], "record_path": str(path)}
+
+
+def list_runs(directory: Path) -> list[dict[str, Any]]:
+    """Summaries of every record in ``directory``, newest first; a damaged record is
+    listed as ``{"run_id", "status": "damaged", "error"}`` and the listing goes on."""
+    out = []
+    for p in sorted(directory.glob("*.mcap"), reverse=True):
+        try:
+            out.append(summary(p))
+        except AlgraspError as exc:
+            out.append({"run_id": p.stem, "status": "damaged", "error": exc.message, "record_path": str(p)})
+    return out
+
+
+def replay(path: Path) -> dict[str, Any]:
+    """Recompute analysis and plan from the recorded request and compare them with the
+    record. Returns ``{"run_id", "action", "steps", "differences", "summary"}``; a
+    difference is ``{"what", "path", "recorded", "recomputed"}``."""
+    rec = read_record(path)
+    if "/request" not in rec:
+        raise RecordError(path.name, f"RUN: {path.name} has no /request: nothing to replay")
+    try:
+        return _replay(rec)
+    except (KeyError, TypeError, IndexError, AttributeError) as exc:  # decodable JSON, but not what we wrote
+        raise RecordError(path.name, f"RUN: {path.name} is damaged: its messages lack {exc!s:.100}") from None
+
+
+def recorded_plan(path: Path) -> tuple[Any, Any]:
+    """``(Analysis, Plan)`` of a recorded plan run, rebuilt from its request — the one
+    way replay, ``replay --figure`` and the service's ``figure.svg`` read a plan back.
+    Raises RecordError for a run without a plan or a damaged record."""
+    rec = read_record(path, {"/request", "/plan"})
+    if "/plan" not in rec or "/request" not in rec:
+        raise RecordError(path.name, f"RUN: {path.name} has no plan (an analysis, or a failed request)")
+    try:
+        request, plan_doc = rec["/request"][0], rec["/plan"][0]
+        return _rebuild(request, plan_options(request["options"], plan_doc))
+    except (KeyError, TypeError, IndexError, AttributeError) as exc:
+        raise RecordError(path.name, f"RUN: {path.name} is damaged: its messages lack {exc!s:.100}") from None
+
+
+def _rebuild(request: dict[str, Any], options: dict[str, Any]) -> tuple[Any, Any]:
+    """Analysis and (when ``options`` name an action) plan of a recorded request."""
+    from algrasp.planning.analysis import Model, analyse_document
+    from algrasp.planning.plans import make_plan
+
+    analysis = analyse_document(request["part"], Model.from_record(options))
+    action = options.get("action")
+    return analysis, None if not action else make_plan(analysis, action, options.get("min_margin_deg", 0.0))
+
+
+def _replay(rec: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
+    request = rec["/request"][0]
+    options = request["options"]
+    diffs: list[dict[str, Any]] = []
+    recorded = rec["/plan"][0] if "/plan" in rec else None
+    if recorded is not None:
+        options = plan_options(options, recorded)
+    analysis, plan = _rebuild(request, options if recorded is not None else {**options, "action": None})
+    if "/analysis" in rec:
+        diffs += _compare("analysis", rec["/analysis"][0], analysis.to_dict())
+    steps: list[Any] = []
+    if recorded is not None:
+        doc: dict[str, Any] = plan.to_dict()
+        if options["optimise"]:
+            doc = _optimised(analysis, plan, options, doc)
+        diffs += _compare("plan", recorded, doc)
+        steps = recorded["steps"]
+    run = rec.get("/run", [{}])[-1]
+    return {"run_id": request["run_id"], "action": options.get("action") or run.get("action"), "steps": steps, "differences": diffs,
+            "summary": run, "request": request, "validation": rec.get("/validation", [None])[0]}
+
+
+def plan_options(options: dict[str, Any], plan_doc: dict[str, Any]) -> dict[str, Any]:
+    """The options that made a recorded plan: a CLI/API request's own, or for a batch
+    design run (``{"design": ..}``) the chosen action, always optimised."""
+    design = options.get("design") or {}
+    return {**options, "action": options.get("action") or plan_doc["action"],
+            "min_margin_deg": options.get("min_margin_deg", design.get("min_margin_deg", 0.0)),
+            "optimise": options.get("optimise", bool(design)),
+            "gripper_profile": options.get("gripper_profile", design.get("gripper_profile"))}
+
+
+def _optimised(analysis: Any, plan: Any, options: dict[str, Any], doc: dict[str, Any]) -> dict[str, Any]:
+    from optimisation.execution import optimise_execution
+    from optimisation.profile import profile_from_dict
+
+    profile = profile_from_dict(options.get("gripper_profile") or {})
+    return optimise_execution(analysis, plan, profile, options.get("push_scale", 1.0)).apply_to(doc)
+
+
+def _compare(what: str, recorded: Any, recomputed: Any, path: str = "$") -> list[dict[str, Any]]:
+    """Differences between two JSON values (numbers within COMPARE_REL)."""
+    if isinstance(recorded, dict) and isinstance(recomputed, dict):
+        out = []
+        for k in sorted(set(recorded) | set(recomputed)):
+            if k in IGNORED_KEYS:
+                continue
+            if k not in recorded or k not in recomputed:
+                out.append({"what": what, "path": f"{path}.{k}", "recorded": recorded.get(k), "recomputed": recomputed.get(k)})
+            else:
+                out += _compare(what, recorded[k], recomputed[k], f"{path}.{k}")
+        return out
+    if isinstance(recorded, list) and isinstance(recomputed, list):
+        if len(recorded) != len(recomputed):
+            return [{"what": what, "path": f"{path}.length", "recorded": len(recorded), "recomputed": len(recomputed)}]
+        return [d for i, (a, b) in enumerate(zip(recorded, recomputed)) for d in _compare(what, a, b, f"{path}[{i}]")]
+    if isinstance(recorded, (int, float)) and isinstance(recomputed, (int, float)) \
+            and not isinstance(recorded, bool) and not isinstance(recomputed, bool):
+        if math.isclose(recorded, recomputed, rel_tol=COMPARE_REL, abs_tol=1e-9):
+            return []
+    elif recorded == recomputed:
+        return []
+    return [{"what": what, "path": path, "recorded": recorded, "recomputed": recomputed}]

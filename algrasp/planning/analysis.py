@@ -1,0 +1,203 @@
+"""One call from a validated part to everything the paper derives from it.
+
+``analyse_part(part)`` → :class:`Analysis`: diameter and radius functions with their
+extrema, and the squeeze Γ, push p and push-grasp Γ∘p transfer functions.
+Pure: no I/O; ``to_dict`` gives the JSON object of ``algrasp analyze --json``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields
+from typing import Any
+
+import numpy as np
+
+from algrasp.errors import ConfigError, NotOrientableError
+from algrasp.geometry.functions import SupportPairFunction, analyse
+from algrasp.geometry.part import Part, load_part
+from algrasp.geometry.tolerances import DEFAULT_TOLERANCES, Tolerances
+from algrasp.planning.deadband import DEFAULT_PHYSICS, DeadBand, Physics, dead_band
+from algrasp.planning.setvalued import SetTransfer, set_transfer
+from algrasp.planning.transfer import TransferFunction, describe, from_runs
+
+SYMMETRY_TOL_RAD = 1e-7
+"""Tolerance on breakpoints and images when testing F(θ + T) = F(θ) + T: root finding
+places curved breakpoints to ~1e-12 rad, far inside this."""
+
+
+@dataclass(frozen=True)
+class Model:
+    """Which model a request analyses and plans with: the robust model of conventions
+    §7 (default: dead band from ``physics``, tessellated arcs recognised) or the paper's
+    exact frictionless model (``exact``, the CLI's ``--exact``)."""
+
+    exact: bool = False
+    physics: Physics = field(default_factory=lambda: DEFAULT_PHYSICS)
+
+    @staticmethod
+    def from_options(options: Mapping[str, Any], legacy_exact: bool = False) -> Model:
+        """From request options ``{"exact": bool, "physics": {...}}``. Records written
+        before the robust model have neither key: ``legacy_exact`` reads them as exact."""
+        exact = options.get("exact", legacy_exact)
+        if not isinstance(exact, bool):
+            raise ConfigError("exact", f"expected true or false, got {exact!r}")
+        raw = options.get("physics") or {}
+        if not isinstance(raw, Mapping):
+            raise ConfigError("physics", "expected an object")
+        known = {f.name for f in fields(Physics)}
+        unknown = sorted(set(raw) - known)
+        if unknown:
+            raise ConfigError(f"physics.{unknown[0]}", f"unknown key (known: {', '.join(sorted(known))})")
+        for k, v in raw.items():
+            if not (v is None and k == "shape_tolerance") and (isinstance(v, bool) or not isinstance(v, (int, float))):
+                raise ConfigError(f"physics.{k}", f"expected a number, got {v!r}")
+        values: dict[str, Any] = {k: (None if v is None else float(v)) for k, v in raw.items()}
+        return Model(exact, Physics(**values))
+
+    @staticmethod
+    def from_record(options: Mapping[str, Any]) -> Model:
+        """The model of a recorded request (a batch design run keeps it under "design";
+        records from before the robust model are exact)."""
+        design = options.get("design")
+        return Model.from_options(design if isinstance(design, Mapping) else options, legacy_exact=True)
+
+    def to_options(self) -> dict[str, Any]:
+        """What a run record keeps (only physics that differ from the defaults)."""
+        diff = {k: v for k, v in self.physics.to_dict().items() if v != getattr(DEFAULT_PHYSICS, k)}
+        return {"exact": self.exact, **({"physics": diff} if diff else {})}
+
+
+ROBUST = Model()
+EXACT = Model(exact=True)
+
+
+@dataclass(frozen=True, eq=False)
+class RobustAnalysis:
+    """The set-valued functions of conventions §7 under one dead band. A function is
+    None when the part may turn without end under it (``reasons`` says why)."""
+
+    physics: Physics
+    band: DeadBand
+    squeeze: SetTransfer | None
+    push: SetTransfer | None
+    push_grasp: SetTransfer | None
+    reasons: dict[str, str]
+
+    def to_dict(self) -> dict[str, object]:
+        out: dict[str, object] = {"physics": self.physics.to_dict(), "dead_band": self.band.to_dict()}
+        for name in ("squeeze", "push", "push_grasp"):
+            S = getattr(self, name)
+            out[name] = {"orientable": False, "reason": self.reasons[name]} if S is None else set_dict(S)
+        return out
+
+
+@dataclass(frozen=True, eq=False)
+class Analysis:
+    part: Part
+    diameter: SupportPairFunction
+    radius: SupportPairFunction
+    squeeze: TransferFunction
+    push: TransferFunction
+    push_grasp: TransferFunction
+    tol: Tolerances
+    robust: RobustAnalysis | None = None
+    """None: the paper's exact frictionless model (``--exact``)."""
+
+    @property
+    def squeeze_orientable(self) -> bool:
+        """False for parts of constant width: Γ has no step (paper §4, conventions §6)."""
+        return bool(self.squeeze.steps)
+
+    def to_dict(self) -> dict[str, object]:
+        """The ``algrasp analyze --json`` object (degrees, lists sorted by start)."""
+        out: dict[str, object] = {
+            "part": {"name": self.part.name, "units": self.part.units, "area": self.part.area,
+                     "hull_perimeter": self.part.hull.perimeter,
+                     "center_of_mass": list(self.part.center_of_mass),
+                     "center_of_mass_given": self.part.com_given},
+            "diameter": _function_dict(self.diameter),
+            "radius": _function_dict(self.radius),
+        }
+        for name, F in (("squeeze", self.squeeze), ("push", self.push), ("push_grasp", self.push_grasp)):
+            d = describe(F, SYMMETRY_TOL_RAD)
+            d["orientable"] = bool(F.steps)
+            if not F.steps:
+                d["reason"] = "constant diameter: no step, so no squeeze plan can orient this part" \
+                    if name == "squeeze" else "no step: the function is the identity everywhere"
+            out[name] = d
+        out["model"] = "exact" if self.robust is None else "robust"
+        if self.robust is not None:
+            out["robust"] = self.robust.to_dict()
+        return out
+
+
+def _function_dict(f: SupportPairFunction) -> dict[str, object]:
+    return {
+        "extrema": [{"theta_deg": float(np.degrees(e.theta)), "value": e.value, "kind": e.kind,
+                     "equilibrium": e.equilibrium} for e in f.extrema],
+        "constant_intervals_deg": [[float(np.degrees(a)), float(np.degrees(b))] for a, b in f.constant_intervals],
+    }
+
+
+def set_dict(S: SetTransfer) -> dict[str, object]:
+    """JSON summary of a set-valued function (degrees): its dead zones over one natural
+    period and its images over one symmetry period, each piece [start, end) mapping θ
+    into [lower, upper] (null: θ itself)."""
+    cuts = sorted({p.start for p in S.lower.pieces} | {p.start for p in S.upper.pieces})
+    base = cuts[0]
+    edges = [*cuts, base + S.symmetry]
+    pieces = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        m = 0.5 * (a + b)
+        lo, k_lo = S.lower.piece_at(m)
+        hi, k_hi = S.upper.piece_at(m)
+        pieces.append({"start_deg": float(np.degrees(a)), "end_deg": float(np.degrees(b)),
+                       "lower_deg": None if lo.value is None else float(np.degrees(lo.value + k_lo)),
+                       "upper_deg": None if hi.value is None else float(np.degrees(hi.value + k_hi))})
+    return {"orientable": S.orientable, "symmetry_period_deg": float(np.degrees(S.symmetry)),
+            "dead_zones_deg": [[float(np.degrees(a)), float(np.degrees(b))] for a, b in S.rest_zones],
+            "images": pieces}
+
+
+def analyse_part(part: Part, tol: Tolerances = DEFAULT_TOLERANCES, physics: Physics | None = None) -> Analysis:
+    """Diameter/radius extrema and all three transfer functions. See module docs.
+
+    With ``physics`` the set-valued functions of conventions §7 are added (the robust
+    model every interface uses by default); None keeps the paper's exact model.
+    """
+    d = analyse("diameter", part.hull, part.center_of_mass, part.size, tol)
+    r = analyse("radius", part.hull, part.center_of_mass, part.size, tol)
+    squeeze = from_runs(list(d.runs), np.pi, tol.angle_rad)
+    push = from_runs(list(r.runs), 2 * np.pi, tol.angle_rad)
+    push_grasp = squeeze.compose_after(push, tol.angle_rad) if squeeze.steps else push
+    robust = None if physics is None else robust_analysis(part, d, r, physics, tol)
+    return Analysis(part, d, r, squeeze, push, push_grasp, tol, robust)
+
+
+def analyse_document(doc: Mapping[str, Any], model: Model = ROBUST, tol: Tolerances = DEFAULT_TOLERANCES) -> Analysis:
+    """Parse, validate and analyse a part document under ``model``: the one entry point
+    of every interface (CLI, service, batch, replay, figures)."""
+    part = load_part(doc, tol, snap=not model.exact)
+    return analyse_part(part, tol, None if model.exact else model.physics)
+
+
+def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, physics: Physics,
+                    tol: Tolerances) -> RobustAnalysis:
+    """Dead band and set-valued squeeze, push and push-grasp functions."""
+    band = dead_band(part, physics, tol)
+    reasons: dict[str, str] = {}
+    funcs: dict[str, SetTransfer | None] = {}
+    # d has two contacts: its slope and value errors are twice one jaw's.
+    for name, f, sigma, eps in (("squeeze", d, band.sigma_d, 2.0 * band.value_tol), ("push", r, band.sigma_r, band.value_tol)):
+        try:
+            funcs[name] = set_transfer(f, band.stall, sigma, eps, tol.angle_rad)
+        except NotOrientableError as e:
+            funcs[name], reasons[name] = None, str(e)
+    sq, pu = funcs["squeeze"], funcs["push"]
+    if sq is not None and pu is not None:
+        funcs["push_grasp"] = sq.compose_after(pu, tol.angle_rad)
+    else:
+        funcs["push_grasp"] = None
+        reasons["push_grasp"] = reasons.get("push", reasons.get("squeeze", ""))
+    return RobustAnalysis(physics, band, funcs["squeeze"], funcs["push"], funcs["push_grasp"], reasons)

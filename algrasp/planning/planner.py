@@ -1,0 +1,223 @@
+"""Algorithm A′ (paper §4): the shortest sensorless plan on a step/ramp function.
+
+Works on any lifted transfer function F (squeeze Γ or push-grasp Γ∘p). Θ₁ is the
+widest step; Θ_{i+1} is the widest interval whose image fits in Θ_i, until an interval
+of width T (the symmetry period) is reached. For a fixed left end a the widest fit
+[a, b) is found by one search on the monotone sequence of piece values; the widest
+interval starts at a piece start (bottom-left placement) or is where the box's top
+meets a step value or ramp start inside a ramp (top-right placement), so only those
+candidates are tried: O(n log n + K) per iteration for n pieces, O(N(n log n + K)) in all.
+
+Fixed and variable intervals both arise: a variable interval ends inside a ramp.
+The image of [a, b) is [F(a), F(b⁻)], attained at the top when b⁻ lies on a step and
+open (the ramp's values approach b) when it lies on a ramp, so a step value must fit
+strictly and a ramp end may touch the box's top (paper Fig. 11).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from algrasp.errors import NotOrientableError
+from algrasp.geometry.curves import FloatArray
+from algrasp.planning.transfer import TransferFunction
+
+STRICT_RAD = 1e-9
+"""How far below the box's top a step value must stay (a step value on the top edge
+would belong to the next interval: intervals are half-open)."""
+
+GUARD_RAD = 1e-12
+"""Room kept on each side of every image even for zero-margin plans. In exact arithmetic
+the paper's variable intervals fit with no room at all (Fig. 11); in floating point the
+gripper angles carry ~1e-14 rad of rounding, which would push an image end over an
+interval boundary. Costs at most one extra action when the ideal plan fits exactly."""
+
+
+@dataclass(frozen=True, eq=False)
+class _Pieces:
+    """Pieces of one step/ramp function over several periods as arrays (sorted by start)."""
+
+    starts: FloatArray
+    ends: FloatArray
+    values: FloatArray  # step image, or the start for a ramp
+    ramp: np.ndarray  # bool
+    keys: FloatArray  # value a piece must stay below to fit (monotone)
+
+    @staticmethod
+    def of(F: TransferFunction, periods: range) -> _Pieces:
+        one_s = np.array([p.start for p in F.pieces])
+        one_e = np.array([p.end for p in F.pieces])
+        ramp1 = np.array([p.value is None for p in F.pieces])
+        one_v = np.where(ramp1, one_s, np.array([0.0 if p.value is None else p.value for p in F.pieces]))
+        lift = (np.array(list(periods)) * F.period)[:, None]
+        s, e, v = (one_s + lift).ravel(), (one_e + lift).ravel(), (one_v + lift).ravel()
+        r = np.tile(ramp1, len(periods))
+        keys = np.maximum.accumulate(np.where(r, s, v + STRICT_RAD))
+        return _Pieces(s, e, v, r, keys)
+
+
+@dataclass(frozen=True, eq=False)
+class _Lifted:
+    """A (set-valued) transfer function lifted: the image of [a, b) is
+    [lower(a), upper(b⁻)]. For an exact function lower and upper are the same."""
+
+    lower: _Pieces
+    upper: _Pieces
+
+    @staticmethod
+    def of(F: TransferFunction, periods: range, upper: TransferFunction | None = None) -> _Lifted:
+        lo = _Pieces.of(F, periods)
+        return _Lifted(lo, lo if upper is None else _Pieces.of(upper, periods))
+
+    @property
+    def starts(self) -> FloatArray:
+        return self.lower.starts
+
+    def value_at(self, a: FloatArray) -> FloatArray:
+        """lower(a) (a may lie anywhere inside a piece)."""
+        lo = self.lower
+        i = np.searchsorted(lo.starts, a, side="right") - 1
+        return np.where(lo.ramp[i], a, lo.values[i])
+
+    def top(self, b: FloatArray) -> tuple[FloatArray, np.ndarray]:
+        """sup upper([·, b)) = upper(b⁻), and whether it is attained (b⁻ on a step)."""
+        up = self.upper
+        j = np.searchsorted(up.starts, b, side="left") - 1
+        on_ramp = up.ramp[j]
+        return np.where(on_ramp, b, up.values[j]), ~on_ramp
+
+    def widest_right_end(self, a: FloatArray, room: float) -> FloatArray:
+        """For each left end a, the largest b with the image of [a, b) inside
+        [lower(a), lower(a) + room]."""
+        up = self.upper
+        y = self.value_at(a) + room
+        j = np.searchsorted(up.keys, y, side="left")  # first piece that cannot fit
+        prev = j - 1
+        partial = up.ramp[prev] & (up.ends[prev] > y)
+        return np.where(partial, y, up.starts[j])
+
+
+def _candidates(F: TransferFunction, lifted: _Lifted, room: float) -> FloatArray:
+    """Left ends to try: piece starts of one period, and points of ramps whose box top
+    meets a step value or a ramp start (top-right placements)."""
+    base = F.pieces[0].start
+    low = lifted.lower
+    one = (low.starts >= base - 1e-12) & (low.starts < base + F.period - 1e-12)
+    out = [low.starts[one]]
+    tops = np.unique(lifted.upper.values)
+    for s, e in zip(low.starts[one & low.ramp], low.ends[one & low.ramp]):
+        lo, hi = np.searchsorted(tops, [s + room, e + room])
+        out.append(tops[lo:hi] - room)
+    return np.concatenate(out)
+
+
+def widest_step(F: TransferFunction) -> tuple[float, float]:
+    """Θ₁: the widest step [start, end) (radians, lifted)."""
+    step = max(F.steps, key=lambda p: p.end - p.start)
+    return step.start, step.end
+
+
+def algorithm_a_prime(F: TransferFunction, T: float, min_margin: float = 0.0,
+                      tol: float = 1e-13) -> list[tuple[float, float]]:
+    """Θ₁ … Θ_N (radians, lifted, [a, b)); the last has width T.
+
+    With ``min_margin`` > 0 every image must fit with that much to spare on both
+    sides. Raises NotOrientableError when F has no step or the margin is too large.
+    """
+    if not F.steps:
+        raise NotOrientableError("no_step", "the transfer function has no step (constant width or "
+                                 "constant radius): no plan of this action can orient the part")
+    return _grow(F, _Lifted.of(F, range(-1, 4)), T, widest_step(F), min_margin, tol)
+
+
+def _grow(F: TransferFunction, lifted: _Lifted, T: float, first: tuple[float, float], min_margin: float,
+          tol: float, circle: float | None = None) -> list[tuple[float, float]]:
+    """Θ₂, Θ₃, … after ``first``: each the widest interval whose image fits the last.
+    ``circle``: the width of the image of the whole circle (set-valued functions), which
+    ends the plan as soon as it fits."""
+    intervals = [first]
+    while intervals[-1][1] - intervals[-1][0] < T - tol:
+        room = intervals[-1][1] - intervals[-1][0] - 2.0 * max(min_margin, GUARD_RAD)
+        if room <= 0.0:
+            raise _margin_error(min_margin, intervals)
+        if circle is not None and circle <= room:
+            intervals.append((intervals[-1][0], intervals[-1][0] + T))
+            break
+        a, b = _widest(F, lifted, room)
+        if b - a <= intervals[-1][1] - intervals[-1][0] + tol:
+            raise _margin_error(min_margin, intervals)
+        intervals.append((a, min(b, a + T)))
+    last = intervals[-1]
+    intervals[-1] = (last[0], last[0] + T)
+    return intervals
+
+
+def _widest(F: TransferFunction, lifted: _Lifted, room: float) -> tuple[float, float]:
+    """The widest [a, b) whose image fits in a box of height ``room``."""
+    a = _candidates(F, lifted, room)
+    b = lifted.widest_right_end(a, room)
+    k = int(np.argmax(b - a))
+    return float(a[k]), float(b[k])
+
+
+def set_a_prime(lower: TransferFunction, upper: TransferFunction, T: float, circle: float, min_margin: float = 0.0,
+                max_final_rad: float = np.pi, tol: float = 1e-13) -> list[tuple[float, float]]:
+    """Algorithm A′ on a set-valued function (conventions §7): the image of [a, b) is
+    [lower(a), upper(b⁻)]; the whole circle's image is ``circle`` wide.
+
+    Θ₁ is the widest interval whose image is at most w₀ wide, w₀ one of the image widths
+    a single orientation can have (the sinks, ``MAX_SINKS`` smallest). Every later
+    interval depends on Θ₁ only through its width and the widest-fit width is monotone, so
+    the plan is shortest for the widest Θ₁: among precise finals (w₀ ≤ ``PRECISE_RAD``) the
+    widest Θ₁ (then the narrower image) is grown, else the widest of all. O(s·n log n + A′).
+    """
+    lifted = _Lifted.of(lower, range(-1, 4), upper)
+    firsts = [(w0, *_widest(lower, lifted, w0 + 2.0 * STRICT_RAD)) for w0 in _sink_widths(lower, upper, lifted, max_final_rad)]
+    firsts = [(w0, a, b) for w0, a, b in firsts if b - a > tol]
+    if not firsts:
+        raise NotOrientableError("no_step", "no interval of orientations collapses to a small set: with this dead "
+                                 "band the part cannot be oriented by this action")
+    precise = [f for f in firsts if f[0] <= PRECISE_RAD]
+    order = [max(precise, key=lambda f: (f[2] - f[1], -f[0]))] if precise else []
+    order.append(max(firsts, key=lambda f: (f[2] - f[1], -f[0])))
+    for i, (_, a, b) in enumerate(order):
+        try:
+            return _grow(lower, lifted, T, (a, b), min_margin, tol, circle)
+        except NotOrientableError:
+            if i == len(order) - 1:
+                raise
+    raise AssertionError("unreachable")
+
+
+PRECISE_RAD = np.radians(1.0)
+"""Final images at most this wide count as precise: among them the shortest plan wins
+(then the narrower image); wider ones only when no precise plan exists."""
+MAX_SINKS = 8
+"""How many candidate final-image widths Θ₁ is tried with."""
+
+
+def _sink_widths(lower: TransferFunction, upper: TransferFunction, lifted: _Lifted, max_rad: float) -> list[float]:
+    """Distinct image widths upper(x) − lower(x) at piece starts, smallest first."""
+    xs = np.array([p.start for p in lower.pieces] + [p.start for p in upper.pieces])
+    width = upper.apply(xs) - lifted.value_at(xs)
+    uniq = np.unique(np.round(width[(width >= 0.0) & (width <= max_rad)], 10))
+    return [float(w) for w in uniq[:MAX_SINKS]]
+
+
+def _margin_error(margin: float, intervals: list[tuple[float, float]]) -> NotOrientableError:
+    width = np.degrees(intervals[-1][1] - intervals[-1][0])
+    return NotOrientableError("margin_too_large",
+                              f"no plan tolerates a gripper error of {np.degrees(margin):g}°: with that margin "
+                              f"the widest interval that can be collapsed is {width:.6g}°")
+
+
+def images(F: TransferFunction, intervals: list[tuple[float, float]],
+           upper: TransferFunction | None = None) -> list[tuple[float, float]]:
+    """[F(a), F(b⁻)] of each [a, b) (radians, lifted; with ``upper``, [F(a), upper(b⁻)]);
+    one lifting for all. O((n + m) log n)."""
+    lifted = _Lifted.of(F, range(-1, 4), upper)
+    lo = lifted.value_at(np.array([a for a, _ in intervals]))
+    hi, _ = lifted.top(np.array([b for _, b in intervals]))
+    return [(float(x), float(y)) for x, y in zip(lo, hi)]

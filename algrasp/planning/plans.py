@@ -1,0 +1,302 @@
+"""Plans a cell controller executes: gripper angles in execution order, margins, and
+verification through the transfer functions (conventions §4).
+
+Action j (execution order) uses interval I_j = Θ_{N−j+1}. The last action is at α = 0,
+so the final world orientations are the value of Θ₁'s step plus multiples of T. Going
+backwards, α_j = α_{j+1} + δ_j where δ_j centres the image F(I_j) in I_{j+1}; the
+slack on each side is the margin of action j + 1: how far its gripper angle may be off,
+relative to the previous action's, with the plan still orienting the part.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field, replace
+from typing import Literal
+
+import numpy as np
+
+from algrasp.errors import ConfigError, NotOrientableError
+from algrasp.geometry.curves import FloatArray
+from algrasp.geometry.functions import wrap
+from algrasp.planning.analysis import Analysis
+from algrasp.planning.planner import GUARD_RAD, algorithm_a_prime, images, set_a_prime
+from algrasp.planning.setvalued import SetTransfer
+from algrasp.planning.transfer import TransferFunction
+
+Action = Literal["squeeze", "push_grasp"]
+SYMMETRY_TOL_RAD = 1e-7
+FINAL_CLUSTER_RAD = 1e-6
+"""Final orientations closer than this are one orientation in verification."""
+VERIFY_SAMPLES = 3600
+
+
+@dataclass(frozen=True)
+class PlanStep:
+    gripper_angle: float  # radians, world
+    margin: float | None  # radians; None for the first action
+
+
+@dataclass(frozen=True, eq=False)
+class Plan:
+    """A verified plan. Angles in radians; ``to_dict`` gives the JSON plan document."""
+
+    action: Action
+    transfer: TransferFunction
+    symmetry_period: float
+    intervals: tuple[tuple[float, float], ...]  # Θ₁ … Θ_N, lifted
+    steps: tuple[PlanStep, ...]  # execution order
+    final_orientations: tuple[float, ...]  # world, [0, 2π)
+    verified: bool
+    timings_s: dict[str, float] = field(default_factory=dict)
+    bounds: SetTransfer | None = None
+    """The set-valued function the plan was built on (None: the exact model)."""
+    final_uncertainty: float = 0.0
+    """Half-width (radians) of the interval around each final orientation in which the
+    part is guaranteed to end (conventions §7); 0 in the exact model."""
+    robust: dict[str, object] | None = None
+    """Physics and dead band used (JSON-ready), None in the exact model."""
+
+    def run(self, phi: FloatArray) -> FloatArray:
+        """World orientations after executing the plan from ``phi`` (radians), per the
+        transfer function: φ′ = F(φ − α) + α for each action. A robust plan gives the
+        claimed final orientation the part ends near (within ``final_uncertainty``)."""
+        phi = np.asarray(phi, dtype=float)
+        if self.bounds is not None:
+            lo, hi = self.run_set(phi, phi)
+            return self.nearest_final(0.5 * (lo + hi))
+        for s in self.steps:
+            phi = self.transfer.apply(phi - s.gripper_angle) + s.gripper_angle
+        return phi
+
+    def run_set(self, lo: FloatArray, hi: FloatArray, steps: int | None = None) -> tuple[FloatArray, FloatArray]:
+        """Hull of the world orientations after the plan (its first ``steps`` actions, or
+        all) from [lo, hi] (set semantics)."""
+        assert self.bounds is not None
+        for s in self.steps[:steps]:
+            lo, hi = self.bounds.image(lo - s.gripper_angle, hi - s.gripper_angle)
+            lo, hi = lo + s.gripper_angle, hi + s.gripper_angle
+        return lo, hi
+
+    def nearest_final(self, phi: FloatArray) -> FloatArray:
+        """The claimed final orientation nearest to each φ (radians, [0, 2π))."""
+        want = np.array(self.final_orientations)
+        diff = (np.asarray(phi)[..., None] - want + np.pi) % (2 * np.pi) - np.pi
+        return np.asarray(want[np.argmin(np.abs(diff), axis=-1)])
+
+    def trace(self, phi0: float) -> list[float]:
+        """World orientation before the plan and after each action (radians); for a
+        robust plan the middle of the interval the part can be in after each action."""
+        out = [phi0]
+        for k, s in enumerate(self.steps, 1):
+            if self.bounds is None:
+                out.append(float(self.transfer(out[-1] - s.gripper_angle) + s.gripper_angle))
+            else:
+                lo, hi = self.run_set(np.array([phi0]), np.array([phi0]), k)
+                out.append(float(0.5 * (lo[0] + hi[0])))
+        return out
+
+    def to_dict(self) -> dict[str, object]:
+        T = self.symmetry_period
+        return {
+            "action": self.action,
+            "symmetry_period_deg": float(np.degrees(T)),
+            "intervals_deg": [[float(np.degrees(wrap(a, self.transfer.period, 1e-12))),
+                               float(np.degrees(wrap(a, self.transfer.period, 1e-12) + b - a))] for a, b in self.intervals],
+            "steps": [{"gripper_angle_deg": float(np.degrees(wrap(s.gripper_angle, 2 * np.pi, 1e-12))),
+                       "margin_deg": None if s.margin is None else float(np.degrees(s.margin))} for s in self.steps],
+            "final_orientations_deg": [float(np.degrees(f)) for f in self.final_orientations],
+            "final_uncertainty_deg": float(np.degrees(self.final_uncertainty)),
+            "model": "exact" if self.bounds is None else "robust",
+            **({} if self.robust is None else {"dead_band": self.robust}),
+            "verified": self.verified,
+            "timings_s": dict(self.timings_s),
+        }
+
+
+def transfer_for(analysis: Analysis, action: Action) -> TransferFunction:
+    if action == "squeeze":
+        if not analysis.squeeze.steps:
+            raise NotOrientableError("constant_width", "the part has constant width: its squeeze function has no "
+                                     "step, so no squeeze plan can orient it (try push_grasp)")
+        return analysis.squeeze
+    if not analysis.push_grasp.steps:
+        raise NotOrientableError("no_step", "the push-grasp function has no step: no push-grasp plan can orient the part")
+    return analysis.push_grasp
+
+
+def gripper_steps(F: TransferFunction, intervals: list[tuple[float, float]],
+                  upper: TransferFunction | None = None, first_image: tuple[float, float] | None = None) -> list[PlanStep]:
+    """Execution-order gripper angles (last at 0) and margins from Θ₁ … Θ_N.
+    ``first_image``: the image of the first action's input when it is the whole circle
+    (set-valued functions: the circular hull of everything the part can end in)."""
+    order = intervals[::-1]  # I_1 … I_N
+    alphas = [0.0] * len(order)
+    margins: list[float | None] = [None] * len(order)
+    imgs = images(F, order, upper)
+    if first_image is not None and len(order) > 1:
+        imgs[0] = first_image
+    for j in range(len(order) - 2, -1, -1):
+        lo, hi = imgs[j]
+        a, b = order[j + 1]
+        delta = 0.5 * (a + b) - 0.5 * (lo + hi)  # centre F(I_j) in I_{j+1}
+        alphas[j] = alphas[j + 1] + delta
+        margins[j + 1] = max(0.0, 0.5 * ((b - a) - (hi - lo)))
+    return [PlanStep(float(al), m) for al, m in zip(alphas, margins)]
+
+
+def final_orientations(F: TransferFunction, intervals: list[tuple[float, float]], T: float) -> list[float]:
+    value = F(intervals[0][0])
+    k = int(round(2 * np.pi / T))
+    return sorted(wrap(value + i * T, 2 * np.pi, 1e-12) for i in range(k))
+
+
+def verify(plan: Plan, samples: int = VERIFY_SAMPLES) -> bool:
+    """Run the plan from a dense set of orientations plus every breakpoint (and its
+    neighbours) of every action; true when exactly 360/T final orientations remain,
+    the reported ones."""
+    phi = [np.linspace(0.0, 2 * np.pi, samples, endpoint=False)]
+    starts = np.array([p.start for p in plan.transfer.pieces])
+    for s in plan.steps:
+        for eps in (-1e-7, 0.0, 1e-7):
+            phi.append(starts + s.gripper_angle + eps)
+            phi.append(starts + plan.transfer.period + s.gripper_angle + eps)
+    final = np.sort(np.mod(plan.run(np.concatenate(phi)), 2 * np.pi))
+    clusters = _clusters(final)
+    want = np.array(plan.final_orientations)
+    if len(clusters) != len(want):
+        return False
+    return bool(all(np.min(np.abs((c - want + np.pi) % (2 * np.pi) - np.pi)) <= FINAL_CLUSTER_RAD for c in clusters))
+
+
+def _clusters(sorted_angles: FloatArray) -> list[float]:
+    gaps = np.diff(sorted_angles) > FINAL_CLUSTER_RAD
+    groups = np.split(sorted_angles, np.nonzero(gaps)[0] + 1)
+    if len(groups) > 1 and (groups[0][0] + 2 * np.pi - groups[-1][-1]) <= FINAL_CLUSTER_RAD:
+        groups[0] = np.concatenate([groups[-1] - 2 * np.pi, groups[0]])
+        groups.pop()
+    return [float(np.mean(g)) % (2 * np.pi) for g in groups]
+
+
+def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -> Plan:
+    """The shortest verified plan of ``action`` for the analysed part.
+
+    Raises NotOrientableError (constant width, no step, margin too large).
+    """
+    if not (np.isfinite(min_margin_deg) and 0.0 <= min_margin_deg < 180.0):
+        raise ConfigError("min_margin_deg", f"must be in [0, 180), got {min_margin_deg}")
+    band = None if analysis.robust is None else analysis.robust.band
+    if band is not None and (band.kappa_d > 0.0 or band.kappa_r > 0.0):
+        return _robust_plan(analysis, action, np.radians(min_margin_deg))
+    # κ = 0 (no friction, exact drawing): the paper's exact model, conventions §7.
+    F = transfer_for(analysis, action)
+    t0 = time.perf_counter()
+    T = F.symmetry_period(SYMMETRY_TOL_RAD)
+    intervals = algorithm_a_prime(F, T, np.radians(min_margin_deg))
+    steps = gripper_steps(F, intervals)
+    finals = final_orientations(F, intervals, T)
+    t1 = time.perf_counter()
+    plan = Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), False)
+    ok = verify(plan)
+    t2 = time.perf_counter()
+    if not ok:
+        raise NotOrientableError("verification_failed", "the plan did not verify: please report this part")
+    return Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), True,
+                {"planning": t1 - t0, "verification": t2 - t1})
+
+
+def _set_for(analysis: Analysis, action: Action) -> SetTransfer:
+    assert analysis.robust is not None
+    transfer_for(analysis, action)  # no step even without the dead band: say why (constant width, …)
+    S: SetTransfer | None = getattr(analysis.robust, action)
+    if S is None:
+        raise NotOrientableError("dead_band", analysis.robust.reasons[action])
+    if not S.orientable:
+        what = "squeeze" if action == "squeeze" else "push-grasp"
+        raise NotOrientableError("constant_width" if action == "squeeze" else "no_step",
+                                 f"with the dead band every orientation may stay where it is: no {what} plan can orient "
+                                 "the part (its diameter/radius slopes never beat the support friction and shape tolerance)")
+    return S
+
+
+def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
+    """The shortest plan on the set-valued function (conventions §7), verified on it."""
+    S = _set_for(analysis, action)
+    assert analysis.robust is not None
+    F = analysis.squeeze if action == "squeeze" else analysis.push_grasp
+    t0 = time.perf_counter()
+    T = S.symmetry
+    circle = S.circle_image()
+    try:
+        intervals = set_a_prime(S.lower, S.upper, T, circle[1] - circle[0], margin)
+    except NotOrientableError as e:
+        if e.reason != "margin_too_large" or margin > 0.0:
+            raise
+        band = analysis.robust.band
+        raise NotOrientableError("dead_band", f"{e.message.split(': with that margin ')[-1]}: the support friction and "
+                                 f"shape tolerance (κ_d = {band.kappa_d:.3g}, κ_r = {band.kappa_r:.3g} {analysis.part.units}/rad) "
+                                 "leave no sequence of actions that collapses every orientation; a larger grip force, "
+                                 "less friction, or --exact (the frictionless model) may") from None
+    steps = gripper_steps(S.lower, intervals, S.upper, circle)
+    lo, hi = images(S.lower, intervals[:1], S.upper)[0]
+    k = int(round(2 * np.pi / T))
+    finals = sorted(wrap(0.5 * (lo + hi) + i * T, 2 * np.pi, 1e-12) for i in range(k))
+    t1 = time.perf_counter()
+    uncertainty = 0.5 * (hi - lo) + GUARD_RAD + _edge_tilt(analysis, 0.5 * (lo + hi))
+    plan = Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), False, {}, S,
+                uncertainty, {**analysis.robust.physics.to_dict(), **analysis.robust.band.to_dict()})
+    ok = verify_set(plan, circle)
+    t2 = time.perf_counter()
+    if not ok:
+        raise NotOrientableError("verification_failed", "the plan did not verify: please report this part")
+    return replace(plan, verified=True, timings_s={"planning": t1 - t0, "verification": t2 - t1})
+
+
+EDGE_NORMAL_RAD = 1e-6
+"""A hull edge whose normal is this close to the jaws' normal lies flat on a jaw."""
+
+
+def _edge_tilt(analysis: Analysis, theta: float) -> float:
+    """How far (radians) the final orientation may move because the drawing is only
+    within ε of the part: an edge of length L lying flat on a jaw there can be tilted by
+    up to 2ε/L in the real part (its end points move by ε). 0 when no edge is flat."""
+    assert analysis.robust is not None
+    eps = analysis.robust.band.value_tol
+    psi = np.pi / 2 - theta
+    tilt = 0.0
+    for (ax, ay), (bx, by) in analysis.part.hull.edges:
+        normal = np.arctan2(-(bx - ax), by - ay)
+        off = (normal - psi) % np.pi
+        if min(off, np.pi - off) <= EDGE_NORMAL_RAD:
+            tilt = max(tilt, 2.0 * eps / float(np.hypot(bx - ax, by - ay)))
+    return tilt
+
+
+def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SAMPLES) -> bool:
+    """Set semantics. The first action leaves the part in one of its outcomes, all inside
+    the circular hull ``circle`` (checked); from there, a dense set of orientations of
+    that arc, every piece boundary of the bounds inside it (and its neighbours) and the
+    arc as a whole are run through the remaining actions: the hull of where each can
+    end must lie within ``final_uncertainty`` of a claimed final orientation."""
+    assert plan.bounds is not None
+    S = plan.bounds
+    T = S.symmetry
+    c0, c1 = circle
+    out = np.array(S.outcomes)
+    # An outcome starting a rounding error before c0 must not wrap to the far end.
+    rel = np.mod(out[:, 0] - c0 + FINAL_CLUSTER_RAD, T) - FINAL_CLUSTER_RAD
+    if np.any(rel + (out[:, 1] - out[:, 0]) > c1 - c0 + FINAL_CLUSTER_RAD):
+        return False
+    a1 = plan.steps[0].gripper_angle
+    starts = np.array([p.start for p in S.lower.pieces] + [p.start for p in S.upper.pieces])
+    cuts = c0 + np.mod(starts - c0, T)
+    inner = cuts[cuts <= c1]
+    pts = np.concatenate([np.linspace(c0, c1, samples), inner - 1e-7, inner, inner + 1e-7])
+    pts = np.clip(pts, c0, c1) + a1
+    lo = np.append(pts, c0 + a1)
+    hi = np.append(pts, c1 + a1)
+    lo, hi = replace(plan, steps=plan.steps[1:]).run_set(lo, hi)
+    mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
+    want = np.array(plan.final_orientations)
+    off = np.min(np.abs((mid[:, None] - want + np.pi) % (2 * np.pi) - np.pi), axis=1)
+    return bool(np.all(off + half <= plan.final_uncertainty + FINAL_CLUSTER_RAD))

@@ -1,0 +1,214 @@
+"""Transfer functions: steps and ramps (conventions §3, paper §2.1.2, Appendices B, C).
+
+A transfer function F maps a relative orientation θ to the orientation after an
+action. It is stored *lifted* to ℝ: monotone non-decreasing with
+F(θ + P) = F(θ) + P for its natural period P (π for squeezing, 2π for pushing).
+Pieces are left-closed, right-open: a step maps [start, end) to ``value``; a ramp
+maps every θ in [start, end) to itself.
+"""
+
+from __future__ import annotations
+
+import bisect
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from algrasp.geometry.angles import TWO_PI
+from algrasp.geometry.curves import FloatArray
+from algrasp.geometry.functions import Run, wrap
+
+
+@dataclass(frozen=True)
+class TransferPiece:
+    """[start, end) (radians, lifted); ``value`` is the step's image, None for a ramp."""
+
+    start: float
+    end: float
+    value: float | None
+
+    @property
+    def is_ramp(self) -> bool:
+        return self.value is None
+
+    def shifted(self, d: float) -> TransferPiece:
+        return TransferPiece(self.start + d, self.end + d, None if self.value is None else self.value + d)
+
+
+@dataclass(frozen=True, eq=False)
+class TransferFunction:
+    """A step/ramp transfer function over one natural ``period`` (radians).
+
+    ``pieces`` are sorted; the first starts in [0, period); together they cover
+    [pieces[0].start, pieces[0].start + period). O(log n) evaluation.
+    """
+
+    period: float
+    pieces: tuple[TransferPiece, ...]
+
+    @property
+    def steps(self) -> tuple[TransferPiece, ...]:
+        return tuple(p for p in self.pieces if not p.is_ramp)
+
+    @property
+    def ramps(self) -> tuple[TransferPiece, ...]:
+        return tuple(p for p in self.pieces if p.is_ramp)
+
+    @cached_property
+    def starts(self) -> list[float]:
+        return [p.start for p in self.pieces]
+
+    @cached_property
+    def _arrays(self) -> tuple[FloatArray, FloatArray]:
+        """Starts and step values (NaN for ramps) as arrays for :meth:`apply`."""
+        return (np.array(self.starts),
+                np.array([np.nan if p.value is None else p.value for p in self.pieces]))
+
+    def piece_at(self, theta: float) -> tuple[TransferPiece, float]:
+        """The piece holding θ and the lift offset (a multiple of the period) to add."""
+        base = self.pieces[0].start
+        k = np.floor((theta - base) / self.period)
+        x = theta - k * self.period
+        i = bisect.bisect_right(self.starts, x) - 1
+        return self.pieces[max(i, 0)], float(k * self.period)
+
+    def __call__(self, theta: float) -> float:
+        """F(θ), lifted (radians)."""
+        p, off = self.piece_at(theta)
+        return theta if p.value is None else p.value + off
+
+    def apply(self, thetas: FloatArray) -> FloatArray:
+        """F over an array of θ (radians), vectorised; O(m log n)."""
+        thetas = np.asarray(thetas, dtype=float)
+        base = self.pieces[0].start
+        k = np.floor((thetas - base) / self.period)
+        x = thetas - k * self.period
+        starts, values = self._arrays
+        idx = np.clip(np.searchsorted(starts, x, side="right") - 1, 0, len(self.pieces) - 1)
+        vals = values[idx]
+        return np.where(np.isnan(vals), thetas, vals + k * self.period)
+
+    def symmetry_period(self, tol_rad: float) -> float:
+        """Smallest T = P/k with F(θ + T) = F(θ) + T (structure and values within tol)."""
+        n = len(self.pieces)
+        for k in range(n, 1, -1):
+            if n % k or not self._shift_matches(n // k, self.period / k, tol_rad):
+                continue
+            return self.period / k
+        return self.period
+
+    def _shift_matches(self, step: int, T: float, tol: float) -> bool:
+        n = len(self.pieces)
+        for i, p in enumerate(self.pieces):
+            q = self.pieces[(i + step) % n]
+            if i + step >= n:
+                q = q.shifted(self.period)  # wrapped past the end: lift back up
+            if p.is_ramp != q.is_ramp or abs(p.start + T - q.start) > tol or abs(p.end + T - q.end) > tol:
+                return False
+            if p.value is not None and q.value is not None and abs(p.value + T - q.value) > tol:
+                return False
+        return True
+
+    def compose_after(self, inner: TransferFunction, tol_rad: float) -> TransferFunction:
+        """self ∘ inner (inner acts first), over inner's period (Appendix C).
+        O((n + m) log n): self's starts are lifted once and cut each ramp by search."""
+        out: list[TransferPiece] = []
+        lo = min(p.start for p in inner.pieces)
+        hi = max(p.end for p in inner.pieces)
+        cuts_all = self._lifted_starts(lo, hi)
+        for p in inner.pieces:
+            if p.value is not None:
+                out.append(TransferPiece(p.start, p.end, self(p.value)))
+                continue
+            i, j = np.searchsorted(cuts_all, [p.start, p.end], side="right")
+            inside = [c for c in cuts_all[i:j].tolist() if p.start < c < p.end]
+            cuts = [p.start, *inside, p.end]
+            for a, b in zip(cuts[:-1], cuts[1:]):
+                q, off = self.piece_at(0.5 * (a + b))  # the middle: no rounding at boundaries
+                out.append(TransferPiece(a, b, None if q.value is None else q.value + off))
+        return TransferFunction(inner.period, tuple(canonical(out, inner.period, tol_rad)))
+
+    def _lifted_starts(self, a: float, b: float) -> FloatArray:
+        """Every piece start lifted over [a, b] (with a period to spare), sorted."""
+        base = self.pieces[0].start
+        k0 = int(np.floor((a - base) / self.period)) - 1
+        k1 = int(np.ceil((b - base) / self.period)) + 1
+        starts = np.array(self.starts)
+        return np.sort((starts[None, :] + (np.arange(k0, k1 + 1) * self.period)[:, None]).ravel())
+
+
+def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> list[TransferPiece]:
+    """Merge neighbouring ramps and equal-valued steps (also across the wrap); put the
+    first start in [0, period) and sort."""
+    merged: list[TransferPiece] = []
+    for p in pieces:
+        if merged and _same_kind(merged[-1], p, tol_rad):
+            merged[-1] = TransferPiece(merged[-1].start, p.end, merged[-1].value)
+        else:
+            merged.append(p)
+    if len(merged) > 1 and _same_kind(merged[-1], merged[0].shifted(period), tol_rad):
+        last = merged.pop()
+        merged[0] = TransferPiece(last.start - period, merged[0].end, None if last.value is None else last.value - period)
+    out = []
+    for p in merged:
+        k = np.floor(p.start / period + 1e-12) if p.start >= 0 else np.floor(p.start / period)
+        q = p.shifted(-k * period)
+        if q.start >= period - tol_rad:
+            q = q.shifted(-period)
+        out.append(q)
+    return sorted(out, key=lambda q: q.start)
+
+
+def _same_kind(a: TransferPiece, b: TransferPiece, tol: float) -> bool:
+    if a.is_ramp and b.is_ramp:
+        return True
+    return a.value is not None and b.value is not None and abs(a.value - b.value) <= tol
+
+
+def from_runs(runs: list[Run], period: float, tol_rad: float) -> TransferFunction:
+    """Steps and ramps from the monotone runs of d (or r), θ-ordered over 2π.
+
+    Decreasing runs flow right to their end, increasing runs flow left to their start,
+    constant runs are ramps (Appendix A); a local maximum starts the step on its right
+    and a ramp's right end starts the step on its right (Appendix B). ``period`` π folds
+    the diameter's doubled turn onto one period. O(n).
+    """
+    n = len(runs)
+    if n == 1:
+        r = runs[0]
+        return TransferFunction(period, (TransferPiece(r.start % period, r.start % period + period, None),))
+    begins = [i for i in range(n) if not (runs[i].sign == 1 and runs[i - 1].sign == -1)]
+    rot = runs[begins[0]:] + [Run(r.start + TWO_PI, r.end + TWO_PI, r.sign) for r in runs[:begins[0]]]
+    pieces: list[TransferPiece] = []
+    i = 0
+    while i < n:
+        r = rot[i]
+        if r.sign == 0:
+            pieces.append(TransferPiece(r.start, r.end, None))
+        elif r.sign == -1 and i + 1 < n and rot[i + 1].sign == 1:
+            pieces.append(TransferPiece(r.start, rot[i + 1].end, r.end))
+            i += 1
+        elif r.sign == -1:
+            pieces.append(TransferPiece(r.start, r.end, r.end))
+        else:
+            pieces.append(TransferPiece(r.start, r.end, r.start))
+        i += 1
+    if period < TWO_PI - tol_rad:
+        first = pieces[0].start
+        pieces = [p for p in pieces if p.start < first + period - tol_rad]
+        last = pieces[-1]
+        pieces[-1] = TransferPiece(last.start, first + period, last.value)
+    return TransferFunction(period, tuple(canonical(pieces, period, tol_rad)))
+
+
+def describe(F: TransferFunction, tol_rad: float) -> dict[str, object]:
+    """JSON-ready summary in degrees (conventions §1: orientations wrapped to [0, P))."""
+    P = F.period
+    steps = [{"start_deg": float(np.degrees(p.start)), "end_deg": float(np.degrees(p.end)),
+              "fixed_point_deg": float(np.degrees(wrap(p.value, P, tol_rad)))}
+             for p in F.steps if p.value is not None]
+    ramps = [{"start_deg": float(np.degrees(p.start)), "end_deg": float(np.degrees(p.end))} for p in F.ramps]
+    return {"period_deg": float(np.degrees(P)),
+            "symmetry_period_deg": float(np.degrees(F.symmetry_period(tol_rad))),
+            "steps": steps, "ramps": ramps}
