@@ -17,6 +17,7 @@ from typing import Annotated, Any
 from cachetools import LRUCache
 from fastapi import APIRouter, Depends, FastAPI, File, Form, Query, Request, UploadFile
 from fastapi.responses import Response
+from fastapi_offline import FastAPIOffline
 
 from algrasp.errors import ConfigError
 from service.admission import Gate
@@ -94,8 +95,9 @@ def create_app(settings: Settings | None = None, warmup: dict[str, Any] | None =
         for pool in (*svc.pools.values(), svc.runner.executor):
             pool.shutdown()
 
-    app = FastAPI(title="algrasp", version=VERSION, lifespan=lifespan,
-                  description="Sensorless orienting plans for planar parts with a parallel-jaw gripper.")
+    # The API docs load Swagger UI and ReDoc from the package, not a CDN: /docs works offline.
+    app = FastAPIOffline(title="algrasp", version=VERSION, lifespan=lifespan,
+                         description="Sensorless orienting plans for planar parts with a parallel-jaw gripper.")
     install_error_handlers(app)
     app.add_middleware(RequestGuard, max_bytes=settings.max_body_bytes)  # type: ignore[arg-type]
     app.add_middleware(MetricsMiddleware, metrics=metrics)  # type: ignore[arg-type]

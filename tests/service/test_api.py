@@ -196,3 +196,19 @@ def test_imports_list_and_choose_a_part_of_a_sheet(server: Server) -> None:
         assert one.status_code == 200 and one.json()["name"] == "gears#4"
         many = c.post("/v1/imports", files={"file": ("gears.dxf", sheet, "application/dxf")})
         assert many.status_code == 422 and "holds 10 parts" in many.json()["error"]["message"]
+
+
+def test_api_docs_need_no_internet(server: Server) -> None:
+    """/docs loads Swagger UI from the service itself (FastAPI's default page pulls it
+    from a CDN and is blank offline)."""
+    import re
+
+    with server.client() as c:
+        for page in ("/docs", "/redoc"):
+            html = c.get(page).text
+            urls = re.findall(r'(?:src|href)="([^"]+)"', html) + re.findall(r"url: '([^']+)'", html)
+            assert urls and all(u.startswith("/") for u in urls), (page, urls)
+            for u in urls:
+                r = c.get(u)
+                assert r.status_code == 200 and len(r.content) > 100, u
+        assert len(c.get("/static-offline-docs/swagger-ui-bundle.js").content) > 1_000_000
