@@ -12,13 +12,14 @@ import json
 import sys
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from algrasp.errors import AlgraspError, ConfigError, LimitExceededError, PartDocumentError
 from algrasp.geometry.limits import DEFAULT_LIMITS
-from algrasp.geometry.part import load_part
-from algrasp.planning.analysis import Analysis, Model, analyse_document
-from algrasp.planning.plans import Plan
+
+if TYPE_CHECKING:  # the geometry and planning stack (numpy, scipy) loads on first use, not for --help
+    from algrasp.planning.analysis import Analysis, Model
+    from algrasp.planning.plans import Plan
 
 EXIT_USER_ERROR = 2
 
@@ -55,6 +56,8 @@ def cmd_import(args: argparse.Namespace) -> int:
     if args.list:
         return _list_parts(args)
     doc = import_file(args.file, **_import_options(args))
+    from algrasp.geometry.part import load_part
+
     load_part(doc)  # the imported document must be a valid part
     for w in doc.get("source", {}).get("warnings", []):
         print(f"algrasp: warning: {w}", file=sys.stderr)
@@ -160,6 +163,8 @@ def model_from_args(args: argparse.Namespace) -> Model:
     keys = {"friction": "support_friction", "grip_force_n": "grip_force_n", "part_mass_kg": "part_mass_kg",
             "shape_tolerance": "shape_tolerance"}
     physics = {v: getattr(args, k) for k, v in keys.items() if getattr(args, k, None) is not None}
+    from algrasp.planning.analysis import Model
+
     return Model.from_options({"exact": bool(getattr(args, "exact", False)), "physics": physics})
 
 
@@ -184,6 +189,8 @@ def cmd_analyze(args: argparse.Namespace) -> int:
     doc = read_document(args.part, args)
     model = model_from_args(args)
     with _recording(args, "analyze", doc) as rec:
+        from algrasp.planning.analysis import analyse_document
+
         analysis = analyse_document(doc, model)
         rec.analysis(analysis.to_dict())
     if args.json:

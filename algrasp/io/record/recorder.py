@@ -25,10 +25,12 @@ import os
 import time
 import uuid
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from algrasp.geometry.curves import FloatArray
 from algrasp.io.record.schemas import TOPICS
+
+if TYPE_CHECKING:  # numpy is not needed to list or replay runs
+    from algrasp.geometry.curves import FloatArray
 
 CHUNK_BYTES = 64 * 1024
 SAMPLE_GAP_S = 1.0
