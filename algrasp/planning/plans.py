@@ -97,21 +97,10 @@ class Plan:
         return out
 
     def to_dict(self) -> dict[str, object]:
-        T = self.symmetry_period
-        return {
-            "action": self.action,
-            "symmetry_period_deg": float(np.degrees(T)),
-            "intervals_deg": [[float(np.degrees(wrap(a, self.transfer.period, 1e-12))),
-                               float(np.degrees(wrap(a, self.transfer.period, 1e-12) + b - a))] for a, b in self.intervals],
-            "steps": [{"gripper_angle_deg": float(np.degrees(wrap(s.gripper_angle, 2 * np.pi, 1e-12))),
-                       "margin_deg": None if s.margin is None else float(np.degrees(s.margin))} for s in self.steps],
-            "final_orientations_deg": [float(np.degrees(f)) for f in self.final_orientations],
-            "final_uncertainty_deg": float(np.degrees(self.final_uncertainty)),
-            "model": "exact" if self.bounds is None else "robust",
-            **({} if self.robust is None else {"dead_band": self.robust}),
-            "verified": self.verified,
-            "timings_s": dict(self.timings_s),
-        }
+        """The plan document (degrees): :class:`~algrasp.planning.documents.PlanDocument`'s codec."""
+        from algrasp.planning.documents import PlanDocument
+
+        return PlanDocument.from_plan(self).to_json()
 
 
 def transfer_for(analysis: Analysis, action: Action) -> TransferFunction:

@@ -11,7 +11,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from algrasp.errors import AlgraspError, RecordError
+from algrasp.errors import AlgraspError, PartDocumentError, RecordError
 
 COMPARE_REL = 1e-9
 """Recomputed numbers within this relative difference (or 1e-9 absolute) are equal."""
@@ -73,6 +73,8 @@ def replay(path: Path) -> dict[str, Any]:
         raise RecordError(path.name, f"RUN: {path.name} has no /request: nothing to replay")
     try:
         return _replay(rec)
+    except PartDocumentError as exc:
+        raise RecordError(path.name, f"RUN: {path.name} is damaged: {exc.message}") from None
     except (KeyError, TypeError, IndexError, AttributeError) as exc:  # decodable JSON, but not what we wrote
         raise RecordError(path.name, f"RUN: {path.name} is damaged: its messages lack {exc!s:.100}") from None
 
@@ -102,11 +104,14 @@ def _rebuild(request: dict[str, Any], options: dict[str, Any]) -> tuple[Any, Any
 
 
 def _replay(rec: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
+    from algrasp.planning.documents import PlanDocument
+
     request = rec["/request"][0]
     options = request["options"]
     diffs: list[dict[str, Any]] = []
     recorded = rec["/plan"][0] if "/plan" in rec else None
     if recorded is not None:
+        PlanDocument.from_json(recorded, "/plan")  # the recorded plan reads back (names what is missing)
         options = plan_options(options, recorded)
     analysis, plan = _rebuild(request, options if recorded is not None else {**options, "action": None})
     if "/analysis" in rec:

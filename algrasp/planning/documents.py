@@ -1,0 +1,145 @@
+"""The plan document (conventions §6) as a typed value with one codec.
+
+:class:`PlanDocument` holds a plan in radians; :meth:`PlanDocument.to_json` writes the
+JSON document (degrees) and :meth:`PlanDocument.from_json` reads one back — from a
+record, a ``plan --json`` file or an HTTP response — checking every field it needs and
+keeping the optional execution fields (push distances, jaw trajectories, cycle time) as
+written. This is the one place where a plan's angles cross between radians and degrees.
+
+>>> doc = {"action": "squeeze", "symmetry_period_deg": 180.0, "intervals_deg": [[0.0, 70.0]],
+...        "steps": [{"gripper_angle_deg": 45.0, "margin_deg": None}], "final_orientations_deg": [90.0],
+...        "final_uncertainty_deg": 0.0, "model": "exact", "verified": True, "timings_s": {}}
+>>> plan = PlanDocument.from_json(doc)
+>>> round(plan.steps[0].gripper_angle, 6), plan.to_json() == doc
+(0.785398, True)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from algrasp.errors import PartDocumentError
+from algrasp.geometry.angles import TWO_PI, to_deg, to_rad
+from algrasp.geometry.functions import wrap
+
+_WRAP_TOL_RAD = 1e-12
+"""An angle this close below a full turn is written as 0 (rounding of a wrapped angle)."""
+
+
+def _wrapped(angle_rad: float, period_rad: float) -> float:
+    return wrap(angle_rad, period_rad, _WRAP_TOL_RAD)
+
+
+@dataclass(frozen=True)
+class StepDocument:
+    """One action: the gripper angle (radians, [0, 2π)), its margin (radians; None for
+    the first action) and the execution fields as written (``push_distance``, …)."""
+
+    gripper_angle: float
+    margin: float | None
+    execution: Mapping[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class PlanDocument:
+    """A plan document in radians. ``execution``: the optimised execution's plan-level
+    fields (``cycle_time_s``, ``units``, ``gripper_profile``, …), empty without."""
+
+    action: str
+    symmetry_period: float
+    intervals: tuple[tuple[float, float], ...]
+    steps: tuple[StepDocument, ...]
+    final_orientations: tuple[float, ...]
+    final_uncertainty: float
+    model: str
+    verified: bool
+    dead_band: Mapping[str, Any] | None = None
+    timings_s: Mapping[str, float] = field(default_factory=dict)
+    execution: Mapping[str, Any] = field(default_factory=dict)
+
+    @staticmethod
+    def from_plan(plan: Any) -> PlanDocument:
+        """The document of a :class:`~algrasp.planning.plans.Plan` (angles wrapped as
+        conventions §6 writes them)."""
+        P = plan.transfer.period
+        intervals = tuple((_wrapped(a, P), _wrapped(a, P) + b - a) for a, b in plan.intervals)
+        steps = tuple(StepDocument(_wrapped(s.gripper_angle, TWO_PI), None if s.margin is None else float(s.margin))
+                      for s in plan.steps)
+        return PlanDocument(plan.action, float(plan.symmetry_period), intervals, steps,
+                            tuple(float(f) for f in plan.final_orientations), float(plan.final_uncertainty),
+                            "exact" if plan.bounds is None else "robust", bool(plan.verified), plan.robust,
+                            dict(plan.timings_s))
+
+    def to_json(self) -> dict[str, Any]:
+        """The JSON document (degrees), key order as conventions §6."""
+        out: dict[str, Any] = {
+            "action": self.action,
+            "symmetry_period_deg": to_deg(self.symmetry_period),
+            "intervals_deg": [[to_deg(a), to_deg(b)] for a, b in self.intervals],
+            "steps": [{"gripper_angle_deg": to_deg(s.gripper_angle),
+                       "margin_deg": None if s.margin is None else to_deg(s.margin), **s.execution} for s in self.steps],
+            "final_orientations_deg": [to_deg(f) for f in self.final_orientations],
+            "final_uncertainty_deg": to_deg(self.final_uncertainty),
+            "model": self.model,
+            **({} if self.dead_band is None else {"dead_band": dict(self.dead_band)}),
+            "verified": self.verified,
+            "timings_s": dict(self.timings_s),
+        }
+        return {**out, **self.execution}
+
+    @staticmethod
+    def from_json(doc: Any, field_name: str = "plan") -> PlanDocument:
+        """Read a plan document; PartDocumentError names the first missing or malformed field."""
+        if not isinstance(doc, Mapping):
+            raise PartDocumentError(field_name, "a plan document must be an object")
+        steps_raw = _get(doc, "steps", list, field_name)
+        steps = tuple(_step(s, f"{field_name}.steps[{i}]") for i, s in enumerate(steps_raw))
+        known = {"action", "symmetry_period_deg", "intervals_deg", "steps", "final_orientations_deg",
+                 "final_uncertainty_deg", "model", "dead_band", "verified", "timings_s"}
+        return PlanDocument(
+            action=_get(doc, "action", str, field_name),
+            symmetry_period=to_rad(_number(doc.get("symmetry_period_deg"), f"{field_name}.symmetry_period_deg")),
+            intervals=tuple((to_rad(_number(p[0], f"{field_name}.intervals_deg[{i}]")),
+                             to_rad(_number(p[1], f"{field_name}.intervals_deg[{i}]")))
+                            for i, p in enumerate(_pairs(doc.get("intervals_deg"), f"{field_name}.intervals_deg"))),
+            steps=steps,
+            final_orientations=tuple(to_rad(_number(f, f"{field_name}.final_orientations_deg"))
+                                     for f in _get(doc, "final_orientations_deg", list, field_name)),
+            final_uncertainty=to_rad(_number(doc.get("final_uncertainty_deg", 0.0), f"{field_name}.final_uncertainty_deg")),
+            model=str(doc.get("model", "exact")),
+            verified=bool(doc.get("verified", False)),
+            dead_band=doc.get("dead_band"),
+            timings_s=dict(doc.get("timings_s") or {}),
+            execution={k: v for k, v in doc.items() if k not in known},
+        )
+
+
+def _step(raw: Any, where: str) -> StepDocument:
+    if not isinstance(raw, Mapping):
+        raise PartDocumentError(where, "a step must be an object")
+    margin = raw.get("margin_deg")
+    return StepDocument(to_rad(_number(raw.get("gripper_angle_deg"), f"{where}.gripper_angle_deg")),
+                        None if margin is None else to_rad(_number(margin, f"{where}.margin_deg")),
+                        {k: v for k, v in raw.items() if k not in ("gripper_angle_deg", "margin_deg")})
+
+
+def _get(doc: Mapping[str, Any], key: str, kind: type, where: str) -> Any:
+    value = doc.get(key)
+    if not isinstance(value, kind):
+        raise PartDocumentError(f"{where}.{key}", f"expected {kind.__name__}, got {type(value).__name__}")
+    return value
+
+
+def _number(value: Any, where: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise PartDocumentError(where, f"expected a finite number, got {value!r}")
+    return float(value)
+
+
+def _pairs(value: Any, where: str) -> list[Any]:
+    if not isinstance(value, list) or not all(isinstance(p, list) and len(p) == 2 for p in value):
+        raise PartDocumentError(where, "expected a list of [start, end] pairs")
+    return value
