@@ -103,13 +103,13 @@ def _optimise(analysis: Analysis, plan: Plan, req: PlanRequest) -> Any:
 
 def _validate(out: PlanOutcome, req: PlanRequest, sim_workers: int, record_sim: bool) -> Any:
     try:
-        from algrasp.sim.config import sim_config
+        from algrasp.sim.config import execution_config, execution_schedule, sim_config
         from algrasp.sim.validate import validate_plan
     except ImportError:  # pragma: no cover - drake is an optional extra
         raise ConfigError("validate", "validation needs Drake: pip install 'algrasp[sim]'") from None
     ex = out.execution
     base = sim_config(req.model.physics)
-    sim = {"cfg": base} if ex is None else {"sim_schedule": ex.sim_schedule(), "cfg": ex.sim_config(base)}
+    sim = {"cfg": base} if ex is None else {"sim_schedule": execution_schedule(ex), "cfg": execution_config(ex, base)}
     return validate_plan(out.analysis, out.plan, req.samples, req.seed, req.placement, req.tolerance_deg,
                          workers=sim_workers, record=record_sim, **sim)
 

@@ -25,15 +25,15 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from algrasp.geometry.curves import FloatArray
+from algrasp.geometry.units import meters_per_unit
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.deadband import mean_radius
 from algrasp.planning.plans import Plan
-from algrasp.sim.config import SimConfig, SimSchedule, meters_per_unit, sampled_schedule
 from optimisation.chains import Chain, Profile1D, solve_chains, trapezoid_duration
 from optimisation.profile import DEFAULT_PROFILE, GripperProfile
 from optimisation.push import PushResult, push_distances, push_model
@@ -90,22 +90,20 @@ class Execution:
             })
         return out
 
-    def sim_schedule(self) -> SimSchedule:
-        """The trajectories as simulation targets (metres), push ends as checkpoints."""
+    def sampled_steps(self) -> tuple[list[SampledStep], float, tuple[float, ...]]:
+        """Per step ``(t_s, gripper_angle_rad, lower_m, higher_m, centre_at_s, settle_at_s)``,
+        the open half-width (m) and the push end times (s): the trajectories in metres, for
+        a simulator (``algrasp.sim.config.execution_schedule``)."""
         s = meters_per_unit(self.units)
-        steps, ends, t0 = [], [], 0.0
+        steps: list[SampledStep] = []
+        ends, t0 = [], 0.0
         for st in self.steps:
             steps.append((st.t_s.tolist(), st.gripper_angle_rad.tolist(), (st.lower * s).tolist(),
                           (st.higher * s).tolist(), st.centre_at_s, st.settle_at_s))
             if st.push_end_s is not None:
                 ends.append(t0 + st.push_end_s)
             t0 += st.duration_s
-        return sampled_schedule(steps, self.open_half_width * s, tuple(ends))
-
-    def sim_config(self, cfg: SimConfig) -> SimConfig:
-        """``cfg`` with the jaw servo of this execution's gripper profile: the force cap
-        and stiffness the squeeze targets were computed for."""
-        return replace(cfg, jaw_force_n=self.profile.grip_force_n, jaw_stiffness_n_m=self.profile.jaw_stiffness_n_m)
+        return steps, self.open_half_width * s, tuple(ends)
 
     def apply_to(self, plan_doc: dict[str, object]) -> dict[str, object]:
         """The plan document with the execution merged in (a new dict)."""
@@ -119,6 +117,10 @@ class Execution:
         doc["gripper_profile"] = self.profile.to_dict()
         doc["open_half_width"] = self.open_half_width
         return doc
+
+
+SampledStep = tuple[list[float], list[float], list[float], list[float], float | None, float | None]
+"""One step's samples: times (s), gripper angles (rad), lower and higher jaw (m), centring and settling times."""
 
 
 @dataclass(frozen=True)

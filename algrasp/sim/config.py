@@ -23,11 +23,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
-from algrasp.errors import ConfigError
+from algrasp.geometry.units import UNIT_TO_M, meters_per_unit  # noqa: F401 - re-exported for the adapter
 from algrasp.planning.deadband import DEFAULT_PHYSICS, Physics
-
-UNIT_TO_M = {"mm": 1e-3, "cm": 1e-2, "m": 1.0, "in": 0.0254, "um": 1e-6}
 
 
 @dataclass(frozen=True)
@@ -74,13 +73,6 @@ def sim_config(physics: Physics, base: SimConfig = DEFAULT_SIM) -> SimConfig:
 
     return replace(base, part_mass_kg=physics.part_mass_kg, support_friction=physics.support_friction,
                    gravity_m_s2=physics.gravity_m_s2, jaw_force_n=physics.grip_force_n)
-
-
-def meters_per_unit(units: str) -> float:
-    try:
-        return UNIT_TO_M[units]
-    except KeyError:
-        raise ConfigError("units", f"simulation needs a known length unit ({', '.join(UNIT_TO_M)}), got {units!r}") from None
 
 
 @dataclass(frozen=True)
@@ -170,3 +162,18 @@ def schedule(angles: list[float], action: str, half_open_m: float, push_m: float
         # at contact speed) now that the contact's dissipation time is short.
         add(W / fast, (g, g), (0.0, -W), (0.0, W), k)
     return phases
+
+
+def execution_schedule(ex: Any) -> SimSchedule:
+    """The optimised execution's trajectories (``optimisation.execution.Execution``) as
+    simulation targets in metres, push ends as checkpoints."""
+    steps, half_open_m, push_ends_s = ex.sampled_steps()
+    return sampled_schedule(steps, half_open_m, push_ends_s)
+
+
+def execution_config(ex: Any, cfg: SimConfig) -> SimConfig:
+    """``cfg`` with the jaw servo of the execution's gripper profile: the force cap and
+    stiffness the squeeze targets were computed for."""
+    from dataclasses import replace
+
+    return replace(cfg, jaw_force_n=ex.profile.grip_force_n, jaw_stiffness_n_m=ex.profile.jaw_stiffness_n_m)

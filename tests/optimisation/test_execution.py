@@ -90,7 +90,9 @@ def test_plan_document_gains_execution_fields(execution: tuple[Execution, object
 
 def test_sim_schedule_follows_the_samples(execution: tuple[Execution, object]) -> None:
     ex, _ = execution
-    sch = ex.sim_schedule()
+    from algrasp.sim.config import execution_schedule
+
+    sch = execution_schedule(ex)
     assert sch.phases[-1].t1 == pytest.approx(ex.cycle_time_s)
     assert len(sch.push_ends_s) == sum(s.push is not None for s in ex.steps)
     assert sch.half_open_m == pytest.approx(ex.open_half_width * 1e-3)

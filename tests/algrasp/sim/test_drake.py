@@ -13,7 +13,7 @@ from algrasp.geometry import shapes  # noqa: E402
 from algrasp.geometry.part import load_part  # noqa: E402
 from algrasp.planning.analysis import analyse_part  # noqa: E402
 from algrasp.planning.plans import make_plan  # noqa: E402
-from algrasp.sim.config import SimConfig, schedule  # noqa: E402
+from algrasp.sim.config import SimConfig, execution_schedule, schedule  # noqa: E402
 from algrasp.sim.model import PlanarGripperSim  # noqa: E402
 from algrasp.sim.validate import validate_plan  # noqa: E402
 
@@ -87,7 +87,7 @@ def test_optimised_push_distance_is_tight() -> None:
     errors = {}
     for scale in (1.0, 0.5):
         ex = optimise_execution(analysis, plan, push_scale=scale)
-        v = validate_plan(analysis, plan, samples=8, seed=0, workers=2, sim_schedule=ex.sim_schedule())
+        v = validate_plan(analysis, plan, samples=8, seed=0, workers=2, sim_schedule=execution_schedule(ex))
         errs = [abs((s.pushed_deg - s.push_predicted_deg + 180) % 360 - 180) for s in v.samples if not s.near_unstable]
         errors[scale] = float(np.mean(errs))
         if scale == 1.0:
