@@ -24,6 +24,7 @@ from numpy.typing import NDArray
 
 from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.curves import FloatArray, Piece, bernstein_matrix, horner_rows
+from algrasp.geometry.tolerances import ROUNDING_FINE
 
 if TYPE_CHECKING:
     from algrasp.geometry.hull import HullFeature
@@ -176,7 +177,7 @@ class FeatureTable:
             q, dq = _horner2(q_coef, t), _horner2(dq_coef, t)
             step = np.divide(q, dq, out=np.zeros_like(q), where=dq != 0.0)
             t = np.minimum(np.maximum(t - step, lo), hi)
-            if not np.any(np.abs(step) >= 1e-15):
+            if not np.any(np.abs(step) >= ROUNDING_FINE):
                 break
         result: FloatArray = t
         return result

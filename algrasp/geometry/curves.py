@@ -19,6 +19,8 @@ from math import comb
 import numpy as np
 from numpy.typing import NDArray
 
+from algrasp.geometry.tolerances import ROUNDING
+
 FloatArray = NDArray[np.float64]
 
 
@@ -347,7 +349,7 @@ def conic_arc_pieces(
     at most 90° of parameter so its weight cos(Δ/2) stays ≥ cos 45°.
     """
     sweep = t1 - t0
-    n = max(1, int(np.ceil(abs(sweep) / (np.pi / 2) - 1e-12)))
+    n = max(1, int(np.ceil(abs(sweep) / (np.pi / 2) - ROUNDING)))
     out = []
     for i in range(n):
         a = t0 + sweep * i / n

@@ -17,7 +17,7 @@ from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.bank import IntArray, coefficient_stack, normal_angles, points
 from algrasp.geometry.curves import FloatArray, Piece, horner_float, real_roots_in
 from algrasp.geometry.segments import Line, Segment
-from algrasp.geometry.tolerances import Tolerances
+from algrasp.geometry.tolerances import LENGTH_REL, PARAM_END, ROUNDING, ROUNDING_FINE, Tolerances
 
 _SAMPLE_GRID = 33  # uniform parameters per piece before refining by turn
 
@@ -58,7 +58,7 @@ def _convex_split(piece: Piece, size: float) -> list[Piece]:
     """
     K = piece.curvature_list
     _, _, W, TX, TY = piece.lists
-    inflections = [c for c in real_roots_in(K, 0.0, 1.0) if 1e-9 < c < 1.0 - 1e-9]
+    inflections = [c for c in real_roots_in(K, 0.0, 1.0) if PARAM_END < c < 1.0 - PARAM_END]
     # Quadrant cuts only bound the turn of a piece; one a hair from another cut would
     # leave a sliver whose tangent is lost to cancellation, so those are skipped.
     edges = sorted({0.0, 1.0, *inflections})
@@ -72,7 +72,7 @@ def _convex_split(piece: Piece, size: float) -> list[Piece]:
         if speed == 0.0:
             continue
         kappa = horner_float(K, m) * horner_float(W, m) ** 2 / speed**3
-        if kappa * size > 1e-9:  # left turn; straight or right-turning parts never touch the hull
+        if kappa * size > LENGTH_REL:  # left turn; straight or right-turning parts never touch the hull
             kept.append(piece.restrict(a, b))
     return kept
 
@@ -84,7 +84,7 @@ def build_loop(boundary: list[Segment], size: float) -> Loop:
     ends: list[int] = []
     if all(isinstance(seg, Line) for seg in boundary):  # polygons: the vertices are the starts
         return Loop(np.array([seg.start for seg in boundary]), (), (), ())
-    close = 1e-12 * size
+    close = ROUNDING * size
 
     def vertex(p: FloatArray | tuple[float, float]) -> int:
         # Consecutive copies of one point are one vertex, so pieces link up.
@@ -140,7 +140,7 @@ def contact_point(loop: Loop, c: Contact) -> FloatArray:
 def _vertex_tangent(loop: Loop, a: FloatArray, pid: int, t_guess: float, size: float) -> float | None:
     p = loop.pieces[pid]
     roots = [t for t in real_roots_in(p.tangent_from_point_poly(a), 0.0, 1.0)
-             if np.hypot(*(p.point(t) - a)) > 1e-9 * size]
+             if np.hypot(*(p.point(t) - a)) > LENGTH_REL * size]
     if not roots:
         return None
     return min(roots, key=lambda t: abs(t - t_guess))
@@ -173,7 +173,7 @@ def _bitangent(loop: Loop, fa: int, sa: float, fb: int, sb: float) -> tuple[floa
             break
         ds, dt = (f1 * j22 - f2 * j12) / det, (j11 * f2 - j21 * f1) / det
         s, t = s - ds, t - dt
-        if abs(ds) + abs(dt) < 1e-15:
+        if abs(ds) + abs(dt) < ROUNDING_FINE:
             break
     # Judge the residual with unit tangents, as the hull's length tolerance does.
     if math.isfinite(s) and math.isfinite(t):
@@ -182,7 +182,7 @@ def _bitangent(loop: Loop, fa: int, sa: float, fb: int, sb: float) -> tuple[floa
         ex, ey = bx - ax, by - ay
         r1 = abs(tax * ey - tay * ex) / math.hypot(tax, tay)
         r2 = abs(tbx * ey - tby * ex) / math.hypot(tbx, tby)
-        if max(r1, r2) <= 1e-12:
+        if max(r1, r2) <= ROUNDING:
             return s, t
     return _alternating_bitangent(loop, fa, sa, fb, sb)
 
@@ -197,7 +197,7 @@ def _alternating_bitangent(loop: Loop, fa: int, sa: float, fb: int, sb: float) -
         if not ra or not rb:
             return None
         na, nb = min(ra, key=lambda t: abs(t - sa)), min(rb, key=lambda t: abs(t - sb))
-        if abs(na - sa) + abs(nb - sb) < 1e-15:
+        if abs(na - sa) + abs(nb - sb) < ROUNDING_FINE:
             return na, nb
         sa, sb = na, nb
     return sa, sb
@@ -207,9 +207,9 @@ def _snap(loop: Loop, c: Contact) -> Contact:
     """A contact at a piece end becomes the vertex there."""
     if c[0] >= 0:
         return c
-    if c[2] <= 1e-12:
+    if c[2] <= ROUNDING:
         return (loop.start_vertex[c[1]], -1, 0.0)
-    if c[2] >= 1.0 - 1e-12:
+    if c[2] >= 1.0 - ROUNDING:
         return (loop.end_vertex[c[1]], -1, 0.0)
     return c
 
@@ -218,7 +218,7 @@ def _solve_edge(loop: Loop, a: Contact, b: Contact, size: float) -> tuple[Contac
     """Exact tangent contacts of the straight edge from near ``a`` to near ``b``."""
     if a[0] < 0 and b[0] < 0:
         st = _bitangent(loop, a[1], a[2], b[1], b[2])
-        if st is not None and -1e-9 <= st[0] <= 1 + 1e-9 and -1e-9 <= st[1] <= 1 + 1e-9:
+        if st is not None and -PARAM_END <= st[0] <= 1 + PARAM_END and -PARAM_END <= st[1] <= 1 + PARAM_END:
             return _snap(loop, (-1, a[1], min(max(st[0], 0.0), 1.0))), _snap(loop, (-1, b[1], min(max(st[1], 0.0), 1.0)))
         a = _snap(loop, (-1, a[1], float(np.clip(round(a[2]), 0, 1))))
     if a[0] >= 0 and b[0] < 0:
@@ -268,7 +268,7 @@ def _slide(loop: Loop, a: Contact, b: Contact, psi_edge: float) -> tuple[Contact
 
 def _ahead(psi: float, other: float) -> bool:
     """Whether normal ψ lies strictly past ``other`` (counter-clockwise, within π)."""
-    return (psi - other + np.pi) % TWO_PI - np.pi > 1e-12
+    return (psi - other + np.pi) % TWO_PI - np.pi > ROUNDING
 
 
 def verified_edge(loop: Loop, a: Contact, b: Contact, size: float) -> tuple[Contact, Contact]:

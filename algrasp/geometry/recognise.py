@@ -22,7 +22,7 @@ import numpy as np
 
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.segments import Bezier, EllipseArc, Line, Segment
-from algrasp.geometry.tolerances import Tolerances
+from algrasp.geometry.tolerances import ROUNDING, TINY, Tolerances
 
 _SAMPLES = 33
 """Points checked on a Bezier segment (ends included) for circle recognition."""
@@ -36,8 +36,8 @@ def _circle_through(a: FloatArray, b: FloatArray, c: FloatArray) -> tuple[FloatA
     """Centre and radius of the circle through three points; None when collinear."""
     A, B = a - c, b - c
     d = 2.0 * (A[0] * B[1] - B[0] * A[1])
-    scale = max(float(np.hypot(*A)), float(np.hypot(*B)), 1e-300)
-    if abs(d) <= 1e-12 * scale * scale:
+    scale = max(float(np.hypot(*A)), float(np.hypot(*B)), TINY)
+    if abs(d) <= ROUNDING * scale * scale:
         return None
     a2, b2 = float(A @ A), float(B @ B)
     center = c + np.array([B[1] * a2 - A[1] * b2, A[0] * b2 - B[0] * a2]) / d

@@ -65,3 +65,20 @@ class Tolerances:
 
 
 DEFAULT_TOLERANCES = Tolerances()
+
+
+# Floating-point guards: not tolerances a user would tune but the limits of double
+# arithmetic, named so that every comparison says which one it makes.
+ROUNDING = 1e-12
+"""Relative rounding of double arithmetic on values of order one (angles in radians,
+curve parameters in [0, 1], lengths relative to the part's size): closer is equal."""
+ROUNDING_FINE = 1e-15
+"""A root-finding step (radians or curve parameter) below this is rounding: stop."""
+PARAM_END = 1e-9
+"""Curve parameters (in [0, 1]) this close to an end are that end."""
+PROBE_RAD = 1e-7
+"""A probe this far (radians) beside a breakpoint samples the piece on that side."""
+TINY = 1e-300
+"""Guards divisions by a size that may be zero."""
+LENGTH_REL = 1e-9
+"""Distances (and curvature × size) below this, relative to the part's size, are zero."""

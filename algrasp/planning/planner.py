@@ -22,6 +22,7 @@ import numpy as np
 
 from algrasp.errors import NotOrientableError
 from algrasp.geometry.curves import FloatArray
+from algrasp.geometry.tolerances import ROUNDING
 from algrasp.planning.transfer import TransferFunction
 
 STRICT_RAD = 1e-9
@@ -104,7 +105,7 @@ def _candidates(F: TransferFunction, lifted: _Lifted, room: float) -> FloatArray
     meets a step value or a ramp start (top-right placements)."""
     base = F.pieces[0].start
     low = lifted.lower
-    one = (low.starts >= base - 1e-12) & (low.starts < base + F.period - 1e-12)
+    one = (low.starts >= base - ROUNDING) & (low.starts < base + F.period - ROUNDING)
     out = [low.starts[one]]
     tops = np.unique(lifted.upper.values)
     for s, e in zip(low.starts[one & low.ramp], low.ends[one & low.ramp]):

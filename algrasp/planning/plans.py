@@ -19,6 +19,7 @@ import numpy as np
 from algrasp.errors import ConfigError, NotOrientableError
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import wrap
+from algrasp.geometry.tolerances import PROBE_RAD, ROUNDING
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.planner import GUARD_RAD, algorithm_a_prime, images, set_a_prime
 from algrasp.planning.setvalued import SetTransfer
@@ -137,7 +138,7 @@ def gripper_steps(F: TransferFunction, intervals: list[tuple[float, float]],
 def final_orientations(F: TransferFunction, intervals: list[tuple[float, float]], T: float) -> list[float]:
     value = F(intervals[0][0])
     k = int(round(2 * np.pi / T))
-    return sorted(wrap(value + i * T, 2 * np.pi, 1e-12) for i in range(k))
+    return sorted(wrap(value + i * T, 2 * np.pi, ROUNDING) for i in range(k))
 
 
 def verify(plan: Plan, samples: int = VERIFY_SAMPLES) -> bool:
@@ -147,7 +148,7 @@ def verify(plan: Plan, samples: int = VERIFY_SAMPLES) -> bool:
     phi = [np.linspace(0.0, 2 * np.pi, samples, endpoint=False)]
     starts = np.array([p.start for p in plan.transfer.pieces])
     for s in plan.steps:
-        for eps in (-1e-7, 0.0, 1e-7):
+        for eps in (-PROBE_RAD, 0.0, PROBE_RAD):
             phi.append(starts + s.gripper_angle + eps)
             phi.append(starts + plan.transfer.period + s.gripper_angle + eps)
     final = np.sort(np.mod(plan.run(np.concatenate(phi)), 2 * np.pi))
@@ -229,7 +230,7 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
     steps = gripper_steps(S.lower, intervals, S.upper, circle)
     lo, hi = images(S.lower, intervals[:1], S.upper)[0]
     k = int(round(2 * np.pi / T))
-    finals = sorted(wrap(0.5 * (lo + hi) + i * T, 2 * np.pi, 1e-12) for i in range(k))
+    finals = sorted(wrap(0.5 * (lo + hi) + i * T, 2 * np.pi, ROUNDING) for i in range(k))
     t1 = time.perf_counter()
     uncertainty = 0.5 * (hi - lo) + GUARD_RAD + _edge_tilt(analysis, 0.5 * (lo + hi))
     plan = Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), False, {}, S,
@@ -280,7 +281,7 @@ def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SA
     starts = np.array([p.start for p in S.lower.pieces] + [p.start for p in S.upper.pieces])
     cuts = c0 + np.mod(starts - c0, T)
     inner = cuts[cuts <= c1]
-    pts = np.concatenate([np.linspace(c0, c1, samples), inner - 1e-7, inner, inner + 1e-7])
+    pts = np.concatenate([np.linspace(c0, c1, samples), inner - PROBE_RAD, inner, inner + PROBE_RAD])
     pts = np.clip(pts, c0, c1) + a1
     lo = np.append(pts, c0 + a1)
     hi = np.append(pts, c1 + a1)

@@ -31,6 +31,7 @@ import numpy as np
 from algrasp.errors import NotOrientableError
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import SupportPairFunction
+from algrasp.geometry.tolerances import ROUNDING
 from algrasp.planning.barriers import barriers
 from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical
 
@@ -166,7 +167,7 @@ def tolerant_symmetry(f: SupportPairFunction, value_tol: float) -> float:
     # A near miss (a 26-fold shift of a 25-tooth gear) passes a loose tolerance too, but
     # only the true order and its divisors repeat f to the drawing's own noise.
     best = min(passing.values())
-    return P / max(k for k, e in passing.items() if e <= 10.0 * best + 1e-12 * float(np.max(np.abs(v))))
+    return P / max(k for k, e in passing.items() if e <= 10.0 * best + ROUNDING * float(np.max(np.abs(v))))
 
 
 SCREEN_HARMONICS = 64
@@ -195,8 +196,8 @@ def _nodes(f: SupportPairFunction, T: float) -> tuple[FloatArray, np.ndarray]:
     flags = np.concatenate([np.zeros(len(grid), dtype=bool), np.ones(len(theta_bp) + len(runs), dtype=bool)])
     order = np.argsort(raw, kind="stable")
     raw, flags = raw[order], flags[order]
-    group = np.concatenate([[0], np.cumsum(np.diff(raw) > 1e-12)])
-    if T - raw[-1] <= 1e-12:
+    group = np.concatenate([[0], np.cumsum(np.diff(raw) > ROUNDING)])
+    if T - raw[-1] <= ROUNDING:
         group[group == group[-1]] = 0  # a node a hair below T is node 0
     nodes = raw[np.unique(group, return_index=True)[1]]
     kink = np.zeros(len(nodes), dtype=bool)

@@ -18,6 +18,7 @@ import numpy as np
 from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import Run, wrap
+from algrasp.geometry.tolerances import ROUNDING
 
 
 @dataclass(frozen=True)
@@ -152,7 +153,7 @@ def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> lis
         merged[0] = TransferPiece(last.start - period, merged[0].end, None if last.value is None else last.value - period)
     out = []
     for p in merged:
-        k = np.floor(p.start / period + 1e-12) if p.start >= 0 else np.floor(p.start / period)
+        k = np.floor(p.start / period + ROUNDING) if p.start >= 0 else np.floor(p.start / period)
         q = p.shifted(-k * period)
         if q.start >= period - tol_rad:
             q = q.shifted(-period)

@@ -13,6 +13,7 @@ from typing import Any
 
 from algrasp.errors import ConfigError, LimitExceededError, PartDocumentError
 from algrasp.geometry.limits import DEFAULT_LIMITS
+from algrasp.geometry.tolerances import TINY
 
 MAX_WARNINGS = 20
 """Warnings kept in a document's ``source`` (ezdxf may log hundreds on a damaged file)."""
@@ -152,7 +153,7 @@ def _sheet(filename: str, data: bytes, layer: str | None, element_id: str | None
         if not all(math.isfinite(c) for e in (False, True) for c in point_at(p.segment, e)):
             raise PartDocumentError(p.origin, "coordinates overflow to infinity (an extreme scale or transform?)")
     ends = [point_at(p.segment, e) for p in pieces for e in (False, True)]
-    size = float(max(max(abs(c) for pt in ends for c in pt), 1e-300))
+    size = float(max(max(abs(c) for pt in ends for c in pt), TINY))
     tol = tolerance if tolerance is not None else default_tolerance(pieces)
     return find_parts(pieces, tol, size, hatched), doc_units, k, source
 

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from algrasp.errors import PartDocumentError
+from algrasp.geometry.tolerances import ROUNDING
 
 Segment = dict[str, Any]
 
@@ -198,4 +199,4 @@ def default_tolerance(pieces: Sequence[Piece]) -> float:
             c = np.asarray(p.segment["center"], dtype=float)
             pts += [c - r, c + r]
     size = float(np.max(np.ptp(np.array(pts), axis=0))) if pts else 1.0
-    return CHAIN_GAP_REL * max(size, 1e-12)
+    return CHAIN_GAP_REL * max(size, ROUNDING)

@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from algrasp.errors import PartDocumentError
+from algrasp.geometry.tolerances import ROUNDING, TINY
 from algrasp.io.cad.chain import Piece, Segment, _polygon, chain, point_at, ring
 
 _DUPLICATE_DIGITS = 9
@@ -58,10 +59,10 @@ def clean(pieces: Sequence[Piece], size: float) -> tuple[list[Piece], list[str]]
     out: list[Piece] = []
     seen: set[tuple[Any, ...]] = set()
     zero, dup = 0, 0
-    scale = max(size, 1e-300)
+    scale = max(size, TINY)
     for p in pieces:
         a, b = point_at(p.segment, False), point_at(p.segment, True)
-        if np.linalg.norm(b - a) <= 1e-12 * scale and p.segment["type"] == "line":
+        if np.linalg.norm(b - a) <= ROUNDING * scale and p.segment["type"] == "line":
             zero += 1
             continue
         key = _key(p.segment, a, b, scale)
