@@ -148,8 +148,6 @@ def _request(args: argparse.Namespace) -> Any:
     """The plan request the command line describes."""
     from algrasp.pipeline import PlanRequest
 
-    if getattr(args, "gripper", None) and not args.optimise:
-        raise ConfigError("--gripper", "needs --optimise")
     profile = _gripper_profile(args.gripper).to_dict() if getattr(args, "gripper", None) else None
     extra = {k: getattr(args, k) for k in ("samples", "seed", "placement", "tolerance_deg", "push_scale") if hasattr(args, k)}
     model = model_from_args(args)

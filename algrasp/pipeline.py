@@ -35,6 +35,22 @@ class PlanRequest:
     exact: bool = False
     physics: dict[str, Any] | None = None
 
+    def __post_init__(self) -> None:
+        """The one place a request's options are checked (CLI, HTTP, batch and API build
+        a PlanRequest before any work)."""
+        if self.gripper_profile is not None:
+            if not self.optimise:
+                raise ConfigError("gripper", "a gripper profile needs optimise")
+            from optimisation.profile import profile_from_dict
+
+            profile_from_dict(self.gripper_profile, "gripper")
+        if not 0.0 <= self.min_margin_deg < 180.0:
+            raise ConfigError("min_margin_deg", f"must be in [0, 180), got {self.min_margin_deg}")
+        if not 0.0 < self.push_scale <= 10.0:
+            raise ConfigError("push_scale", f"must be in (0, 10], got {self.push_scale}")
+        if self.samples < 0:
+            raise ConfigError("samples", f"must be ≥ 0, got {self.samples}")
+
     @property
     def model(self) -> Model:
         return Model.from_options({"exact": self.exact, "physics": self.physics})
@@ -72,8 +88,6 @@ def plan_part(doc: dict[str, Any], req: PlanRequest, rec: Any, sim_workers: int 
     (a :class:`~algrasp.io.record.session.Recording`) with every result as it comes.
     ``analysis``/``plan``: work the caller has already done for this document and
     request (a batch part compares both actions first), so nothing is computed twice."""
-    if req.gripper_profile is not None and not req.optimise:
-        raise ConfigError("gripper", "a gripper profile needs optimise")
     t0 = time.perf_counter()
     analysis = analysis if analysis is not None else analyse_document(doc, req.model)
     rec.analysis(analysis.to_dict())

@@ -44,12 +44,9 @@ def _cheap(body: PlanBody) -> bool:
 def _limits(svc: ServiceState, body: PlanBody) -> None:
     if body.validate_ is not None and body.validate_.samples > svc.settings.max_samples:
         raise ConfigError("validate.samples", f"at most {svc.settings.max_samples} samples per request")
-    if body.gripper is not None:
-        from optimisation.profile import profile_from_dict
+    from algrasp.pipeline import PlanRequest
 
-        if not body.optimise:
-            raise ConfigError("gripper", "a gripper profile needs optimise: true")
-        profile_from_dict(body.gripper, "gripper")
+    PlanRequest(**body.request())  # the request's own checks, before any work is queued
 
 
 def build_state(settings: Settings, metrics: Metrics) -> ServiceState:
