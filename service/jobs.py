@@ -16,12 +16,16 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from sqlalchemy.exc import SQLAlchemyError
+
 from algrasp.errors import AlgraspError, UnavailableError
 from algrasp.io.record.recorder import new_run_id
 from service.executor import Executor
 from service.store import Store
 from service.work import design_task
 
+STORE_RETRY_S = 5.0
+"""A job whose database cannot be written waits this long before trying again."""
 MAX_ATTEMPTS = 3
 """Dispatches of one part without an outcome before it is failed (not resumed forever)."""
 Progress = Callable[[str, int, int], None]  # (job_id, finished parts, total)
@@ -86,22 +90,36 @@ class JobRunner:
         todo.reverse()
         inflight: dict[cf.Future[Any], tuple[int, dict[str, Any], str]] = {}
         while (todo or inflight) and not (stop.is_set() or self._stopping.is_set()):
-            while todo and len(inflight) < self.cfg.window:
-                idx, doc = todo.pop()
-                self.store.start_attempt(job_id, idx)
-                run_id = new_run_id()
-                inflight[self.executor.submit(design_task, doc, job.options, self.cfg.record_dir, self.cfg.sim_workers,
-                                              run_id, timeout_s=self.cfg.part_time_limit_s, stage="part")] = (idx, doc, run_id)
-            done, _ = cf.wait(inflight, timeout=0.5, return_when=cf.FIRST_COMPLETED)
-            for fut in done:
-                idx, doc, run_id = inflight.pop(fut)
-                if self._store(job_id, idx, fut, run_id):
-                    todo.append((idx, doc))  # its worker died: another worker tries it
-            self._report(job_id)
+            try:
+                self._step(job_id, job.options, todo, inflight)
+            except SQLAlchemyError as exc:  # read-only or full database: outcomes wait in memory, retried
+                print(f"algrasp: job {job_id[:8]}: the database cannot be written ({type(exc).__name__}); "
+                      f"retrying in {STORE_RETRY_S:g} s", flush=True)
+                (stop if stop.is_set() else self._stopping).wait(STORE_RETRY_S)
         for fut in inflight:
             fut.cancel()
         if not self._stopping.is_set():
             self.store.set_state(job_id, "done", only_if=("running",))
+        self._report(job_id)
+
+    def _step(self, job_id: str, options: dict[str, Any], todo: list[tuple[int, dict[str, Any]]],
+              inflight: dict[cf.Future[Any], tuple[int, dict[str, Any], str]]) -> None:
+        """Dispatch up to the window, then store what finished. A finished part leaves
+        ``inflight`` only once its outcome is stored, so a storage fault loses nothing."""
+        while todo and len(inflight) < self.cfg.window:
+            idx, doc = todo[-1]
+            self.store.start_attempt(job_id, idx)
+            todo.pop()
+            run_id = new_run_id()
+            inflight[self.executor.submit(design_task, doc, options, self.cfg.record_dir, self.cfg.sim_workers,
+                                          run_id, timeout_s=self.cfg.part_time_limit_s, stage="part")] = (idx, doc, run_id)
+        done, _ = cf.wait(inflight, timeout=0.5, return_when=cf.FIRST_COMPLETED)
+        for fut in done:
+            idx, doc, run_id = inflight[fut]
+            again = self._store(job_id, idx, fut, run_id)
+            del inflight[fut]
+            if again:
+                todo.append((idx, doc))  # its worker died: another worker tries it
         self._report(job_id)
 
     def _given_up(self, job_id: str, idx: int, attempts: int) -> bool:

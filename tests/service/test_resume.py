@@ -6,6 +6,8 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+import pytest
+
 from algrasp.geometry.shapes import rectangle
 from service.store import Store
 from tests.service.conftest import start_server, wait_job
@@ -80,3 +82,41 @@ def test_a_part_that_keeps_killing_workers_fails_and_is_not_resumed_forever(tmp_
         store.start_attempt(job2, 0)
     runner.run(job2)
     assert store.results(job2)[0]["status"] == "failed" and store.results(job2)[0]["attempts"] == MAX_ATTEMPTS
+
+
+class _QuickExecutor(_DyingExecutor):
+    """Every part designs at once (no worker)."""
+
+    def submit(self, fn: object, *args: object, timeout_s: float, stage: str) -> object:
+        import concurrent.futures as cf
+
+        run_id = str(args[-1])
+        run = {"run_id": run_id, "command": "design", "part_name": "p", "action": None, "steps": None, "agreement": None,
+               "cycle_time_s": None, "status": "ok", "error": None}
+        fut: cf.Future[object] = cf.Future()
+        fut.set_result(({"orientable": True}, run, None))
+        return fut
+
+
+def test_a_read_only_database_pauses_a_job_and_loses_nothing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from sqlalchemy.exc import OperationalError
+
+    import service.jobs as jobs
+    from service.jobs import JobRunner, RunnerConfig
+
+    store = Store(f"sqlite:///{tmp_path / 'jobs.db'}")
+    job_id = store.create_job({}, [(f"p{i}", rectangle(2.0 + i, 1.0), None) for i in range(3)])
+    real, faults = Store.finish_part, {"left": 4}
+
+    def flaky(self: Store, *a: object, **k: object) -> bool:
+        if faults["left"] > 0:
+            faults["left"] -= 1
+            raise OperationalError("UPDATE", {}, Exception("attempt to write a readonly database"))
+        return real(self, *a, **k)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(Store, "finish_part", flaky)
+    monkeypatch.setattr(jobs, "STORE_RETRY_S", 0.01)
+    JobRunner(store, _QuickExecutor(), RunnerConfig(str(tmp_path), 1, 10.0, 2)).run(job_id)  # type: ignore[arg-type]
+    rows = store.results(job_id)
+    assert faults["left"] == 0 and [r["status"] for r in rows] == ["done"] * 3
+    assert [r["attempts"] for r in rows] == [1, 1, 1]  # paused, not redone
