@@ -1,8 +1,10 @@
 """Figures of an analysis and a plan (matplotlib adapter; the core never imports it).
 
 ``plan_figure`` draws what an engineer wants to see: the diameter (or radius)
-function with its extrema, the transfer function with the intervals Θᵢ as bars
-(paper Figs. 7, 16), and traces of the plan for four initial orientations (Figs. 2, 17).
+function with its extrema (axes labelled, in the part's unit), the transfer function
+with the intervals Θᵢ as bars below it (both axes shifted by θ₀ and labelled so; a
+legend says what the bars are), and traces of the plan for four initial orientations
+with holes drawn and the jaws where they grip the part (Figs. 2, 7, 16, 17).
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")  # files only: no display needed
+matplotlib.rcParams["svg.fonttype"] = "none"  # text stays text in SVG: smaller, searchable, selectable
 
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
@@ -26,9 +29,21 @@ from algrasp.planning.plans import Plan  # noqa: E402
 MAX_TRACE_ROWS = 8
 
 
-def _outline(analysis: Analysis) -> FloatArray:
-    pts, _ = loop_polyline(analysis.part.boundary, np.radians(3.0))
-    return np.vstack([pts, pts[:1]]) - np.asarray(analysis.part.center_of_mass)
+def _outline(analysis: Analysis) -> list[FloatArray]:
+    """Closed polylines of the boundary, then of each hole, about the centre of mass."""
+    com = np.asarray(analysis.part.center_of_mass)
+    loops = []
+    for loop in (analysis.part.boundary, *analysis.part.holes):
+        pts, _ = loop_polyline(loop, np.radians(3.0))
+        loops.append(np.vstack([pts, pts[:1]]) - com)
+    return loops
+
+
+def jaw_offsets(points: FloatArray, alpha: float) -> tuple[float, float]:
+    """Where two jaws closed along n = (−sin α, cos α) on ``points`` (n, 2) touch them:
+    the least and greatest projections on n (the part's support in both directions)."""
+    proj = points @ np.array([-np.sin(alpha), np.cos(alpha)])
+    return float(proj.min()), float(proj.max())
 
 
 def _function_panel(ax: Axes, analysis: Analysis, plan: Plan) -> None:
@@ -50,7 +65,9 @@ def _function_panel(ax: Axes, analysis: Analysis, plan: Plan) -> None:
                     ax.axvspan(np.degrees(lo), np.degrees(hi), color="gray", alpha=0.3, lw=0)
     ax.set_title(f"{'diameter d' if plan.action == 'squeeze' else 'radius r'}(θ) with extrema "
                  f"(▲ max, ▼ min; orange: constant{dead})", fontsize=9)
-    ax.set_xlabel("θ (deg)")
+    name = "d" if plan.action == "squeeze" else "r"
+    ax.set_xlabel("θ, part orientation relative to the gripper (deg)")
+    ax.set_ylabel(f"{name}(θ) ({analysis.part.units})")
     ax.set_xlim(0, np.degrees(f.period))
 
 
@@ -76,13 +93,19 @@ def _transfer_panel(ax: Axes, plan: Plan) -> None:
     for i, (a, b) in enumerate(rows):
         lo_deg = np.degrees((a - base) % F.period)
         y = -span * (0.06 + 0.05 * i)
-        ax.plot([lo_deg, lo_deg + np.degrees(b - a)], [y, y], color="tab:purple", lw=3, solid_capstyle="butt")
-    ax.set_title(f"transfer function ({plan.action}) and intervals Θ₁… (bars, top = Θ₁)", fontsize=9)
-    ax.set_xlabel(f"θ − {np.degrees(base):.1f}° (deg)")
+        ax.plot([lo_deg, lo_deg + np.degrees(b - a)], [y, y], color="tab:purple", lw=3, solid_capstyle="butt",
+                label="intervals Θᵢ of A′ (below 0; top bar Θ₁)" if i == 0 else None)
+    ax.axhline(0.0, color="gray", lw=0.5)
+    ax.legend(loc="best", fontsize=7)
+    theta0 = f"{np.degrees(base):.1f}°"
+    ax.set_title(f"transfer function ({plan.action}), both axes shifted by θ₀ = {theta0}", fontsize=9)
+    ax.set_xlabel(f"θ − θ₀, orientation before the action (deg; θ₀ = {theta0})")
+    ax.set_ylabel("F(θ) − θ₀, after the action (deg)")
 
 
 def _trace_panel(fig: plt.Figure, grid: object, analysis: Analysis, plan: Plan) -> None:
-    outline = _outline(analysis)
+    loops = _outline(analysis)
+    outline = loops[0]
     extent = float(np.max(np.hypot(*outline.T))) * 1.25
     starts = np.radians([17.0, 103.0, 197.0, 283.0])
     steps = list(range(len(plan.steps)))
@@ -96,17 +119,20 @@ def _trace_panel(fig: plt.Figure, grid: object, analysis: Analysis, plan: Plan) 
             ax = fig.add_subplot(sub[r, col])
             phi = trace[0] if r == 0 else trace[steps[r - 1] + 1]
             c, s = np.cos(phi), np.sin(phi)
-            pts = outline @ np.array([[c, s], [-s, c]])
+            turned = [lp @ np.array([[c, s], [-s, c]]) for lp in loops]
+            pts = turned[0]
             ax.fill(pts[:, 0], pts[:, 1], color="lightsteelblue", ec="black", lw=0.6)
+            for hole in turned[1:]:
+                ax.fill(hole[:, 0], hole[:, 1], color="white", ec="black", lw=0.5)
             ax.plot([0, 0.5 * extent * c], [0, 0.5 * extent * s], color="crimson", lw=0.8)  # registration mark
             if r > 0:
                 alpha = plan.steps[steps[r - 1]].gripper_angle
                 d = np.array([np.cos(alpha), np.sin(alpha)])
                 n = np.array([-d[1], d[0]])
-                for side in (-1, 1):
-                    q = side * 0.95 * extent * n
+                for offset in jaw_offsets(pts, alpha):  # the jaws where they grip the part
+                    q = offset * n
                     ax.plot([q[0] - extent * d[0], q[0] + extent * d[0]], [q[1] - extent * d[1], q[1] + extent * d[1]],
-                            color="dimgray", lw=1.2)
+                            color="dimgray", lw=1.6)
             if r == rows - 1 and plan.final_uncertainty > 0.0:
                 _uncertainty_wedge(ax, phi, plan.final_uncertainty, 0.5 * extent)
             ax.set_xlim(-extent, extent)
@@ -129,7 +155,7 @@ def plan_figure(analysis: Analysis, plan: Plan, path: str | Path) -> Path:
     if out.suffix.lower() not in (".svg", ".png"):
         raise ConfigError("--figure", f"unsupported format {out.suffix!r} (use .svg or .png)")
     fig = plt.figure(figsize=(11, 8.5))
-    grid = fig.add_gridspec(2, 2, width_ratios=[1.1, 1], height_ratios=[1, 1])
+    grid = fig.add_gridspec(2, 2, width_ratios=[1.1, 1], height_ratios=[1, 1], hspace=0.32)
     _function_panel(fig.add_subplot(grid[0, 0]), analysis, plan)
     _transfer_panel(fig.add_subplot(grid[1, 0]), plan)
     _trace_panel(fig, grid[:, 1], analysis, plan)
