@@ -18,12 +18,11 @@ Angles inside the returned objects are radians; their ``to_dict()`` documents us
 
 from __future__ import annotations
 
-import json
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, Literal
 
-from algrasp.errors import ConfigError, PartDocumentError
+from algrasp.errors import ConfigError
 from algrasp.geometry.part import Part
 from algrasp.geometry.part import load_part as _load_part
 from algrasp.planning.analysis import Analysis, Model, analyse_document
@@ -48,18 +47,9 @@ def import_drawing(path: str | Path, **options: Any) -> dict[str, Any]:
 
 def document(source: PartSource, **import_options: Any) -> dict[str, Any]:
     """The part document of ``source`` (a mapping is returned as a dict)."""
-    if isinstance(source, Mapping):
-        return dict(source)
-    path = Path(source)
-    if path.suffix.lower() != ".json":
-        return import_drawing(path, **import_options)
-    try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise PartDocumentError(str(path), f"cannot read a part document: {exc}") from None
-    if not isinstance(doc, dict):
-        raise PartDocumentError(str(path), "a part document must be a JSON object")
-    return doc
+    from algrasp.io.parts import read_part_file
+
+    return dict(source) if isinstance(source, Mapping) else read_part_file(source, **import_options)
 
 
 def load_part(source: PartSource, **import_options: Any) -> Part:

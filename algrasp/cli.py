@@ -14,8 +14,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from algrasp.errors import AlgraspError, ConfigError, LimitExceededError, PartDocumentError
-from algrasp.geometry.limits import DEFAULT_LIMITS
+from algrasp.errors import AlgraspError, ConfigError, PartDocumentError
 
 if TYPE_CHECKING:  # the geometry and planning stack (numpy, scipy) loads on first use, not for --help
     from algrasp.planning.analysis import Analysis, Model
@@ -25,24 +24,11 @@ EXIT_USER_ERROR = 2
 
 
 def read_document(path: str, args: argparse.Namespace | None = None) -> dict[str, Any]:
-    """Read a part document file (size-limited JSON), or import a DXF/SVG/mesh file with
-    the ``--layer``/``--id``/``--pose`` options of ``args``."""
-    from algrasp.io.cad import import_file, is_cad
+    """Read a part document file, or import a DXF/SVG/mesh file with the
+    ``--layer``/``--id``/``--pose``/``--part`` options of ``args``."""
+    from algrasp.io.parts import read_part_file
 
-    if is_cad(path):
-        return import_file(path, **_import_options(args))
-    p = Path(path)
-    if not p.is_file():
-        raise PartDocumentError("PART", f"no such file: {path}")
-    if p.stat().st_size > DEFAULT_LIMITS.max_document_bytes:
-        raise LimitExceededError("PART", f"file larger than {DEFAULT_LIMITS.max_document_bytes} bytes")
-    try:
-        doc = json.loads(p.read_text(encoding="utf-8"))
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise PartDocumentError("PART", f"not valid JSON: {exc}") from None
-    if not isinstance(doc, dict):
-        raise PartDocumentError("$", "a part document must be a JSON object")
-    return doc
+    return read_part_file(path, **_import_options(args))
 
 
 def _import_options(args: argparse.Namespace | None) -> dict[str, Any]:

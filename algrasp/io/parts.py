@@ -1,0 +1,45 @@
+"""Part files: a JSON part document or a CAD drawing/mesh, read into a part document.
+
+The one reader of part files for the CLI and the Python API (the service reads request
+bodies and archive members through its own stricter guard, ``service.guard``).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+from algrasp.errors import LimitExceededError, PartDocumentError
+from algrasp.geometry.limits import DEFAULT_LIMITS
+
+
+def _refuse_constant(name: str) -> Any:
+    raise ValueError(f"{name} is not a number JSON allows")
+
+
+def parse_part_json(data: bytes, where: str) -> dict[str, Any]:
+    """A JSON part document (finite numbers only; an object), or PartDocumentError naming ``where``."""
+    try:
+        doc = json.loads(data.decode("utf-8"), parse_constant=_refuse_constant)
+    except (json.JSONDecodeError, UnicodeDecodeError, ValueError, RecursionError) as exc:
+        raise PartDocumentError(where, f"not valid JSON: {str(exc)[:200]}") from None
+    if not isinstance(doc, dict):
+        raise PartDocumentError(where, "a part document must be a JSON object")
+    return doc
+
+
+def read_part_file(path: str | Path, **import_options: Any) -> dict[str, Any]:
+    """The part document in ``path``: a ``.json`` part document (size-limited), or a
+    drawing/mesh imported with ``import_options`` (``layer``, ``element_id``, ``pose``,
+    ``part``, ``tolerance``, ``units``)."""
+    from algrasp.io.cad import import_file, is_cad
+
+    p = Path(path)
+    if is_cad(p.name):
+        return import_file(str(p), **import_options)
+    if not p.is_file():
+        raise PartDocumentError("PART", f"no such file: {path}")
+    if p.stat().st_size > DEFAULT_LIMITS.max_document_bytes:
+        raise LimitExceededError("PART", f"file larger than {DEFAULT_LIMITS.max_document_bytes} bytes")
+    return parse_part_json(p.read_bytes(), "PART")
