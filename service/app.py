@@ -27,7 +27,7 @@ from service.executor import make_executor
 from service.jobs import JobRunner, RunnerConfig
 from service.middleware import Metrics, MetricsMiddleware, RequestGuard, install_error_handlers
 from service.models import PartJson, PlanBody
-from service.runtime import AUTH, VERSION, ServiceState, encoded, require_key, run_task, state, who
+from service.runtime import AUTH, VERSION, ServiceState, check_samples, encoded, require_key, run_task, state, who
 from service.settings import Settings
 from service.store import Store
 from service.work import analysis_task, import_task, plan_task
@@ -42,8 +42,7 @@ def _cheap(body: PlanBody) -> bool:
 
 
 def _limits(svc: ServiceState, body: PlanBody) -> None:
-    if body.validate_ is not None and body.validate_.samples > svc.settings.max_samples:
-        raise ConfigError("validate.samples", f"at most {svc.settings.max_samples} samples per request")
+    check_samples(svc.settings, body.validate_, "validate.samples")
     from algrasp.pipeline import PlanRequest
 
     PlanRequest(**body.request())  # the request's own checks, before any work is queued

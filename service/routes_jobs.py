@@ -18,7 +18,7 @@ from service.contract import CancelOut, JobCreatedOut, JobOut, JobsOut, inline, 
 from service.guard import parse_json
 from service.models import LIMIT, OFFSET, JobBody, JobOptions
 from service.reports import report_zip, results_jsonl
-from service.runtime import run_task, who
+from service.runtime import check_samples, run_task, who
 
 router = APIRouter(prefix="/v1/jobs", tags=["jobs"])
 JOB_ID = r"^[0-9a-f]{32}$"
@@ -75,8 +75,7 @@ async def create_job(request: Request) -> JSONResponse:
     """Queue a batch: fixture design for every part. Returns ``202`` and the job id."""
     svc = _svc(request)
     entries, opts = await _entries(request, svc.settings.max_batch_parts, svc.settings.max_body_bytes)
-    if opts.validate_ is not None and opts.validate_.samples > svc.settings.max_samples:
-        raise ConfigError("options.validate.samples", f"at most {svc.settings.max_samples} samples per part")
+    check_samples(svc.settings, opts.validate_, "options.validate.samples")
     if opts.gripper is not None:
         from optimisation.profile import profile_from_dict
 

@@ -13,7 +13,7 @@ from typing import Any
 from cachetools import LRUCache
 from fastapi import Depends, Header, HTTPException, Request
 
-from algrasp.errors import LimitExceededError, StorageError, TimeLimitError
+from algrasp.errors import ConfigError, LimitExceededError, StorageError, TimeLimitError
 from service.admission import Gate, client_id
 from service.executor import Executor
 from service.jobs import JobRunner
@@ -108,6 +108,12 @@ def encoded(svc: ServiceState, value: Any, option: str) -> bytes:
                                  f"{svc.settings.max_response_bytes}): lower {option}")
     return body
 
+
+
+def check_samples(settings: Settings, validate: Any, field: str) -> None:
+    """``validate.samples`` within ``ALGRASP_MAX_SAMPLES`` (plans and jobs alike)."""
+    if validate is not None and validate.samples > settings.max_samples:
+        raise ConfigError(field, f"at most {settings.max_samples} samples per part")
 
 
 AUTH = [Depends(require_key)]
