@@ -14,12 +14,13 @@ from typing import Any
 import numpy as np
 
 from algrasp.errors import ConfigError, NotOrientableError
-from algrasp.geometry.functions import SupportPairFunction, analyse
+from algrasp.geometry.functions import SupportPairFunction, analyse, wrap
 from algrasp.geometry.part import Part, load_part
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES, Tolerances
 from algrasp.planning.deadband import DEFAULT_PHYSICS, DeadBand, Physics, dead_band
+from algrasp.planning.documents import AnalysisDocument, FunctionDocument, TransferDocument
 from algrasp.planning.setvalued import SetTransfer, set_transfer
-from algrasp.planning.transfer import TransferFunction, describe, from_runs
+from algrasp.planning.transfer import TransferFunction, from_runs
 
 SYMMETRY_TOL_RAD = 1e-7
 """Tolerance on breakpoints and images when testing F(θ + T) = F(θ) + T: root finding
@@ -110,34 +111,35 @@ class Analysis:
         return bool(self.squeeze.steps)
 
     def to_dict(self) -> dict[str, object]:
-        """The ``algrasp analyze --json`` object (degrees, lists sorted by start)."""
-        out: dict[str, object] = {
-            "part": {"name": self.part.name, "units": self.part.units, "area": self.part.area,
-                     "hull_perimeter": self.part.hull.perimeter,
-                     "center_of_mass": list(self.part.center_of_mass),
-                     "center_of_mass_given": self.part.com_given},
-            "diameter": _function_dict(self.diameter),
-            "radius": _function_dict(self.radius),
-        }
-        for name, F in (("squeeze", self.squeeze), ("push", self.push), ("push_grasp", self.push_grasp)):
-            d = describe(F, SYMMETRY_TOL_RAD)
-            d["orientable"] = bool(F.steps)
-            if not F.steps:
-                d["reason"] = "constant diameter: no step, so no squeeze plan can orient this part" \
-                    if name == "squeeze" else "no step: the function is the identity everywhere"
-            out[name] = d
-        out["model"] = "exact" if self.robust is None else "robust"
-        if self.robust is not None:
-            out["robust"] = self.robust.to_dict()
-        return out
+        """The ``algrasp analyze --json`` object (degrees, lists sorted by start), through
+        :class:`~algrasp.planning.documents.AnalysisDocument`'s codec."""
+        return self.document().to_json()
+
+    def document(self) -> AnalysisDocument:
+        """This analysis as a typed document (radians)."""
+        part = {"name": self.part.name, "units": self.part.units, "area": self.part.area,
+                "hull_perimeter": self.part.hull.perimeter, "center_of_mass": list(self.part.center_of_mass),
+                "center_of_mass_given": self.part.com_given}
+        transfers = {name: _transfer_document(name, F) for name, F in
+                     (("squeeze", self.squeeze), ("push", self.push), ("push_grasp", self.push_grasp))}
+        return AnalysisDocument(part, _function_document(self.diameter), _function_document(self.radius),
+                                transfers["squeeze"], transfers["push"], transfers["push_grasp"],
+                                "exact" if self.robust is None else "robust",
+                                None if self.robust is None else self.robust.to_dict())
 
 
-def _function_dict(f: SupportPairFunction) -> dict[str, object]:
-    return {
-        "extrema": [{"theta_deg": float(np.degrees(e.theta)), "value": e.value, "kind": e.kind,
-                     "equilibrium": e.equilibrium} for e in f.extrema],
-        "constant_intervals_deg": [[float(np.degrees(a)), float(np.degrees(b))] for a, b in f.constant_intervals],
-    }
+def _function_document(f: SupportPairFunction) -> FunctionDocument:
+    return FunctionDocument(tuple((e.theta, e.value, e.kind, e.equilibrium) for e in f.extrema),
+                            tuple((a, b) for a, b in f.constant_intervals))
+
+
+def _transfer_document(name: str, F: TransferFunction) -> TransferDocument:
+    P = F.period
+    steps = tuple((p.start, p.end, wrap(p.value, P, SYMMETRY_TOL_RAD)) for p in F.steps if p.value is not None)
+    reason = None if F.steps else ("constant diameter: no step, so no squeeze plan can orient this part"
+                                   if name == "squeeze" else "no step: the function is the identity everywhere")
+    return TransferDocument(P, F.symmetry_period(SYMMETRY_TOL_RAD), steps, tuple((p.start, p.end) for p in F.ramps),
+                            bool(F.steps), reason)
 
 
 def set_dict(S: SetTransfer) -> dict[str, object]:

@@ -143,3 +143,98 @@ def _pairs(value: Any, where: str) -> list[Any]:
     if not isinstance(value, list) or not all(isinstance(p, list) and len(p) == 2 for p in value):
         raise PartDocumentError(where, "expected a list of [start, end] pairs")
     return value
+
+
+@dataclass(frozen=True)
+class FunctionDocument:
+    """d(θ) or r(θ) in a document: extrema ``(θ rad, value, "min"|"max", equilibrium)``
+    and the intervals (radians) where the function is constant."""
+
+    extrema: tuple[tuple[float, float, str, Any], ...]
+    constant_intervals: tuple[tuple[float, float], ...]
+
+    def to_json(self) -> dict[str, Any]:
+        return {"extrema": [{"theta_deg": to_deg(t), "value": v, "kind": k, "equilibrium": e} for t, v, k, e in self.extrema],
+                "constant_intervals_deg": [[to_deg(a), to_deg(b)] for a, b in self.constant_intervals]}
+
+    @staticmethod
+    def from_json(doc: Any, where: str) -> FunctionDocument:
+        if not isinstance(doc, Mapping):
+            raise PartDocumentError(where, "expected an object")
+        extrema = tuple((to_rad(_number(e.get("theta_deg"), f"{where}.extrema[{i}].theta_deg")),
+                         _number(e.get("value"), f"{where}.extrema[{i}].value"), str(e.get("kind")), e.get("equilibrium"))
+                        for i, e in enumerate(_get(doc, "extrema", list, where)))
+        spans = tuple((to_rad(_number(a, where)), to_rad(_number(b, where)))
+                      for a, b in _pairs(doc.get("constant_intervals_deg"), f"{where}.constant_intervals_deg"))
+        return FunctionDocument(extrema, spans)
+
+
+@dataclass(frozen=True)
+class TransferDocument:
+    """A transfer function in a document (radians): its steps ``(start, end, fixed
+    point)`` and ramps ``(start, end)``, periods, and why it cannot orient when it cannot."""
+
+    period: float
+    symmetry_period: float
+    steps: tuple[tuple[float, float, float], ...]
+    ramps: tuple[tuple[float, float], ...]
+    orientable: bool
+    reason: str | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        out: dict[str, Any] = {
+            "period_deg": to_deg(self.period), "symmetry_period_deg": to_deg(self.symmetry_period),
+            "steps": [{"start_deg": to_deg(a), "end_deg": to_deg(b), "fixed_point_deg": to_deg(f)} for a, b, f in self.steps],
+            "ramps": [{"start_deg": to_deg(a), "end_deg": to_deg(b)} for a, b in self.ramps],
+            "orientable": self.orientable}
+        return out if self.reason is None else {**out, "reason": self.reason}
+
+    @staticmethod
+    def from_json(doc: Any, where: str) -> TransferDocument:
+        if not isinstance(doc, Mapping):
+            raise PartDocumentError(where, "expected an object")
+
+        def deg(x: Any, at: str) -> float:
+            return to_rad(_number(x, f"{where}.{at}"))
+
+        steps = tuple((deg(s.get("start_deg"), f"steps[{i}].start_deg"), deg(s.get("end_deg"), f"steps[{i}].end_deg"),
+                       deg(s.get("fixed_point_deg"), f"steps[{i}].fixed_point_deg"))
+                      for i, s in enumerate(_get(doc, "steps", list, where)))
+        ramps = tuple((deg(r.get("start_deg"), f"ramps[{i}].start_deg"), deg(r.get("end_deg"), f"ramps[{i}].end_deg"))
+                      for i, r in enumerate(_get(doc, "ramps", list, where)))
+        return TransferDocument(deg(doc.get("period_deg"), "period_deg"), deg(doc.get("symmetry_period_deg"),
+                                "symmetry_period_deg"), steps, ramps, bool(doc.get("orientable", True)), doc.get("reason"))
+
+
+@dataclass(frozen=True)
+class AnalysisDocument:
+    """The analysis document (``algrasp analyze --json``, ``POST /v1/analyses``, records'
+    ``/analysis``) in radians. ``part`` is the part's summary (area, hull perimeter, centre
+    of mass in part units); ``robust`` the set-valued summary of conventions §7 as written."""
+
+    part: Mapping[str, Any]
+    diameter: FunctionDocument
+    radius: FunctionDocument
+    squeeze: TransferDocument
+    push: TransferDocument
+    push_grasp: TransferDocument
+    model: str
+    robust: Mapping[str, Any] | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        out: dict[str, Any] = {"part": dict(self.part), "diameter": self.diameter.to_json(),
+                               "radius": self.radius.to_json()}
+        for name in ("squeeze", "push", "push_grasp"):
+            out[name] = getattr(self, name).to_json()
+        out["model"] = self.model
+        return out if self.robust is None else {**out, "robust": dict(self.robust)}
+
+    @staticmethod
+    def from_json(doc: Any, field_name: str = "analysis") -> AnalysisDocument:
+        """Read an analysis document; PartDocumentError names the first malformed field."""
+        if not isinstance(doc, Mapping):
+            raise PartDocumentError(field_name, "an analysis document must be an object")
+        fn = {k: FunctionDocument.from_json(doc.get(k), f"{field_name}.{k}") for k in ("diameter", "radius")}
+        tf = {k: TransferDocument.from_json(doc.get(k), f"{field_name}.{k}") for k in ("squeeze", "push", "push_grasp")}
+        return AnalysisDocument(_get(doc, "part", Mapping, field_name), fn["diameter"], fn["radius"], tf["squeeze"],
+                                tf["push"], tf["push_grasp"], str(doc.get("model", "exact")), doc.get("robust"))

@@ -17,7 +17,7 @@ import numpy as np
 
 from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.curves import FloatArray
-from algrasp.geometry.functions import Run, wrap
+from algrasp.geometry.functions import Run
 from algrasp.geometry.tolerances import ROUNDING
 
 
@@ -202,14 +202,3 @@ def from_runs(runs: list[Run], period: float, tol_rad: float) -> TransferFunctio
         pieces[-1] = TransferPiece(last.start, first + period, last.value)
     return TransferFunction(period, tuple(canonical(pieces, period, tol_rad)))
 
-
-def describe(F: TransferFunction, tol_rad: float) -> dict[str, object]:
-    """JSON-ready summary in degrees (conventions §1: orientations wrapped to [0, P))."""
-    P = F.period
-    steps = [{"start_deg": float(np.degrees(p.start)), "end_deg": float(np.degrees(p.end)),
-              "fixed_point_deg": float(np.degrees(wrap(p.value, P, tol_rad)))}
-             for p in F.steps if p.value is not None]
-    ramps = [{"start_deg": float(np.degrees(p.start)), "end_deg": float(np.degrees(p.end))} for p in F.ramps]
-    return {"period_deg": float(np.degrees(P)),
-            "symmetry_period_deg": float(np.degrees(F.symmetry_period(tol_rad))),
-            "steps": steps, "ramps": ramps}

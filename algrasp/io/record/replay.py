@@ -104,7 +104,7 @@ def _rebuild(request: dict[str, Any], options: dict[str, Any]) -> tuple[Any, Any
 
 
 def _replay(rec: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
-    from algrasp.planning.documents import PlanDocument
+    from algrasp.planning.documents import AnalysisDocument, PlanDocument
 
     request = rec["/request"][0]
     options = request["options"]
@@ -115,6 +115,7 @@ def _replay(rec: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
         options = plan_options(options, recorded)
     analysis, plan = _rebuild(request, options if recorded is not None else {**options, "action": None})
     if "/analysis" in rec:
+        AnalysisDocument.from_json(rec["/analysis"][0], "/analysis")  # reads back (names what is missing)
         diffs += _compare("analysis", rec["/analysis"][0], analysis.to_dict())
     steps: list[Any] = []
     if recorded is not None:

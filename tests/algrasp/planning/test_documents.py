@@ -53,3 +53,32 @@ def test_malformed_plan_documents_name_the_field(broken: dict[str, object], fiel
     with pytest.raises(PartDocumentError) as err:
         PlanDocument.from_json(doc)
     assert err.value.field == field
+
+
+DISK = {"name": "disk", "boundary": [{"type": "arc", "center": [0, 0], "radius": 3, "start_deg": 0, "end_deg": 360}]}
+
+
+@pytest.mark.parametrize("exact", [True, False])
+@pytest.mark.parametrize("source", [PIE, DISK], ids=["pie", "disk"])
+def test_analysis_documents_round_trip(source: object, exact: bool) -> None:
+    from algrasp.planning.documents import AnalysisDocument
+
+    a = analyse(source, exact=exact)  # type: ignore[arg-type]
+    doc = json.loads(json.dumps(a.to_dict(), default=str))
+    back = AnalysisDocument.from_json(doc)
+    assert json.loads(json.dumps(back.to_json(), default=str)) == doc
+    # radians inside, the paper's pie: two squeeze steps of 70° each per half turn
+    if source is PIE:
+        assert sorted(round(math.degrees(b - s), 6) for s, b, _ in back.squeeze.steps) == [70.0, 70.0]
+    else:
+        assert not back.squeeze.orientable and back.squeeze.reason
+
+
+def test_malformed_analysis_document_names_the_field() -> None:
+    from algrasp.planning.documents import AnalysisDocument
+
+    doc = analyse(PIE, exact=True).to_dict()
+    doc["push"] = {**doc["push"], "steps": [{"start_deg": "x"}]}  # type: ignore[dict-item]
+    with pytest.raises(PartDocumentError) as err:
+        AnalysisDocument.from_json(doc)
+    assert err.value.field == "analysis.push.steps[0].start_deg"
