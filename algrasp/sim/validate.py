@@ -65,6 +65,24 @@ class Validation:
                 "tolerance_deg": self.tolerance_deg, "placement": self.placement,
                 "sim_seconds": self.sim_seconds, "wall_seconds": self.wall_seconds, "model": self.model}
 
+    @staticmethod
+    def from_dict(doc: dict[str, Any]) -> tuple[Validation, dict[str, Any]]:
+        """A validation document read back (records' ``/validation``, HTTP responses):
+        the Validation (without trajectories) and its plan document (``{}`` if absent).
+        PartDocumentError names the first malformed field."""
+        from algrasp.errors import PartDocumentError
+
+        try:
+            samples = tuple(Sample(**s) for s in doc["samples"])
+            v = Validation(samples, float(doc["agreement"]), float(doc["agreement_clear"]), float(doc["tolerance_deg"]),
+                           doc["placement"], float(doc["sim_seconds"]), float(doc["wall_seconds"]), dict(doc["model"]),
+                           doc.get("push_agreement"), bool(doc.get("optimised", False)))
+        except KeyError as exc:
+            raise PartDocumentError(f"validation.{exc.args[0]}", "missing") from None
+        except (TypeError, ValueError) as exc:
+            raise PartDocumentError("validation", f"malformed: {exc}") from None
+        return v, dict(doc.get("plan") or {})
+
 
 @dataclass(frozen=True)
 class SimTask:

@@ -82,3 +82,4 @@ def test_malformed_analysis_document_names_the_field() -> None:
     with pytest.raises(PartDocumentError) as err:
         AnalysisDocument.from_json(doc)
     assert err.value.field == "analysis.push.steps[0].start_deg"
+
