@@ -13,7 +13,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("algrasp", "optimisation", "service")
-ADAPTERS = ("algrasp.io.cad", "algrasp.sim", "algrasp.io.record", "algrasp.plots", "algrasp.cli", "algrasp.api",
+ADAPTERS = ("algrasp.io", "algrasp.sim", "algrasp.plots", "algrasp.cli", "algrasp.api",
             "algrasp.lifecycle", "algrasp.pipeline")
 KNOWN: dict[tuple[str, str], str] = {}
 
