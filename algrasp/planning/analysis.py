@@ -18,7 +18,7 @@ from algrasp.geometry.functions import SupportPairFunction, analyse, wrap
 from algrasp.geometry.part import Part, load_part
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES, Tolerances
 from algrasp.planning.deadband import DEFAULT_PHYSICS, DeadBand, Physics, dead_band
-from algrasp.planning.documents import AnalysisDocument, FunctionDocument, TransferDocument
+from algrasp.planning.documents import AnalysisDocument, FunctionDocument, SetTransferDocument, TransferDocument
 from algrasp.planning.setvalued import SetTransfer, set_transfer
 from algrasp.planning.transfer import TransferFunction, from_runs
 
@@ -89,7 +89,8 @@ class RobustAnalysis:
         out: dict[str, object] = {"physics": self.physics.to_dict(), "dead_band": self.band.to_dict()}
         for name in ("squeeze", "push", "push_grasp"):
             S = getattr(self, name)
-            out[name] = {"orientable": False, "reason": self.reasons[name]} if S is None else set_dict(S)
+            out[name] = {"orientable": False, "reason": self.reasons[name]} if S is None else \
+                SetTransferDocument.from_set(S).to_json()
         return out
 
 
@@ -140,26 +141,6 @@ def _transfer_document(name: str, F: TransferFunction) -> TransferDocument:
                                    if name == "squeeze" else "no step: the function is the identity everywhere")
     return TransferDocument(P, F.symmetry_period(SYMMETRY_TOL_RAD), steps, tuple((p.start, p.end) for p in F.ramps),
                             bool(F.steps), reason)
-
-
-def set_dict(S: SetTransfer) -> dict[str, object]:
-    """JSON summary of a set-valued function (degrees): its dead zones over one natural
-    period and its images over one symmetry period, each piece [start, end) mapping θ
-    into [lower, upper] (null: θ itself)."""
-    cuts = sorted({p.start for p in S.lower.pieces} | {p.start for p in S.upper.pieces})
-    base = cuts[0]
-    edges = [*cuts, base + S.symmetry]
-    pieces = []
-    for a, b in zip(edges[:-1], edges[1:]):
-        m = 0.5 * (a + b)
-        lo, k_lo = S.lower.piece_at(m)
-        hi, k_hi = S.upper.piece_at(m)
-        pieces.append({"start_deg": float(np.degrees(a)), "end_deg": float(np.degrees(b)),
-                       "lower_deg": None if lo.value is None else float(np.degrees(lo.value + k_lo)),
-                       "upper_deg": None if hi.value is None else float(np.degrees(hi.value + k_hi))})
-    return {"orientable": S.orientable, "symmetry_period_deg": float(np.degrees(S.symmetry)),
-            "dead_zones_deg": [[float(np.degrees(a)), float(np.degrees(b))] for a, b in S.rest_zones],
-            "images": pieces}
 
 
 def analyse_part(part: Part, tol: Tolerances = DEFAULT_TOLERANCES, physics: Physics | None = None) -> Analysis:

@@ -238,3 +238,36 @@ class AnalysisDocument:
         tf = {k: TransferDocument.from_json(doc.get(k), f"{field_name}.{k}") for k in ("squeeze", "push", "push_grasp")}
         return AnalysisDocument(_get(doc, "part", Mapping, field_name), fn["diameter"], fn["radius"], tf["squeeze"],
                                 tf["push"], tf["push_grasp"], str(doc.get("model", "exact")), doc.get("robust"))
+
+
+@dataclass(frozen=True)
+class SetTransferDocument:
+    """A set-valued transfer function F_κ in a document (conventions §7, radians): its
+    dead zones over one natural period and its images over one symmetry period, each
+    piece ``(start, end, lower, upper)`` mapping θ into [lower, upper] (None: θ itself)."""
+
+    orientable: bool
+    symmetry_period: float
+    dead_zones: tuple[tuple[float, float], ...]
+    images: tuple[tuple[float, float, float | None, float | None], ...]
+
+    @staticmethod
+    def from_set(S: Any) -> SetTransferDocument:
+        """The document of a :class:`~algrasp.planning.setvalued.SetTransfer`."""
+        cuts = sorted({p.start for p in S.lower.pieces} | {p.start for p in S.upper.pieces})
+        edges = [*cuts, cuts[0] + S.symmetry]
+        images = []
+        for a, b in zip(edges[:-1], edges[1:]):
+            lo, k_lo = S.lower.piece_at(0.5 * (a + b))
+            hi, k_hi = S.upper.piece_at(0.5 * (a + b))
+            images.append((a, b, None if lo.value is None else lo.value + k_lo, None if hi.value is None else hi.value + k_hi))
+        return SetTransferDocument(bool(S.orientable), S.symmetry, tuple(S.rest_zones), tuple(images))
+
+    def to_json(self) -> dict[str, Any]:
+        def opt(x: float | None) -> float | None:
+            return None if x is None else to_deg(x)
+
+        return {"orientable": self.orientable, "symmetry_period_deg": to_deg(self.symmetry_period),
+                "dead_zones_deg": [[to_deg(a), to_deg(b)] for a, b in self.dead_zones],
+                "images": [{"start_deg": to_deg(a), "end_deg": to_deg(b), "lower_deg": opt(lo), "upper_deg": opt(hi)}
+                           for a, b, lo, hi in self.images]}
