@@ -24,7 +24,7 @@ from algrasp.geometry.hull import ConvexHull, exact_hull
 from algrasp.geometry.limits import DEFAULT_LIMITS, Limits
 from algrasp.geometry.moments import loop_moments
 from algrasp.geometry.recognise import exact_circles, snap_tessellations
-from algrasp.geometry.segments import Bezier, Line, Segment, loop_polyline
+from algrasp.geometry.segments import Bezier, Line, Segment, loop_polyline, split_cusps
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES, Tolerances
 
 _TESSELLATION_TURN_RAD = np.radians(2.0)  # only for the simplicity check, never for analysis
@@ -76,6 +76,7 @@ def load_part(doc: Mapping[str, Any], tol: Tolerances = DEFAULT_TOLERANCES, limi
     # Exact circles in any form (conventions §7): analysed as the arcs they are.
     boundary = exact_circles(boundary, drawn_size, tol)
     holes = [exact_circles(h, drawn_size, tol) for h in holes]
+    boundary, holes = split_cusps(boundary), [split_cusps(h) for h in holes]  # a cusp is a corner
     recognised = 0
     if snap:
         boundary, recognised = snap_tessellations(boundary, tol)

@@ -14,6 +14,7 @@ from functools import cached_property, lru_cache
 import numpy as np
 
 from algrasp.geometry.curves import FloatArray, Piece, _readonly, bernstein_values, conic_arc_pieces, homogeneous
+from algrasp.geometry.tolerances import PARAM_END
 
 Moments = tuple[float, float, float]
 
@@ -183,6 +184,32 @@ class Bezier:
     def reversed(self) -> Bezier:
         return Bezier(self.points[::-1], self.weights[::-1])
 
+    def split(self, t: float) -> tuple[Bezier, Bezier]:
+        """The two halves at parameter ``t`` (de Casteljau on homogeneous points): exact."""
+        h = np.hstack([self.points * self.weights[:, None], self.weights[:, None]])
+        left, right = [h[0]], [h[-1]]
+        while len(h) > 1:
+            h = (1.0 - t) * h[:-1] + t * h[1:]
+            left.append(h[0])
+            right.append(h[-1])
+        lh, rh = np.array(left), np.array(right[::-1])
+        return (Bezier(lh[:, :2] / lh[:, 2:], lh[:, 2] / lh[:, 2].max()),
+                Bezier(rh[:, :2] / rh[:, 2:], rh[:, 2] / rh[:, 2].max()))
+
+    def cusps(self) -> list[float]:
+        """Parameters in (0, 1) where the curve stops and turns back (its tangent vanishes):
+        a corner of the outline in the middle of a segment, which the hull must see.
+        Complexity: one polynomial root search."""
+        from algrasp.geometry.curves import horner_float, real_roots_in
+
+        _, _, _, TX, TY = self._piece.lists
+        speed = max(abs(c) for c in TX + TY) or 1.0
+        cuts: list[float] = []
+        for t in real_roots_in(TX, PARAM_END, 1.0 - PARAM_END):  # a cusp is a double root: once
+            if abs(horner_float(TY, t)) <= CUSP_REL * speed and (not cuts or t - cuts[-1] > PARAM_END):
+                cuts.append(t)
+        return cuts
+
     def to_dict(self) -> dict[str, object]:
         out: dict[str, object] = {"type": "bezier", "points": self.points.tolist()}
         if self.is_rational:
@@ -191,6 +218,25 @@ class Bezier:
 
 
 Segment = Line | EllipseArc | Bezier
+
+CUSP_REL = 1e-9
+"""A tangent shorter than this, relative to the tangent polynomial's size, vanishes (a cusp)."""
+
+
+def split_cusps(loop: Sequence[Segment]) -> list[Segment]:
+    """The loop with every Bezier split at its cusps, so each cusp is a vertex."""
+    out: list[Segment] = []
+    for seg in loop:
+        rest = seg
+        cuts = seg.cusps() if isinstance(seg, Bezier) else []
+        done = 0.0
+        for t in cuts:
+            assert isinstance(rest, Bezier)
+            head, rest = rest.split((t - done) / (1.0 - done))
+            out.append(head)
+            done = t
+        out.append(rest)
+    return out
 
 
 def loop_polyline(loop: Sequence[Segment], max_turn_rad: float) -> tuple[FloatArray, list[FloatArray]]:

@@ -87,3 +87,16 @@ def test_polar_moments_closed_forms() -> None:
     j = float(np.sum(cross * (x * x + x * x1 + x1 * x1 + y * y + y * y1 + y1 * y1))) / 12
     cx, cy = poly.centroid.x, poly.centroid.y
     assert part.polar_moment == pytest.approx(j - poly.area * (cx * cx + cy * cy), rel=1e-6)
+
+
+def test_a_cusp_in_a_bezier_is_a_hull_corner() -> None:
+    """x = 6t(1−t)² + 2t³, y = 6t(1−t) stops at t = ½ (x′ = 6(1−2t)², y′ = 6(1−2t)):
+    a tent with concave sides whose hull is the triangle (0,0), (2,0), (1, 1.5). It was
+    refused (the hull saw only two points); by hand: perimeter 2 + 2·√3.25, area 6/5."""
+    from algrasp import analyse
+
+    tent = {"boundary": [{"type": "bezier", "points": [[0, 0], [2, 2], [0, 2], [2, 0]]},
+                         {"type": "line", "start": [2, 0], "end": [0, 0]}]}
+    a = analyse(tent, exact=True)
+    assert a.part.hull.perimeter == pytest.approx(2.0 + 2.0 * math.sqrt(3.25), rel=1e-12)
+    assert a.part.area == pytest.approx(1.2, rel=1e-12)
