@@ -44,8 +44,6 @@ class PlanRequest:
             from optimisation.profile import profile_from_dict
 
             profile_from_dict(self.gripper_profile, "gripper")
-        if not 0.0 <= self.min_margin_deg < 180.0:
-            raise ConfigError("min_margin_deg", f"must be in [0, 180), got {self.min_margin_deg}")
         if not 0.0 < self.push_scale <= 10.0:
             raise ConfigError("push_scale", f"must be in (0, 10], got {self.push_scale}")
         if self.samples < 0:

@@ -3,7 +3,7 @@
 Compute runs in worker processes (``service.executor``) with a time limit per request,
 so the event loop only parses, caches and stores. Cheap and expensive work run on
 separate pools behind admission control (``service.admission``); bodies are bounded and
-checked before any work (``service.guard``). Same-input requests are answered from a
+checked before any work (``algrasp.io.jsonguard``). Same-input requests are answered from a
 cache bounded in bytes, keyed by the canonical hash of the body and the algrasp version.
 """
 
@@ -102,8 +102,8 @@ def create_app(settings: Settings | None = None, warmup: dict[str, Any] | None =
     from service.routes_runs import router as runs_router
 
     app.include_router(runs_router, responses={**ERRORS, **NOT_FOUND})
-    _typed_openapi(app)
     app.include_router(jobs_router, dependencies=[Depends(require_key)], responses={**ERRORS, **NOT_FOUND})
+    _typed_openapi(app)
     return app
 
 
@@ -123,15 +123,16 @@ def _typed_openapi(app: FastAPI) -> None:
     app.openapi = openapi  # type: ignore[method-assign]
 
 
-async def _cached(request: Request, key: str, compute: Any, option: str) -> Response:
-    """The cached response for ``key`` (``X-Cache``: hit/miss), computed on a miss."""
+async def _cached(request: Request, key: str, compute: Any, option: str) -> tuple[Response, bool]:
+    """The cached response for ``key`` (``X-Cache``: hit/miss), computed on a miss; and
+    whether it was a hit."""
     svc = state(request)
     hit = svc.cache.get(key)
     body = hit if hit is not None else encoded(svc, await compute(), option)
     if hit is None:
         with suppress(ValueError):  # larger than the whole cache: answered, not kept
             svc.cache[key] = body
-    return Response(body, media_type="application/json", headers={"X-Cache": "miss" if hit is None else "hit"})
+    return Response(body, media_type="application/json", headers={"X-Cache": "miss" if hit is None else "hit"}), hit is not None
 
 
 @router.post("/v1/analyses", tags=["plans"], dependencies=AUTH, responses=ok(AnalysisOut))
@@ -143,13 +144,12 @@ async def analyses(request: Request, part: PartJson,
 
     svc = state(request)
     key = canonical_hash(["analysis", VERSION, part, exact])
-    cached = key in svc.cache
 
     async def compute() -> Any:
         return await run_task(svc, "fast", who(request), analysis_task, part, str(svc.settings.log_dir), {"exact": exact},
                               timeout_s=svc.settings.analysis_time_limit_s, stage="analysis", run_id=new_run_id())
 
-    response = await _cached(request, key, compute, "the part's size")
+    response, cached = await _cached(request, key, compute, "the part's size")
     svc.metrics.analyses.labels(str(cached).lower()).inc()
     return response
 
@@ -163,7 +163,6 @@ async def plans(request: Request, body: PlanBody) -> Response:
     svc = state(request)
     _limits(svc, body)
     key = canonical_hash(["plan", VERSION, body.model_dump(by_alias=True)])
-    cached = key in svc.cache
     limit = svc.settings.plan_time_limit_s + (svc.settings.validation_time_limit_s if body.validate_ else 0.0)
 
     async def compute() -> Any:
@@ -171,7 +170,7 @@ async def plans(request: Request, body: PlanBody) -> Response:
                               str(svc.settings.log_dir), svc.settings.sim_workers, timeout_s=limit, stage="plan",
                               run_id=new_run_id())
 
-    response = await _cached(request, key, compute, "gripper.sample_hz")
+    response, cached = await _cached(request, key, compute, "gripper.sample_hz")
     if not cached and body.validate_ is not None:
         svc.metrics.validations.inc()
         svc.metrics.samples.inc(body.validate_.samples)

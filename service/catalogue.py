@@ -27,28 +27,15 @@ PART_SUFFIXES = (".json", ".dxf", ".svg", ".stl", ".obj", ".ply", ".off", ".glb"
 options: every DXF layer, every SVG shape, a mesh's most probable pose)."""
 
 
-def part_from_bytes(filename: str, data: bytes) -> dict[str, Any]:
-    """A part document from one file's bytes (JSON part document or a CAD file)."""
-    from algrasp.io.cad import import_bytes, is_cad
-
-    if is_cad(filename):
-        return import_bytes(filename, data)
-    from service.guard import parse_json
-
-    doc = parse_json(data, filename)  # finite numbers, bounded depth: as over HTTP
-    if not isinstance(doc, dict):
-        raise PartDocumentError(filename, "a part document must be a JSON object")
-    return doc
-
-
 def _entries(filename: str, data: bytes) -> list[Entry]:
     """The catalogue items of one file: a DXF/SVG sheet gives one item per part
     (``FILE#K``), anything else one item (with its error if it cannot be read)."""
     from algrasp.io.cad import import_all_parts, is_cad
+    from algrasp.io.parts import parse_part_json
 
     stem = PurePosixPath(filename).stem
     try:
-        docs = import_all_parts(filename, data) if is_cad(filename) else [part_from_bytes(filename, data)]
+        docs = import_all_parts(filename, data) if is_cad(filename) else [parse_part_json(data, filename)]  # bounded as over HTTP
     except AlgraspError as exc:
         return [(stem, {}, exc.to_dict())]
     out: list[Entry] = []

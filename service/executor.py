@@ -49,13 +49,15 @@ def _call(payload: bytes) -> Any:
     return fn(*args)
 
 
-def pickled(fn: Callable[..., Any], args: tuple[Any, ...]) -> bytes:
+def pickled(fn: Callable[..., Any], args: tuple[Any, ...], out: cf.Future[Any]) -> bytes | None:
     """``(fn, args)`` pickled in the caller, so a task that cannot be sent fails alone
-    (pickling inside the pool's scheduler thread would break the pool for good)."""
+    (pickling inside the pool's scheduler thread would break the pool for good): None,
+    with ``out`` failed, when it cannot be sent."""
     try:
         return pickle.dumps((fn, args), protocol=pickle.HIGHEST_PROTOCOL)
     except (pickle.PicklingError, RecursionError, TypeError, ValueError, AttributeError) as exc:
-        raise PartDocumentError("body", f"the request cannot be sent to a worker ({type(exc).__name__})") from None
+        _fail(out, PartDocumentError("body", f"the request cannot be sent to a worker ({type(exc).__name__})"))
+        return None
 
 
 class LocalExecutor:
@@ -81,10 +83,8 @@ class LocalExecutor:
 
     def submit(self, fn: Callable[..., Any], *args: Any, timeout_s: float, stage: str) -> cf.Future[Any]:
         out: cf.Future[Any] = cf.Future()
-        try:
-            payload = pickled(fn, args)
-        except AlgraspError as exc:
-            _fail(out, exc)
+        payload = pickled(fn, args, out)
+        if payload is None:
             return out
         if not self._pool.active and not self._closed:  # a broken pool is replaced, not kept
             self._pool = self._new_pool()
@@ -122,10 +122,8 @@ class DaskExecutor:
         import threading
 
         out: cf.Future[Any] = cf.Future()
-        try:
-            payload = pickled(fn, args)
-        except AlgraspError as exc:
-            _fail(out, exc)
+        payload = pickled(fn, args, out)
+        if payload is None:
             return out
         inner = self._client.submit(_call, payload, pure=False)
         def late() -> None:

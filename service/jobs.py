@@ -19,7 +19,7 @@ from typing import Any
 from sqlalchemy.exc import SQLAlchemyError
 
 from algrasp.errors import AlgraspError, UnavailableError
-from algrasp.io.record.recorder import new_run_id
+from algrasp.io.record.recorder import discard_partial, new_run_id
 from service.executor import Executor
 from service.store import Store
 from service.work import design_task
@@ -136,14 +136,11 @@ class JobRunner:
         """Store a part's outcome; True when it should be tried again (worker lost)."""
         try:
             response, run, err = fut.result()
-        except UnavailableError as exc:
-            (Path(self.cfg.record_dir) / f"{run_id}.mcap.partial").unlink(missing_ok=True)
-            if exc.reason == "worker_lost" and self.store.attempts(job_id, idx) < MAX_ATTEMPTS:
+        except AlgraspError as exc:  # worker lost, time limit, a request that cannot be sent
+            discard_partial(Path(self.cfg.record_dir), run_id)
+            lost = isinstance(exc, UnavailableError) and exc.reason == "worker_lost"
+            if lost and self.store.attempts(job_id, idx) < MAX_ATTEMPTS:
                 return True
-            self.store.finish_part(job_id, idx, "failed", error=exc.to_dict())
-            return False
-        except AlgraspError as exc:  # the time limit, a request that cannot be sent
-            (Path(self.cfg.record_dir) / f"{run_id}.mcap.partial").unlink(missing_ok=True)
             self.store.finish_part(job_id, idx, "failed", error=exc.to_dict())
             return False
         except Exception as exc:  # noqa: BLE001 - a crashed worker must not stop the job

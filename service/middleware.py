@@ -19,6 +19,7 @@ from sqlalchemy.exc import SQLAlchemyError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from algrasp.errors import AlgraspError, LimitExceededError, StorageError
+from service.store import cause
 
 ASGIApp = Callable[[dict[str, Any], Callable[[], Awaitable[dict[str, Any]]], Callable[[dict[str, Any]], Awaitable[None]]],
                    Awaitable[None]]
@@ -53,8 +54,8 @@ def install_error_handlers(app: FastAPI) -> None:
 
     @app.exception_handler(SQLAlchemyError)
     async def _database(_: Request, exc: SQLAlchemyError) -> JSONResponse:
-        err = StorageError("database", f"the database cannot be used now ({type(getattr(exc, 'orig', None) or exc).__name__}"
-                           ": read-only, full or gone?)", 30.0)
+        err = StorageError("database", f"the database cannot be used now ({type(cause(exc)).__name__}: read-only, "
+                           "full or gone?)", 30.0)
         return error_response(503, err.to_dict(), {"Retry-After": "30"})
 
     @app.exception_handler(Exception)
@@ -65,7 +66,7 @@ def install_error_handlers(app: FastAPI) -> None:
 class RequestGuard:
     """Every request body is read whole before the app sees it: over ``max_bytes``
     (declared or streamed, chunked included) → 413; a JSON body must pass
-    :func:`service.guard.parse_json` (finite numbers, bounded depth and sizes, valid
+    :func:`algrasp.io.jsonguard.parse_json` (finite numbers, bounded depth and sizes, valid
     Unicode) → else 422 naming the field. So no handler, worker or record ever sees a
     value it cannot represent."""
 
@@ -92,7 +93,7 @@ class RequestGuard:
             more = msg.get("more_body", False)
         body = b"".join(chunks)
         if body and headers.get(b"content-type", b"").split(b";")[0].strip().lower().endswith(b"json"):
-            from service.guard import parse_json
+            from algrasp.io.jsonguard import parse_json
 
             try:
                 await asyncio.to_thread(parse_json, body) if len(body) > 65_536 else parse_json(body)

@@ -15,13 +15,14 @@ import time
 from pathlib import Path
 from typing import Any
 
+from algrasp.io.record.recorder import PARTIAL_SUFFIX
 from service.settings import Settings
 
 
 def clean_partials(log_dir: Path) -> int:
     """Remove every partial record (start-up only); returns how many."""
     n = 0
-    for p in log_dir.glob("*.mcap.partial") if log_dir.is_dir() else ():
+    for p in log_dir.glob(f"*{PARTIAL_SUFFIX}") if log_dir.is_dir() else ():
         with contextlib.suppress(OSError):
             p.unlink()
             n += 1

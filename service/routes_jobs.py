@@ -13,9 +13,9 @@ from pydantic import ValidationError
 from starlette.datastructures import UploadFile
 
 from algrasp.errors import ConfigError, LimitExceededError, PartDocumentError
+from algrasp.io.jsonguard import parse_json
 from service.catalogue import Entry, read_archive
 from service.contract import CancelOut, JobCreatedOut, JobOut, JobsOut, inline, ok
-from service.guard import parse_json
 from service.models import LIMIT, OFFSET, JobBody, JobOptions
 from service.reports import report_zip, results_jsonl
 from service.runtime import check_samples, run_task, who

@@ -22,6 +22,7 @@ from service.contract import BINARY, HealthOut, ReadyOut, RunDetailOut, RunsOut,
 from service.executor import ping
 from service.models import LIMIT, OFFSET
 from service.runtime import AUTH, VERSION, ServiceState, index_run, run_task, state, who
+from service.store import cause
 from service.work import figure_task
 
 router = APIRouter()
@@ -81,7 +82,7 @@ def _database(svc: ServiceState) -> str:
     try:
         svc.store.check()
     except SQLAlchemyError as exc:
-        return f"cannot write ({type(getattr(exc, 'orig', None) or exc).__name__}: {str(getattr(exc, 'orig', None) or exc)[:200]})"
+        return f"cannot write ({type(cause(exc)).__name__}: {str(cause(exc))[:200]})"
     return "ok"
 
 

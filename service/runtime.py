@@ -6,7 +6,6 @@ from __future__ import annotations
 import asyncio
 import importlib.metadata
 import json
-from contextlib import suppress
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -14,12 +13,13 @@ from cachetools import LRUCache
 from fastapi import Depends, Header, HTTPException, Request
 
 from algrasp.errors import ConfigError, LimitExceededError, StorageError, TimeLimitError
+from algrasp.io.record.recorder import discard_partial
 from service.admission import Gate, client_id
 from service.executor import Executor
 from service.jobs import JobRunner
 from service.middleware import Metrics, check_key
 from service.settings import Settings
-from service.store import Store
+from service.store import Store, cause
 
 VERSION = importlib.metadata.version("algrasp")
 LATE_S = 5.0
@@ -79,8 +79,7 @@ async def run_task(svc: ServiceState, pool: str, client: str, fn: Any, *args: An
 def _drop_partial(svc: ServiceState, run_id: str | None) -> None:
     """The worker was killed (time limit, crash): its half-written record goes too."""
     if run_id is not None:
-        with suppress(OSError):
-            (svc.settings.log_dir / f"{run_id}.mcap.partial").unlink(missing_ok=True)
+        discard_partial(svc.settings.log_dir, run_id)
 
 
 async def index_run(svc: ServiceState, run: dict[str, Any]) -> None:
@@ -94,9 +93,9 @@ async def index_run(svc: ServiceState, run: dict[str, Any]) -> None:
         await asyncio.to_thread(svc.store.add_runs, rows)
     except SQLAlchemyError as exc:
         svc.unindexed[:] = rows[-10_000:]
-        cause = type(getattr(exc, "orig", None) or exc).__name__
         raise StorageError("database", f"the run {run['run_id']} is recorded but the database cannot be written "
-                           f"({cause}: read-only or full?); it is indexed once the database is writable", 30.0) from None
+                           f"({type(cause(exc)).__name__}: read-only or full?); it is indexed once the database "
+                           "is writable", 30.0) from None
     svc.unindexed.clear()
 
 

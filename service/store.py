@@ -83,14 +83,13 @@ class Store:
 
     # ------------------------------------------------------------------ runs
     def add_run(self, run: dict[str, Any], job_id: str | None = None) -> None:
-        with self._session.begin() as s:
-            s.merge(RunRow(job_id=job_id, created_at=time.time(), **run))
+        self.add_runs([run], job_id)
 
-    def add_runs(self, runs: list[dict[str, Any]]) -> None:
+    def add_runs(self, runs: list[dict[str, Any]], job_id: str | None = None) -> None:
         """Several run rows in one transaction (all or none)."""
         with self._session.begin() as s:
             for run in runs:
-                s.merge(RunRow(job_id=None, created_at=time.time(), **run))
+                s.merge(RunRow(job_id=job_id, created_at=time.time(), **run))
 
     def delete_runs(self, run_ids: list[str]) -> None:
         """Forget runs whose records retention deleted."""
@@ -221,3 +220,9 @@ def _sqlite_pragmas(conn: Any, _record: Any) -> None:
     cur.execute("PRAGMA journal_mode=WAL")
     cur.execute("PRAGMA synchronous=NORMAL")
     cur.close()
+
+
+def cause(exc: BaseException) -> BaseException:
+    """The driver's exception behind a SQLAlchemy error (what to tell the user)."""
+    orig = getattr(exc, "orig", None)
+    return orig if isinstance(orig, BaseException) else exc

@@ -13,7 +13,16 @@ from functools import cached_property, lru_cache
 
 import numpy as np
 
-from algrasp.geometry.curves import FloatArray, Piece, _readonly, bernstein_values, conic_arc_pieces, homogeneous
+from algrasp.geometry.curves import (
+    FloatArray,
+    Piece,
+    _readonly,
+    bernstein_values,
+    conic_arc_pieces,
+    homogeneous,
+    horner_float,
+    real_roots_in,
+)
 from algrasp.geometry.tolerances import PARAM_END
 
 Moments = tuple[float, float, float]
@@ -200,8 +209,6 @@ class Bezier:
         """Parameters in (0, 1) where the curve stops and turns back (its tangent vanishes):
         a corner of the outline in the middle of a segment, which the hull must see.
         Complexity: one polynomial root search."""
-        from algrasp.geometry.curves import horner_float, real_roots_in
-
         _, _, _, TX, TY = self._piece.lists
         speed = max(abs(c) for c in TX + TY) or 1.0
         cuts: list[float] = []

@@ -1,29 +1,23 @@
 """Part files: a JSON part document or a CAD drawing/mesh, read into a part document.
 
-The one reader of part files for the CLI and the Python API (the service reads request
-bodies and archive members through its own stricter guard, ``service.guard``).
+The one reader of part files for the CLI, the Python API and the service's catalogues; JSON
+goes through the same bounds as HTTP bodies (``algrasp.io.jsonguard``).
 """
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any
 
 from algrasp.errors import LimitExceededError, PartDocumentError
 from algrasp.geometry.limits import DEFAULT_LIMITS
-
-
-def _refuse_constant(name: str) -> Any:
-    raise ValueError(f"{name} is not a number JSON allows")
+from algrasp.io.jsonguard import parse_json
 
 
 def parse_part_json(data: bytes, where: str) -> dict[str, Any]:
-    """A JSON part document (finite numbers only; an object), or PartDocumentError naming ``where``."""
-    try:
-        doc = json.loads(data.decode("utf-8"), parse_constant=_refuse_constant)
-    except (json.JSONDecodeError, UnicodeDecodeError, ValueError, RecursionError) as exc:
-        raise PartDocumentError(where, f"not valid JSON: {str(exc)[:200]}") from None
+    """A JSON part document within the bounds of :func:`~algrasp.io.jsonguard.parse_json`
+    (finite numbers, bounded depth and sizes), and an object; else PartDocumentError naming ``where``."""
+    doc = parse_json(data, where)
     if not isinstance(doc, dict):
         raise PartDocumentError(where, "a part document must be a JSON object")
     return doc

@@ -24,13 +24,7 @@ from typing import Any
 from algrasp.errors import PartDocumentError
 from algrasp.geometry.angles import TWO_PI, to_deg, to_rad
 from algrasp.geometry.functions import wrap
-
-_WRAP_TOL_RAD = 1e-12
-"""An angle this close below a full turn is written as 0 (rounding of a wrapped angle)."""
-
-
-def _wrapped(angle_rad: float, period_rad: float) -> float:
-    return wrap(angle_rad, period_rad, _WRAP_TOL_RAD)
+from algrasp.geometry.tolerances import ROUNDING
 
 
 @dataclass(frozen=True)
@@ -65,8 +59,8 @@ class PlanDocument:
         """The document of a :class:`~algrasp.planning.plans.Plan` (angles wrapped as
         conventions §6 writes them)."""
         P = plan.transfer.period
-        intervals = tuple((_wrapped(a, P), _wrapped(a, P) + b - a) for a, b in plan.intervals)
-        steps = tuple(StepDocument(_wrapped(s.gripper_angle, TWO_PI), None if s.margin is None else float(s.margin))
+        intervals = tuple((wrap(a, P, ROUNDING), wrap(a, P, ROUNDING) + b - a) for a, b in plan.intervals)
+        steps = tuple(StepDocument(wrap(s.gripper_angle, TWO_PI, ROUNDING), None if s.margin is None else float(s.margin))
                       for s in plan.steps)
         return PlanDocument(plan.action, float(plan.symmetry_period), intervals, steps,
                             tuple(float(f) for f in plan.final_orientations), float(plan.final_uncertainty),

@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from algrasp.errors import LimitExceededError, PartDocumentError
-from service.guard import JsonBounds, parse_json
+from algrasp.io.jsonguard import JsonBounds, parse_json
 from service.retention import clean_partials, sweep
 from tests.service.conftest import Server
 

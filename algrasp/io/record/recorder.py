@@ -61,6 +61,21 @@ def versions() -> dict[str, str]:
     return out
 
 
+PARTIAL_SUFFIX = ".mcap.partial"
+"""A run's record while it is written (renamed to ``.mcap`` when the run finishes)."""
+
+
+def partial_path(directory: Path, run_id: str) -> Path:
+    """Where the record of run ``run_id`` is written until the run finishes."""
+    return directory / f"{run_id}{PARTIAL_SUFFIX}"
+
+
+def discard_partial(directory: Path, run_id: str) -> None:
+    """Remove a run's partial record (its worker was killed, or its run failed)."""
+    with contextlib.suppress(OSError):
+        partial_path(directory, run_id).unlink(missing_ok=True)
+
+
 def _storage_error(directory: Path, err: OSError) -> Exception:
     from algrasp.errors import StorageError
 
@@ -78,7 +93,7 @@ class RunRecorder:
         self.directory = directory or default_directory()
         self.directory.mkdir(parents=True, exist_ok=True)
         self.path = self.directory / f"{self.run_id}.mcap"
-        self.partial = self.directory / f"{self.run_id}.mcap.partial"
+        self.partial = partial_path(self.directory, self.run_id)
         self.started = time.time()
         self._t0_ns = time.time_ns()
         try:

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -71,12 +73,8 @@ def replay(path: Path) -> dict[str, Any]:
     rec = read_record(path)
     if "/request" not in rec:
         raise RecordError(path.name, f"RUN: {path.name} has no /request: nothing to replay")
-    try:
+    with _damaged(path):
         return _replay(rec)
-    except PartDocumentError as exc:
-        raise RecordError(path.name, f"RUN: {path.name} is damaged: {exc.message}") from None
-    except (KeyError, TypeError, IndexError, AttributeError) as exc:  # decodable JSON, but not what we wrote
-        raise RecordError(path.name, f"RUN: {path.name} is damaged: its messages lack {exc!s:.100}") from None
 
 
 def recorded_plan(path: Path) -> tuple[Any, Any]:
@@ -86,9 +84,18 @@ def recorded_plan(path: Path) -> tuple[Any, Any]:
     rec = read_record(path, {"/request", "/plan"})
     if "/plan" not in rec or "/request" not in rec:
         raise RecordError(path.name, f"RUN: {path.name} has no plan (an analysis, or a failed request)")
-    try:
+    with _damaged(path):
         request, plan_doc = rec["/request"][0], rec["/plan"][0]
         return _rebuild(request, plan_options(request["options"], plan_doc))
+
+
+@contextmanager
+def _damaged(path: Path) -> Iterator[None]:
+    """Messages that decode but are not what we wrote: a RecordError naming the record."""
+    try:
+        yield
+    except PartDocumentError as exc:
+        raise RecordError(path.name, f"RUN: {path.name} is damaged: {exc.message}") from None
     except (KeyError, TypeError, IndexError, AttributeError) as exc:
         raise RecordError(path.name, f"RUN: {path.name} is damaged: its messages lack {exc!s:.100}") from None
 
