@@ -98,3 +98,13 @@ def test_real_gears_have_the_tooth_period(path: Path) -> None:
     doc = import_bytes(path.name, path.read_bytes())
     period = analyse_document(doc, ROBUST).to_dict()["robust"]["squeeze"]["symmetry_period_deg"]
     assert period == pytest.approx(360.0 / n if n % 2 == 0 else 180.0 / n, abs=1e-9)
+
+
+@pytest.mark.parametrize("name", sorted(EXPECTED))
+def test_crlf_and_lf_import_identically(name: str) -> None:
+    """Issue 17: most DXFs are saved with Windows line endings. The corpus is stored with
+    LF; each drawing written with CRLF lists the same parts and imports the same outline."""
+    lf = (REAL / name).read_bytes().replace(b"\r\n", b"\n")
+    crlf = lf.replace(b"\n", b"\r\n")
+    assert list_parts(name, crlf) == list_parts(name, lf)
+    assert import_bytes(name, crlf, part=0) == import_bytes(name, lf, part=0)
