@@ -21,6 +21,7 @@ import numpy as np  # noqa: E402
 from matplotlib.axes import Axes  # noqa: E402
 
 from algrasp.errors import ConfigError  # noqa: E402
+from algrasp.geometry.angles import to_deg, to_rad  # noqa: E402
 from algrasp.geometry.curves import FloatArray  # noqa: E402
 from algrasp.geometry.segments import loop_polyline  # noqa: E402
 from algrasp.planning.analysis import Analysis  # noqa: E402
@@ -34,7 +35,7 @@ def _outline(analysis: Analysis) -> list[FloatArray]:
     com = np.asarray(analysis.part.center_of_mass)
     loops = []
     for loop in (analysis.part.boundary, *analysis.part.holes):
-        pts, _ = loop_polyline(loop, np.radians(3.0))
+        pts, _ = loop_polyline(loop, to_rad(3.0))
         loops.append(np.vstack([pts, pts[:1]]) - com)
     return loops
 
@@ -49,12 +50,12 @@ def jaw_offsets(points: FloatArray, alpha: float) -> tuple[float, float]:
 def _function_panel(ax: Axes, analysis: Analysis, plan: Plan) -> None:
     f = analysis.diameter if plan.action == "squeeze" else analysis.radius
     theta = np.linspace(0.0, f.period, 1441)
-    ax.plot(np.degrees(theta), f.values(theta), color="black", lw=1.2)
+    ax.plot(to_deg(theta), f.values(theta), color="black", lw=1.2)
     for e in f.extrema:
-        ax.plot(np.degrees(e.theta), e.value, "v" if e.kind == "min" else "^",
+        ax.plot(to_deg(e.theta), e.value, "v" if e.kind == "min" else "^",
                 color="tab:green" if e.kind == "min" else "tab:red", ms=5)
     for a, b in f.constant_intervals:
-        ax.axvspan(np.degrees(a), np.degrees(min(b, f.period)), color="tab:orange", alpha=0.15)
+        ax.axvspan(to_deg(a), to_deg(min(b, f.period)), color="tab:orange", alpha=0.15)
     dead = "" if plan.bounds is None else "; grey bands: dead zones |f′| ≤ κ"
     if plan.bounds is not None:
         P = f.period
@@ -62,13 +63,13 @@ def _function_panel(ax: Axes, analysis: Analysis, plan: Plan) -> None:
             for k in (-1, 0, 1):  # zones may wrap past 0 or the period
                 lo, hi = max(a + k * P, 0.0), min(b + k * P, P)
                 if hi > lo:
-                    ax.axvspan(np.degrees(lo), np.degrees(hi), color="gray", alpha=0.3, lw=0)
+                    ax.axvspan(to_deg(lo), to_deg(hi), color="gray", alpha=0.3, lw=0)
     ax.set_title(f"{'diameter d' if plan.action == 'squeeze' else 'radius r'}(θ) with extrema "
                  f"(▲ max, ▼ min; orange: constant{dead})", fontsize=9)
     name = "d" if plan.action == "squeeze" else "r"
     ax.set_xlabel("θ, part orientation relative to the gripper (deg)")
     ax.set_ylabel(f"{name}(θ) ({analysis.part.units})")
-    ax.set_xlim(0, np.degrees(f.period))
+    ax.set_xlim(0, to_deg(f.period))
 
 
 def _transfer_panel(ax: Axes, plan: Plan) -> None:
@@ -76,28 +77,28 @@ def _transfer_panel(ax: Axes, plan: Plan) -> None:
     base = F.pieces[0].start
     if plan.bounds is None:
         for p in F.pieces:
-            x = np.degrees([p.start - base, p.end - base])
-            y = np.degrees([p.start, p.end]) if p.value is None else np.degrees([p.value, p.value])
-            ax.plot(x, y - np.degrees(base), color="tab:blue" if p.value is not None else "tab:orange", lw=1.5)
+            x = to_deg([p.start - base, p.end - base])
+            y = to_deg([p.start, p.end]) if p.value is None else to_deg([p.value, p.value])
+            ax.plot(x, y - to_deg(base), color="tab:blue" if p.value is not None else "tab:orange", lw=1.5)
     else:  # the set-valued images [lower(θ), upper(θ)] (conventions §7)
         theta = base + np.linspace(0.0, F.period, 2881)
         lo, hi = plan.bounds.image(theta, theta)
-        x = np.degrees(theta - base)
-        ax.fill_between(x, np.degrees(lo - base), np.degrees(hi - base), color="tab:green", alpha=0.35, lw=0,
+        x = to_deg(theta - base)
+        ax.fill_between(x, to_deg(lo - base), to_deg(hi - base), color="tab:green", alpha=0.35, lw=0,
                         label="image F_κ(θ) = [lower, upper]")
-        ax.plot(x, np.degrees(lo - base), color="tab:blue", lw=1.0)
-        ax.plot(x, np.degrees(hi - base), color="tab:blue", lw=1.0, ls="--")
+        ax.plot(x, to_deg(lo - base), color="tab:blue", lw=1.0)
+        ax.plot(x, to_deg(hi - base), color="tab:blue", lw=1.0, ls="--")
         ax.legend(loc="upper left", fontsize=7)
-    span = np.degrees(F.period)
+    span = to_deg(F.period)
     rows = plan.intervals if len(plan.intervals) <= 12 else plan.intervals[:6] + plan.intervals[-6:]
     for i, (a, b) in enumerate(rows):
-        lo_deg = np.degrees((a - base) % F.period)
-        y = -span * (0.06 + 0.05 * i)
-        ax.plot([lo_deg, lo_deg + np.degrees(b - a)], [y, y], color="tab:purple", lw=3, solid_capstyle="butt",
+        lo_deg = to_deg((a - base) % F.period)
+        y_bar = -span * (0.06 + 0.05 * i)
+        ax.plot([lo_deg, lo_deg + to_deg(b - a)], [y_bar, y_bar], color="tab:purple", lw=3, solid_capstyle="butt",
                 label="intervals Θᵢ of A′ (below 0; top bar Θ₁)" if i == 0 else None)
     ax.axhline(0.0, color="gray", lw=0.5)
     ax.legend(loc="best", fontsize=7)
-    theta0 = f"{np.degrees(base):.1f}°"
+    theta0 = f"{to_deg(base):.1f}°"
     ax.set_title(f"transfer function ({plan.action}), both axes shifted by θ₀ = {theta0}", fontsize=9)
     ax.set_xlabel(f"θ − θ₀, orientation before the action (deg; θ₀ = {theta0})")
     ax.set_ylabel("F(θ) − θ₀, after the action (deg)")
@@ -107,7 +108,7 @@ def _trace_panel(fig: plt.Figure, grid: object, analysis: Analysis, plan: Plan) 
     loops = _outline(analysis)
     outline = loops[0]
     extent = float(np.max(np.hypot(*outline.T))) * 1.25
-    starts = np.radians([17.0, 103.0, 197.0, 283.0])
+    starts = to_rad([17.0, 103.0, 197.0, 283.0])
     steps = list(range(len(plan.steps)))
     if len(steps) > MAX_TRACE_ROWS:
         steps = steps[: MAX_TRACE_ROWS // 2] + steps[-MAX_TRACE_ROWS // 2:]
@@ -159,7 +160,7 @@ def plan_figure(analysis: Analysis, plan: Plan, path: str | Path) -> Path:
     _function_panel(fig.add_subplot(grid[0, 0]), analysis, plan)
     _transfer_panel(fig.add_subplot(grid[1, 0]), plan)
     _trace_panel(fig, grid[:, 1], analysis, plan)
-    u = "" if plan.bounds is None else f" ± {np.degrees(plan.final_uncertainty):.3g}° (robust model)"
+    u = "" if plan.bounds is None else f" ± {to_deg(plan.final_uncertainty):.3g}° (robust model)"
     fig.suptitle(f"{analysis.part.name}: {len(plan.steps)}-step {plan.action} plan, "
                  f"{len(plan.final_orientations)} final orientation(s){u}", fontsize=11)
     try:

@@ -107,7 +107,7 @@ def _solver(structure: tuple[int, ...]) -> Any:
             opti.subject_to(q == target)
             # A valid lower bound (distance / top speed) that keeps IPOPT away from the
             # degenerate T → 0 corner, where the bilinear dynamics make it report infeasible.
-            opti.subject_to(T[i] >= ca.fmax(ca.fabs(dq[i]) / vlim[i], 1e-6))
+            opti.subject_to(T[i] >= ca.fmax(ca.fabs(dq[i]) / vlim[i], ARRIVAL_TOL))
             cost += T[i]
             i += 1
         opti.subject_to(v == 0)

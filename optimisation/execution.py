@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from algrasp.geometry.angles import to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.units import meters_per_unit
 from algrasp.planning.analysis import Analysis
@@ -85,7 +86,7 @@ class Execution:
                 "push_distance": None if s.push is None else s.push.distance,
                 "push_distance_bound": None if s.push is None else s.push.bound,
                 "duration_s": s.duration_s,
-                "trajectory": {"t_s": s.t_s.tolist(), "gripper_angle_deg": np.degrees(s.gripper_angle_rad).tolist(),
+                "trajectory": {"t_s": s.t_s.tolist(), "gripper_angle_deg": to_deg(s.gripper_angle_rad).tolist(),
                                "lower_jaw": s.lower.tolist(), "higher_jaw": s.higher.tolist()},
             })
         return out
@@ -177,8 +178,8 @@ def optimise_execution(analysis: Analysis, plan: Plan, profile: GripperProfile =
     pushes: list[PushResult | None] = [None] * len(plan.steps)
     if plan.action == "push_grasp":
         model = push_model(analysis, mean_radius(analysis.part))
-        pushes = list(push_distances(model, analysis, list(plan.intervals[::-1]), math.radians(profile.push_tolerance_deg),
-                                     math.radians(profile.unstable_band_deg)))
+        pushes = list(push_distances(model, analysis, list(plan.intervals[::-1]), to_rad(profile.push_tolerance_deg),
+                                     to_rad(profile.unstable_band_deg)))
     t1 = time.perf_counter()
     g = _widths(analysis, plan, scale)
     starts, turns = _turns([s.gripper_angle for s in plan.steps])

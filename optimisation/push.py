@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from algrasp.errors import AlgraspError
-from algrasp.geometry.angles import TWO_PI
+from algrasp.geometry.angles import TWO_PI, to_deg
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.hull import unit
 from algrasp.planning.analysis import Analysis
@@ -183,15 +183,15 @@ def push_distances(model: PushModel, analysis: Analysis, intervals: list[tuple[f
     groups = [basins(analysis, interval, band_rad, tol_rad) for interval in intervals]
     live = [g for g in groups if g]
     solved = iter(_worst_case(model, live) if live else [])
-    tol_deg, band_deg = float(np.degrees(tol_rad)), float(np.degrees(band_rad))
+    tol_deg, band_deg = float(to_deg(tol_rad)), float(to_deg(band_rad))
     out = []
     for interval, g in zip(intervals, groups):
         if not g:
-            start = float(np.degrees(interval[0]) % 360.0)
+            start = float(to_deg(interval[0]) % 360.0)
             out.append(PushResult(0.0, 0.0, start, start, 0, tol_deg, band_deg))
             continue
         d, bound, worst = next(solved)
         f = min(g, key=lambda b: abs(b.far - worst)).fixed_point
-        out.append(PushResult(d, bound, float(np.degrees(worst) % 360.0), float(np.degrees(f) % 360.0), len(g),
+        out.append(PushResult(d, bound, float(to_deg(worst) % 360.0), float(to_deg(f) % 360.0), len(g),
                               tol_deg, band_deg))
     return out

@@ -16,6 +16,7 @@ from typing import Any, Literal
 import numpy as np
 
 from algrasp.errors import NotOrientableError
+from algrasp.geometry.angles import to_deg
 from algrasp.pipeline import PlanRequest, plan_part
 from algrasp.planning.analysis import Analysis, Model
 from algrasp.planning.plans import Plan, make_plan
@@ -61,7 +62,7 @@ def choose_plan(analysis: Analysis, min_margin_deg: float) -> tuple[Plan | None,
             plans[action] = make_plan(analysis, action, min_margin_deg)  # type: ignore[arg-type]
             p, m = plans[action], _min_margin(plans[action])
             compared[action] = {"steps": len(p.steps), "final_orientations": len(p.final_orientations),
-                                "min_margin_deg": None if m is None else math.degrees(m)}
+                                "min_margin_deg": None if m is None else to_deg(m)}
         except NotOrientableError as exc:
             compared[action] = {"error": exc.to_dict()}
     best = min(plans.values(), key=_score) if plans else None

@@ -18,22 +18,25 @@ from typing import Any
 
 import numpy as np
 
+from algrasp.geometry.angles import to_rad
+from algrasp.geometry.tolerances import PARAM_END
+
 Outline = list[tuple[Any, ...]]
 
 
 def _pieces(a0: float, a1: float, max_deg: float = 90.0) -> list[tuple[float, float]]:
-    n = max(1, math.ceil(abs(a1 - a0) / max_deg - 1e-9))
+    n = max(1, math.ceil(abs(a1 - a0) / max_deg - PARAM_END))
     return [(a0 + (a1 - a0) * i / n, a0 + (a1 - a0) * (i + 1) / n) for i in range(n)]
 
 
 def _pt(c: tuple[float, float], R: float, a_deg: float) -> list[float]:
-    a = math.radians(a_deg)
+    a = to_rad(a_deg)
     return [c[0] + R * math.cos(a), c[1] + R * math.sin(a)]
 
 
 def _rational(c: tuple[float, float], R: float, a0: float, a1: float) -> tuple[np.ndarray, np.ndarray]:
-    h = math.radians(a1 - a0) / 2
-    m = math.radians(a1 + a0) / 2
+    h = to_rad(a1 - a0) / 2
+    m = to_rad(a1 + a0) / 2
     mid = [c[0] + R * math.cos(m) / math.cos(h), c[1] + R * math.sin(m) / math.cos(h)]
     return np.array([_pt(c, R, a0), mid, _pt(c, R, a1)]), np.array([1.0, math.cos(h), 1.0])
 
@@ -61,10 +64,10 @@ def arc_segments(form: str, c: tuple[float, float], R: float, a0: float, a1: flo
         return [{"type": "line", "start": _pt(c, R, x), "end": _pt(c, R, y)} for x, y in zip(angles[:-1], angles[1:])]
     for x, y in _pieces(a0, a1):
         if form == "cubic":
-            k = 4.0 / 3.0 * math.tan(math.radians(y - x) / 4)
+            k = 4.0 / 3.0 * math.tan(to_rad(y - x) / 4)
             p0, p3 = np.array(_pt(c, R, x)), np.array(_pt(c, R, y))
-            t0 = np.array([-math.sin(math.radians(x)), math.cos(math.radians(x))])
-            t3 = np.array([-math.sin(math.radians(y)), math.cos(math.radians(y))])
+            t0 = np.array([-math.sin(to_rad(x)), math.cos(to_rad(x))])
+            t3 = np.array([-math.sin(to_rad(y)), math.cos(to_rad(y))])
             pts = [p0, p0 + k * R * t0, p3 - k * R * t3, p3]
             out.append({"type": "bezier", "points": [list(map(float, p)) for p in pts]})
         else:
@@ -91,13 +94,13 @@ def document(outline: Outline, form: str, **extra: Any) -> dict[str, Any]:
 
 def fig11_outline(R: float = 10.0, z_deg: float = 11.0) -> Outline:
     """The paper's Fig. 11 part: a disk with two parallel flats whose chords subtend 2z."""
-    s, c = R * math.sin(math.radians(z_deg)), R * math.cos(math.radians(z_deg))
+    s, c = R * math.sin(to_rad(z_deg)), R * math.cos(to_rad(z_deg))
     return [("line", (s, c), (-s, c)), ("arc", (0.0, 0.0), R, 90 + z_deg, 270 - z_deg),
             ("line", (-s, -c), (s, -c)), ("arc", (0.0, 0.0), R, -90 + z_deg, 90 - z_deg)]
 
 
 def pie_outline(R: float = 5.0, half_deg: float = 20.0) -> Outline:
     """The paper's pie: a circular sector with apex at the origin, symmetric about +y."""
-    h = math.radians(half_deg)
+    h = to_rad(half_deg)
     a, b = (R * math.sin(h), R * math.cos(h)), (-R * math.sin(h), R * math.cos(h))
     return [("line", (0.0, 0.0), a), ("arc", (0.0, 0.0), R, 90 - half_deg, 90 + half_deg), ("line", b, (0.0, 0.0))]

@@ -19,7 +19,7 @@ from math import comb
 import numpy as np
 from numpy.typing import NDArray
 
-from algrasp.geometry.tolerances import ROUNDING
+from algrasp.geometry.tolerances import COEFF_NOISE, DISCRIMINANT_REL, IMAG_REL, ROUNDING
 
 FloatArray = NDArray[np.float64]
 
@@ -118,7 +118,7 @@ def homogeneous(points: FloatArray, weights: FloatArray) -> FloatArray:
     return np.column_stack([points * weights[:, None], weights])
 
 
-def real_roots_in(poly: FloatArray | list[float], lo: float, hi: float, slack: float = 1e-12) -> list[float]:
+def real_roots_in(poly: FloatArray | list[float], lo: float, hi: float, slack: float = ROUNDING) -> list[float]:
     """Real roots of a power-basis polynomial in ``[lo, hi]`` (sorted, polished).
 
     Degree ≤ 2 in closed form; otherwise the eigenvalues of the companion matrix.
@@ -130,7 +130,7 @@ def real_roots_in(poly: FloatArray | list[float], lo: float, hi: float, slack: f
     if scale == 0.0:
         return []
     c = [x / scale for x in c]
-    while len(c) > 1 and abs(c[-1]) < 1e-13:  # leading coefficients that are rounding noise
+    while len(c) > 1 and abs(c[-1]) < COEFF_NOISE:  # leading coefficients that are rounding noise
         c.pop()
     if len(c) <= 1:
         return []
@@ -153,7 +153,7 @@ def _quadratic_roots(c: list[float]) -> list[float]:
         return [-c[0] / c[1]]
     a, b, k = c[2], c[1], c[0]
     disc = b * b - 4 * a * k
-    if disc < -1e-14 * max(b * b, abs(4 * a * k)):
+    if disc < -DISCRIMINANT_REL * max(b * b, abs(4 * a * k)):
         return []
     r = math.sqrt(max(disc, 0.0))
     q = -0.5 * (b + math.copysign(r, b))  # avoids cancellation
@@ -169,7 +169,7 @@ def _companion_roots(c: list[float]) -> list[float]:
     C[1:, :-1] = np.eye(n - 1)
     C[:, -1] = [-x / c[-1] for x in c[:-1]]
     ev = np.linalg.eigvals(C)
-    return [float(z.real) for z in ev if abs(z.imag) <= 1e-7 * max(1.0, abs(z.real))]
+    return [float(z.real) for z in ev if abs(z.imag) <= IMAG_REL * max(1.0, abs(z.real))]
 
 
 @dataclass(frozen=True, eq=False)

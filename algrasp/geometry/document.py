@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from algrasp.errors import LimitExceededError, PartDocumentError
+from algrasp.geometry.angles import to_rad
 from algrasp.geometry.limits import DEFAULT_LIMITS, Limits
 from algrasp.geometry.segments import Bezier, EllipseArc, Line, Segment
 
@@ -67,7 +68,7 @@ def _sweep(seg: Mapping[str, Any], field: str, index: int) -> tuple[float, float
         raise PartDocumentError(f"{field}.end_deg", f"arc sweeps {abs(b - a):g}°, more than 360°", index)
     if a == b:
         raise PartDocumentError(f"{field}.end_deg", "zero-length arc (start_deg equals end_deg)", index)
-    return math.radians(a), math.radians(b)
+    return to_rad(a), to_rad(b)
 
 
 def parse_segment(seg: Any, field: str, index: int, limits: Limits) -> Segment:
@@ -95,7 +96,7 @@ def parse_segment(seg: Any, field: str, index: int, limits: Limits) -> Segment:
         c = point(seg["center"], f"{field}.center", index, limits)
         rx = _length(seg["rx"], f"{field}.rx", index, limits)
         ry = _length(seg["ry"], f"{field}.ry", index, limits)
-        rot = math.radians(number(seg.get("rotation_deg", 0.0), f"{field}.rotation_deg", index))
+        rot = to_rad(number(seg.get("rotation_deg", 0.0), f"{field}.rotation_deg", index))
         a, b = _sweep(seg, field, index)
         return EllipseArc(c, rx, ry, rot, a, b, is_circle=rx == ry)
     return _parse_bezier(seg, field, index, limits)

@@ -34,7 +34,7 @@ from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.bank import IntArray
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.hull import ConvexHull, HullFeature, unit
-from algrasp.geometry.tolerances import Tolerances
+from algrasp.geometry.tolerances import EPS_REL, ROUNDING_FINE, Tolerances
 
 Kind = Literal["diameter", "radius"]
 Equilibrium = Literal["stable", "unstable", "semistable", "semiunstable"]
@@ -198,7 +198,7 @@ def _refine(f: _Derivative, near: IntArray, far: IntArray, lo: FloatArray, hi: F
         left = fn * fhi[a] > 0.0  # the root lies left of xn: xn is the new right end
         hi[a[left]], fhi[a[left]] = xn[left], fn[left]
         lo[a[~left]], flo[a[~left]] = xn[~left], fn[~left]
-        tiny = 1e-15 + 4e-16 * np.abs(xn)
+        tiny = ROUNDING_FINE + EPS_REL * np.abs(xn)
         active[a[(fn == 0.0) | (step <= tiny) | (hi[a] - lo[a] <= tiny)]] = False
     return x
 

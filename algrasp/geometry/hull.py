@@ -23,7 +23,7 @@ from scipy.spatial import ConvexHull as Qhull
 from scipy.spatial import QhullError
 
 from algrasp.errors import GeometryError
-from algrasp.geometry.angles import TWO_PI
+from algrasp.geometry.angles import TWO_PI, to_deg
 from algrasp.geometry.bank import FeatureTable
 from algrasp.geometry.curves import FloatArray, Piece
 from algrasp.geometry.hull_loop import (
@@ -35,7 +35,7 @@ from algrasp.geometry.hull_loop import (
     verified_edge,
 )
 from algrasp.geometry.segments import Segment, gauss_legendre_01
-from algrasp.geometry.tolerances import Tolerances
+from algrasp.geometry.tolerances import HULL_TURN_RAD, Tolerances
 
 
 def unit(psi: FloatArray | float) -> FloatArray:
@@ -244,8 +244,8 @@ def _features(loop: Loop, elems: list[_Element], tol: Tolerances) -> list[HullFe
         else:
             feats.append(HullFeature("curve", a, b, piece=p, s0=el[2], s1=el[3]))
     total = feats[-1].psi1 - feats[0].psi0
-    if abs(total - TWO_PI) > 1e-7:
-        raise GeometryError(f"hull normals cover {np.degrees(total):.6f}° instead of 360°")
+    if abs(total - TWO_PI) > HULL_TURN_RAD:
+        raise GeometryError(f"hull normals cover {to_deg(total):.6f}° instead of 360°")
     # Tile S¹ exactly: each range ends where the next begins.
     return [HullFeature(f.kind, f.psi0, feats[i + 1].psi0 if i + 1 < len(feats) else feats[0].psi0 + TWO_PI,
                         f.center, f.radius, f.piece, f.s0, f.s1) for i, f in enumerate(feats)]

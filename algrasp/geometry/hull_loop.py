@@ -20,6 +20,13 @@ from algrasp.geometry.segments import Line, Segment
 from algrasp.geometry.tolerances import LENGTH_REL, PARAM_END, ROUNDING, ROUNDING_FINE, Tolerances
 
 _SAMPLE_GRID = 33  # uniform parameters per piece before refining by turn
+SLIDE_PARAM = 1e-6
+"""A vertex contact slides this far (curve parameter) onto the adjacent curve; the edge
+solver then finds the true tangency from there."""
+OUTSIDE_REL = 1e-10
+"""A hull edge is verified when no piece lies beyond it by more than this × the part's size."""
+CUT_SPACING = 1e-4
+"""A quadrant cut this close (curve parameter) to another cut is skipped (see _cuts)."""
 
 
 # --------------------------------------------------------------------------- pieces
@@ -63,7 +70,7 @@ def _convex_split(piece: Piece, size: float) -> list[Piece]:
     # leave a sliver whose tangent is lost to cancellation, so those are skipped.
     edges = sorted({0.0, 1.0, *inflections})
     for c in sorted(real_roots_in(TX, 0.0, 1.0) + real_roots_in(TY, 0.0, 1.0)):
-        if min(abs(c - e) for e in edges) > 1e-4:
+        if min(abs(c - e) for e in edges) > CUT_SPACING:
             edges = sorted([*edges, c])
     kept = []
     for a, b in zip(edges[:-1], edges[1:]):
@@ -258,11 +265,11 @@ def _slide(loop: Loop, a: Contact, b: Contact, psi_edge: float) -> tuple[Contact
     if a[0] >= 0:
         for k, v in enumerate(loop.end_vertex):
             if v == a[0] and _ahead(float(loop.pieces[k].normal_angle(1.0)), psi_edge):
-                return (-1, k, 1.0 - 1e-6), b
+                return (-1, k, 1.0 - SLIDE_PARAM), b
     if b[0] >= 0:
         for k, v in enumerate(loop.start_vertex):
             if v == b[0] and _ahead(psi_edge, float(loop.pieces[k].normal_angle(0.0))):
-                return a, (-1, k, 1e-6)
+                return a, (-1, k, SLIDE_PARAM)
     return None
 
 
@@ -273,14 +280,14 @@ def _ahead(psi: float, other: float) -> bool:
 
 def verified_edge(loop: Loop, a: Contact, b: Contact, size: float) -> tuple[Contact, Contact]:
     """Solve the edge near contacts a, b and verify that no piece lies beyond it (within
-    1e-10 of the part's size); a contact at a vertex slides onto an adjacent curve when
+    ``OUTSIDE_REL`` of the part's size); a contact at a vertex slides onto an adjacent curve when
     the edge would turn back against that curve's end tangent."""
     verified: tuple[Contact, Contact] | None = None
     for _ in range(12):
         a, b = _solve_edge(loop, a, b, size)
         pa, pb = contact_point(loop, a), contact_point(loop, b)
         worst, where = _worst_outside(loop, pa, pb)
-        if worst <= 1e-10 * size:
+        if worst <= OUTSIDE_REL * size:
             verified = (a, b)
             d = pb - pa
             slid = _slide(loop, a, b, float(np.arctan2(-d[0], d[1])))

@@ -18,6 +18,7 @@ import shapely
 from shapely.geometry import LineString, Point, Polygon
 
 from algrasp.errors import PartDocumentError
+from algrasp.geometry.angles import to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.document import number, parse_loops
 from algrasp.geometry.hull import ConvexHull, exact_hull
@@ -27,7 +28,7 @@ from algrasp.geometry.recognise import exact_circles, snap_tessellations
 from algrasp.geometry.segments import Bezier, Line, Segment, loop_polyline, split_cusps
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES, Tolerances
 
-_TESSELLATION_TURN_RAD = np.radians(2.0)  # only for the simplicity check, never for analysis
+_TESSELLATION_TURN_RAD = to_rad(2.0)  # only for the simplicity check, never for analysis
 
 
 @dataclass(frozen=True)

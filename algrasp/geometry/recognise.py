@@ -20,13 +20,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from algrasp.geometry.angles import to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.segments import Bezier, EllipseArc, Line, Segment
 from algrasp.geometry.tolerances import ROUNDING, TINY, Tolerances
 
 _SAMPLES = 33
 """Points checked on a Bezier segment (ends included) for circle recognition."""
-_MIN_ARC_SWEEP_RAD = np.radians(10.0)
+_MIN_ARC_SWEEP_RAD = to_rad(10.0)
 """Shortest sweep of a polynomial Bezier taken for an arc approximation."""
 _RIPPLE_SAMPLES = 65
 """Points sampled along a cubic to measure its radial ripple against the fitted circle."""

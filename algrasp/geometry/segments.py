@@ -13,6 +13,7 @@ from functools import cached_property, lru_cache
 
 import numpy as np
 
+from algrasp.geometry.angles import to_deg
 from algrasp.geometry.curves import (
     FloatArray,
     Piece,
@@ -135,10 +136,10 @@ class EllipseArc:
     def to_dict(self) -> dict[str, object]:
         if self.is_circle:
             return {"type": "arc", "center": list(self.center), "radius": self.rx,
-                    "start_deg": float(np.degrees(self.start_t)), "end_deg": float(np.degrees(self.end_t))}
+                    "start_deg": float(to_deg(self.start_t)), "end_deg": float(to_deg(self.end_t))}
         return {"type": "ellipse_arc", "center": list(self.center), "rx": self.rx, "ry": self.ry,
-                "rotation_deg": float(np.degrees(self.rotation)),
-                "start_deg": float(np.degrees(self.start_t)), "end_deg": float(np.degrees(self.end_t))}
+                "rotation_deg": float(to_deg(self.rotation)),
+                "start_deg": float(to_deg(self.start_t)), "end_deg": float(to_deg(self.end_t))}
 
 
 def _trig_integral(f: Callable[[FloatArray], FloatArray], t0: float, t1: float) -> list[float]:

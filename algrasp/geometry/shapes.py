@@ -11,11 +11,13 @@ from typing import Any
 
 import numpy as np
 
+from algrasp.geometry.angles import to_deg, to_rad
+
 Doc = dict[str, Any]
 
 
 def _pt(r: float, deg: float, c: tuple[float, float] = (0.0, 0.0)) -> list[float]:
-    return [c[0] + r * math.cos(math.radians(deg)), c[1] + r * math.sin(math.radians(deg))]
+    return [c[0] + r * math.cos(to_rad(deg)), c[1] + r * math.sin(to_rad(deg))]
 
 
 def pie(radius: float = 5.0, half_angle_deg: float = 20.0, com: tuple[float, float] | None = None) -> Doc:
@@ -60,7 +62,7 @@ def reuleaux(width: float = 1.0) -> Doc:
     segs = []
     for k in range(3):
         c = v[(k + 2) % 3]  # arc from v[k] to v[k+1], centred at the third vertex
-        a0 = math.degrees(math.atan2(v[k][1] - c[1], v[k][0] - c[0]))
+        a0 = to_deg(math.atan2(v[k][1] - c[1], v[k][0] - c[0]))
         segs.append({"type": "arc", "center": c, "radius": width, "start_deg": a0, "end_deg": a0 + 60.0})
     return {"name": "reuleaux", "boundary": segs}
 

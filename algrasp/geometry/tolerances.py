@@ -74,6 +74,8 @@ ROUNDING = 1e-12
 curve parameters in [0, 1], lengths relative to the part's size): closer is equal."""
 ROUNDING_FINE = 1e-15
 """A root-finding step (radians or curve parameter) below this is rounding: stop."""
+EPS_REL = 4e-16
+"""Two units of double rounding, relative (2⁻⁵¹ ≈ 4.4e-16, rounded down)."""
 PARAM_END = 1e-9
 """Curve parameters (in [0, 1]) this close to an end are that end."""
 PROBE_RAD = 1e-7
@@ -82,3 +84,18 @@ TINY = 1e-300
 """Guards divisions by a size that may be zero."""
 LENGTH_REL = 1e-9
 """Distances (and curvature × size) below this, relative to the part's size, are zero."""
+COEFF_NOISE = 1e-13
+"""Polynomial coefficients (normalised to the largest) below this are rounding noise."""
+DISCRIMINANT_REL = 1e-14
+"""A quadratic's discriminant above −this × its terms is zero (a double root)."""
+IMAG_REL = 1e-7
+"""An eigenvalue whose imaginary part is below this (relative) is a real root."""
+PLANNING_RAD = 1e-13
+"""Algorithm A′ compares interval ends (radians, lifted) to this: rounding, not margin."""
+SYMMETRY_TOL_RAD = 1e-7
+"""Tolerance on breakpoints and images when testing F(θ + T) = F(θ) + T: root finding
+places curved breakpoints to ~1e-12 rad, far inside this."""
+HULL_TURN_RAD = 1e-7
+"""The hull's edge normals must turn a full circle to within this (a sanity check)."""
+TIME_ROUNDING_S = 1e-12
+"""Simulated times (seconds) this close are the same instant (a control knot, a step)."""

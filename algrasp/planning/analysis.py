@@ -16,15 +16,11 @@ import numpy as np
 from algrasp.errors import ConfigError, NotOrientableError
 from algrasp.geometry.functions import SupportPairFunction, analyse, wrap
 from algrasp.geometry.part import Part, load_part
-from algrasp.geometry.tolerances import DEFAULT_TOLERANCES, Tolerances
+from algrasp.geometry.tolerances import DEFAULT_TOLERANCES, SYMMETRY_TOL_RAD, Tolerances
 from algrasp.planning.deadband import DEFAULT_PHYSICS, DeadBand, Physics, dead_band
 from algrasp.planning.documents import AnalysisDocument, FunctionDocument, SetTransferDocument, TransferDocument
 from algrasp.planning.setvalued import SetTransfer, set_transfer
 from algrasp.planning.transfer import TransferFunction, from_runs
-
-SYMMETRY_TOL_RAD = 1e-7
-"""Tolerance on breakpoints and images when testing F(θ + T) = F(θ) + T: root finding
-places curved breakpoints to ~1e-12 rad, far inside this."""
 
 
 @dataclass(frozen=True)

@@ -21,8 +21,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from algrasp.errors import NotOrientableError
+from algrasp.geometry.angles import to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
-from algrasp.geometry.tolerances import ROUNDING
+from algrasp.geometry.tolerances import PLANNING_RAD, ROUNDING
 from algrasp.planning.transfer import TransferFunction
 
 STRICT_RAD = 1e-9
@@ -121,7 +122,7 @@ def widest_step(F: TransferFunction) -> tuple[float, float]:
 
 
 def algorithm_a_prime(F: TransferFunction, T: float, min_margin: float = 0.0,
-                      tol: float = 1e-13) -> list[tuple[float, float]]:
+                      tol: float = PLANNING_RAD) -> list[tuple[float, float]]:
     """Θ₁ … Θ_N (radians, lifted, [a, b)); the last has width T.
 
     With ``min_margin`` > 0 every image must fit with that much to spare on both
@@ -164,7 +165,7 @@ def _widest(F: TransferFunction, lifted: _Lifted, room: float) -> tuple[float, f
 
 
 def set_a_prime(lower: TransferFunction, upper: TransferFunction, T: float, circle: float, min_margin: float = 0.0,
-                max_final_rad: float = np.pi, tol: float = 1e-13) -> list[tuple[float, float]]:
+                max_final_rad: float = np.pi, tol: float = PLANNING_RAD) -> list[tuple[float, float]]:
     """Algorithm A′ on a set-valued function (conventions §7): the image of [a, b) is
     [lower(a), upper(b⁻)]; the whole circle's image is ``circle`` wide.
 
@@ -192,7 +193,7 @@ def set_a_prime(lower: TransferFunction, upper: TransferFunction, T: float, circ
     raise AssertionError("unreachable")
 
 
-PRECISE_RAD = np.radians(1.0)
+PRECISE_RAD = to_rad(1.0)
 """Final images at most this wide count as precise: among them the shortest plan wins
 (then the narrower image); wider ones only when no precise plan exists."""
 MAX_SINKS = 8
@@ -208,9 +209,9 @@ def _sink_widths(lower: TransferFunction, upper: TransferFunction, lifted: _Lift
 
 
 def _margin_error(margin: float, intervals: list[tuple[float, float]]) -> NotOrientableError:
-    width = np.degrees(intervals[-1][1] - intervals[-1][0])
+    width = to_deg(intervals[-1][1] - intervals[-1][0])
     return NotOrientableError("margin_too_large",
-                              f"no plan tolerates a gripper error of {np.degrees(margin):g}°: with that margin "
+                              f"no plan tolerates a gripper error of {to_deg(margin):g}°: with that margin "
                               f"the widest interval that can be collapsed is {width:.6g}°")
 
 

@@ -17,16 +17,16 @@ from typing import Literal
 import numpy as np
 
 from algrasp.errors import ConfigError, NotOrientableError
+from algrasp.geometry.angles import to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import wrap
-from algrasp.geometry.tolerances import PROBE_RAD, ROUNDING
+from algrasp.geometry.tolerances import PROBE_RAD, ROUNDING, SYMMETRY_TOL_RAD
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.planner import GUARD_RAD, algorithm_a_prime, images, set_a_prime
 from algrasp.planning.setvalued import SetTransfer
 from algrasp.planning.transfer import TransferFunction
 
 Action = Literal["squeeze", "push_grasp"]
-SYMMETRY_TOL_RAD = 1e-7
 FINAL_CLUSTER_RAD = 1e-6
 """Final orientations closer than this are one orientation in verification."""
 VERIFY_SAMPLES = 3600
@@ -177,12 +177,12 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -
         raise ConfigError("min_margin_deg", f"must be in [0, 180), got {min_margin_deg}")
     band = None if analysis.robust is None else analysis.robust.band
     if band is not None and (band.kappa_d > 0.0 or band.kappa_r > 0.0):
-        return _robust_plan(analysis, action, np.radians(min_margin_deg))
+        return _robust_plan(analysis, action, to_rad(min_margin_deg))
     # κ = 0 (no friction, exact drawing): the paper's exact model, conventions §7.
     F = transfer_for(analysis, action)
     t0 = time.perf_counter()
     T = F.symmetry_period(SYMMETRY_TOL_RAD)
-    intervals = algorithm_a_prime(F, T, np.radians(min_margin_deg))
+    intervals = algorithm_a_prime(F, T, to_rad(min_margin_deg))
     steps = gripper_steps(F, intervals)
     finals = final_orientations(F, intervals, T)
     t1 = time.perf_counter()

@@ -25,8 +25,17 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from algrasp.geometry.tolerances import TIME_ROUNDING_S
 from algrasp.geometry.units import UNIT_TO_M, meters_per_unit  # noqa: F401 - re-exported for the adapter
 from algrasp.planning.deadband import DEFAULT_PHYSICS, Physics
+
+MIN_THICKNESS_M = 1e-3
+"""Jaws, gripper slab and extruded part are at least this thick: Drake needs volume."""
+BODY_GYRATION_M2 = (1e-3, 1e-3, 1e-3)
+"""Unit inertia of the gripper and jaws. They are driven kinematically, so their inertia
+only conditions the contact solver; any value of this order gives the same trajectories."""
+OPEN_CLEARANCE_M = 1e-3
+"""Open jaws start this far beyond the part's reach, so no sample starts in contact."""
 
 
 @dataclass(frozen=True)
@@ -122,8 +131,8 @@ def sampled_schedule(steps: list[SampledStep], half_open_m: float, push_ends_s: 
     for k, (t, g, lo, hi, centre, settle) in enumerate(steps):
         for i in range(len(t) - 1):
             phases.append(Phase(t0 + t[i], t0 + t[i + 1], (g[i], g[i + 1]), (lo[i], lo[i + 1]), (hi[i], hi[i + 1]), k,
-                                centre=centre is not None and abs(t[i] - centre) < 1e-12,
-                                settle=settle is not None and abs(t[i + 1] - settle) < 1e-12))
+                                centre=centre is not None and abs(t[i] - centre) < TIME_ROUNDING_S,
+                                settle=settle is not None and abs(t[i + 1] - settle) < TIME_ROUNDING_S))
         t0 += t[-1]
     return SimSchedule(tuple(phases), half_open_m, push_ends_s)
 

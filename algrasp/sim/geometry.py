@@ -8,8 +8,10 @@ import numpy as np
 
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.part import Part
+from algrasp.geometry.tolerances import ROUNDING, TINY
+from algrasp.geometry.units import meters_per_unit
 from algrasp.planning.deadband import mean_radius
-from algrasp.sim.config import SimConfig, meters_per_unit
+from algrasp.sim.config import MIN_THICKNESS_M, SimConfig
 
 
 @dataclass(frozen=True)
@@ -26,7 +28,7 @@ class Geometry:
 def jaw_size_m(geom: Geometry) -> tuple[float, float]:
     """Length and thickness (m) of the jaw boxes: long enough to cover the part at any
     offset, thick enough for a stable hydroelastic contact."""
-    return 5.0 * geom.reach_m, max(0.3 * geom.reach_m, 1e-3)
+    return 5.0 * geom.reach_m, max(0.3 * geom.reach_m, MIN_THICKNESS_M)
 
 
 def extent_midpoint(outline_m: FloatArray, x: float, y: float, theta: float, n: FloatArray) -> float:
@@ -76,7 +78,7 @@ def collision_outline(part: Part, turn_rad: float, min_chord: float) -> tuple[Fl
         for a, b in zip(keep[:-1], keep[1:]):
             seg = dense[a:b + 1]
             d = seg[-1] - seg[0]
-            n = np.array([-d[1], d[0]]) / max(float(np.hypot(*d)), 1e-300)
+            n = np.array([-d[1], d[0]]) / max(float(np.hypot(*d)), TINY)
             worst = max(worst, float(np.max(np.abs((seg - seg[0]) @ n))))
         pts.append(dense[keep])
         corners.append(np.zeros(len(keep), dtype=bool))
@@ -93,7 +95,7 @@ def _space(pts: FloatArray, corner: np.ndarray, gap: float) -> FloatArray:
                 continue
             if not corner[kept[-1]]:
                 kept.pop()
-            elif float(np.hypot(*(pts[i] - pts[kept[-1]]))) < 1e-12:
+            elif float(np.hypot(*(pts[i] - pts[kept[-1]]))) < ROUNDING:
                 continue
         kept.append(i)
     while len(kept) > 3 and float(np.hypot(*(pts[kept[-1]] - pts[kept[0]]))) < gap and not corner[kept[-1]]:

@@ -35,7 +35,8 @@ from pydrake.systems.framework import BasicVector, DiagramBuilder, LeafSystem
 
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.part import Part
-from algrasp.sim.config import DEFAULT_SIM, Phase, SimConfig
+from algrasp.geometry.tolerances import PARAM_END, TIME_ROUNDING_S
+from algrasp.sim.config import BODY_GYRATION_M2, DEFAULT_SIM, MIN_THICKNESS_M, Phase, SimConfig
 from algrasp.sim.geometry import extent_midpoint, jaw_size_m, part_geometry
 
 FRICTIONLESS = CoulombFriction(0.0, 0.0)
@@ -139,7 +140,7 @@ class PlanarGripperSim:
 
     def _add_bodies(self, plant: Any) -> None:
         cfg, g = self.cfg, self.geom
-        thick = max(0.2 * g.reach_m, 1e-3)
+        thick = max(0.2 * g.reach_m, MIN_THICKNESS_M)
         m = cfg.part_mass_kg
         izz = g.polar_per_area_m2
         ixx = izz / 2 + thick * thick / 12
@@ -149,11 +150,11 @@ class PlanarGripperSim:
         AddCompliantHydroelasticProperties(g.reach_m, cfg.hydroelastic_modulus_pa, props)
         _contact_material(props, cfg)
         plant.RegisterCollisionGeometry(part, RigidTransform(), Convex(pts.T, "part_hull"), "part", props)
-        gripper = plant.AddRigidBody("gripper", SpatialInertia(0.1, np.zeros(3), UnitInertia(1e-3, 1e-3, 1e-3)))
+        gripper = plant.AddRigidBody("gripper", SpatialInertia(0.1, np.zeros(3), UnitInertia(*BODY_GYRATION_M2)))
         jaw_len, jaw_t = jaw_size_m(g)
         jaws = {}
         for name, side in (("lower", -1.0), ("higher", 1.0)):
-            body = plant.AddRigidBody(f"jaw_{name}", SpatialInertia(0.05, np.zeros(3), UnitInertia(1e-3, 1e-3, 1e-3)))
+            body = plant.AddRigidBody(f"jaw_{name}", SpatialInertia(0.05, np.zeros(3), UnitInertia(*BODY_GYRATION_M2)))
             jp = ProximityProperties()
             AddRigidHydroelasticProperties(jaw_t, jp)
             _contact_material(jp, cfg)
@@ -212,8 +213,8 @@ class PlanarGripperSim:
         ctx = self.simulator.get_context()
         if self._record:
             step = 1.0 / self.cfg.record_hz
-            k = math.floor(ctx.get_time() / step + 1e-9) + 1
-            while k * step < t - 1e-12:
+            k = math.floor(ctx.get_time() / step + PARAM_END) + 1
+            while k * step < t - TIME_ROUNDING_S:
                 self.simulator.AdvanceTo(k * step)
                 samples.append(self._sample(k * step, self.plant.GetPositions(pc)))
                 k += 1
@@ -237,7 +238,7 @@ class PlanarGripperSim:
         before = self._pose(pc)
         while quiet < cfg.settle_quiet_s:
             t = self.simulator.get_context().get_time()
-            if ctl.hold_at is None and t >= s + ctl.delay - 1e-12:
+            if ctl.hold_at is None and t >= s + ctl.delay - TIME_ROUNDING_S:
                 ctl.hold_at = s
             if ctl.hold_at is not None and held >= cfg.settle_max_s:
                 break

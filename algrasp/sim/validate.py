@@ -20,9 +20,11 @@ from typing import Any, Literal
 import numpy as np
 
 from algrasp.errors import SimulationError
+from algrasp.geometry.angles import to_deg, to_rad
+from algrasp.geometry.tolerances import SYMMETRY_TOL_RAD
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.plans import Plan
-from algrasp.sim.config import DEFAULT_SIM, SimConfig, SimSchedule, schedule
+from algrasp.sim.config import DEFAULT_SIM, OPEN_CLEARANCE_M, SimConfig, SimSchedule, schedule
 from algrasp.sim.geometry import Geometry, part_geometry
 
 Placement = Literal["centred", "random"]
@@ -142,7 +144,7 @@ def _task(task: SimTask) -> tuple[float, list[float], float, list[tuple[float, .
 def default_schedule(plan: Plan, geom: Geometry, cfg: SimConfig) -> SimSchedule:
     """The constant-speed profile used when no optimised execution is given: jaws open
     to ``open_margin_factor``·reach, push ``push_distance_factor``·reach past the centre."""
-    W = cfg.open_margin_factor * geom.reach_m + 1e-3
+    W = cfg.open_margin_factor * geom.reach_m + OPEN_CLEARANCE_M
     angles = [s.gripper_angle for s in plan.steps]
     phases = schedule(angles, plan.action, W, cfg.push_distance_factor * geom.reach_m, cfg, reach_m=geom.reach_m)
     return SimSchedule(tuple(phases), W)
@@ -172,7 +174,7 @@ class ValidationPool:
 
 
 def _wrap_deg(x: float) -> float:
-    return float(math.degrees(x) % 360.0)
+    return float(to_deg(x) % 360.0)
 
 
 def _near_unstable(plan: Plan, phi0: float) -> bool:
@@ -180,7 +182,7 @@ def _near_unstable(plan: Plan, phi0: float) -> bool:
     of its transfer function: an unstable or semiunstable equilibrium (Appendix A)."""
     theta = phi0 - plan.steps[0].gripper_angle
     P = plan.transfer.period
-    tol = math.radians(NEAR_UNSTABLE_DEG)
+    tol = to_rad(NEAR_UNSTABLE_DEG)
     for p in plan.transfer.pieces:
         d = (theta - p.start) % P
         if min(d, P - d) < tol:
@@ -226,7 +228,7 @@ def _sample(analysis: Analysis, plan: Plan, phi0: float, offset_m: float, predic
     # (conventions §7); which one a start near an unstable equilibrium reaches is not
     # predicted, so it agrees with any. An exact plan is held to its per-sample prediction,
     # up to rotations that map the part onto itself (the same pose).
-    allowed = tolerance_deg + math.degrees(plan.final_uncertainty)
+    allowed = tolerance_deg + to_deg(plan.final_uncertainty)
     sym = _part_symmetry(analysis)
     targets = list(plan.final_orientations) if plan.bounds is not None else [predicted]
     err = min(_angle_err_deg(sim_phi, t + k * sym) for t in targets for k in range(int(round(2 * math.pi / sym))))
@@ -245,8 +247,8 @@ def _part_symmetry(analysis: Analysis) -> float:
     sees the whole outline and the centre of mass (to the drawing's tolerance when robust)."""
     if analysis.robust is not None and analysis.robust.push is not None:
         return analysis.robust.push.symmetry
-    return analysis.push.symmetry_period(1e-7)
+    return analysis.push.symmetry_period(SYMMETRY_TOL_RAD)
 
 
 def _angle_err_deg(a: float, b: float) -> float:
-    return abs((math.degrees(a - b) + 180.0) % 360.0 - 180.0)
+    return abs((to_deg(a - b) + 180.0) % 360.0 - 180.0)

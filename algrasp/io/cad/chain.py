@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from algrasp.errors import PartDocumentError
+from algrasp.geometry.angles import to_rad
 from algrasp.geometry.tolerances import ROUNDING
 
 Segment = dict[str, Any]
@@ -31,7 +32,7 @@ class Piece:
 
 
 def _ellipse_point(s: Segment, deg: float) -> np.ndarray:
-    t, rot = math.radians(deg), math.radians(s.get("rotation_deg", 0.0))
+    t, rot = to_rad(deg), to_rad(s.get("rotation_deg", 0.0))
     x, y = s["rx"] * math.cos(t), s["ry"] * math.sin(t)
     return np.array(s["center"]) + [x * math.cos(rot) - y * math.sin(rot), x * math.sin(rot) + y * math.cos(rot)]
 
@@ -45,7 +46,7 @@ def point_at(s: Segment, end: bool) -> np.ndarray:
         return np.array(s["points"][-1 if end else 0], dtype=float)
     deg = s["end_deg" if end else "start_deg"]
     if kind == "arc":
-        a = math.radians(deg)
+        a = to_rad(deg)
         return np.array(s["center"]) + s["radius"] * np.array([math.cos(a), math.sin(a)])
     return _ellipse_point(s, deg)
 
@@ -88,8 +89,8 @@ def samples(s: Segment, n: int = 16) -> np.ndarray:
         k = len(P) - 1
         B = np.hstack([math.comb(k, i) * t**i * (1 - t) ** (k - i) for i in range(k + 1)]) * w
         return np.asarray((B @ P) / B.sum(axis=1, keepdims=True))
-    t = np.radians(np.linspace(s["start_deg"], s["end_deg"], n))
-    rot = math.radians(s.get("rotation_deg", 0.0))
+    t = to_rad(np.linspace(s["start_deg"], s["end_deg"], n))
+    rot = to_rad(s.get("rotation_deg", 0.0))
     rx, ry = (s["radius"], s["radius"]) if kind == "arc" else (s["rx"], s["ry"])
     x, y = rx * np.cos(t), ry * np.sin(t)
     c = np.asarray(s["center"], dtype=float)

@@ -19,6 +19,8 @@ from typing import Any
 import numpy as np
 
 from algrasp.errors import PartDocumentError
+from algrasp.geometry.angles import to_deg
+from algrasp.geometry.tolerances import ROUNDING
 from algrasp.io.cad.chain import Piece, Segment
 from algrasp.io.cad.nurbs import nurbs_to_beziers
 
@@ -126,7 +128,7 @@ def _xy(v: Any) -> list[float]:
 
 def _normal_sign(e: Any) -> float:
     z = e.dxf.extrusion if e.dxf.hasattr("extrusion") else (0.0, 0.0, 1.0)
-    if abs(abs(z[2]) - 1.0) > 1e-12:
+    if abs(abs(z[2]) - 1.0) > ROUNDING:
         raise PartDocumentError(_origin(e), "not in the XY plane (extrusion is not ±Z)")
     return 1.0 if z[2] > 0 else -1.0
 
@@ -154,8 +156,8 @@ def _ellipse(e: Any) -> Segment:
     sweep = (t1 - t0) % (2 * math.pi) or 2 * math.pi
     # minor axis = extrusion × major · ratio: with −Z the parameter runs clockwise
     return {"type": "ellipse_arc", "center": _xy(e.dxf.center), "rx": rx, "ry": rx * float(e.dxf.ratio),
-            "rotation_deg": math.degrees(math.atan2(major[1], major[0])),
-            "start_deg": sign * math.degrees(t0), "end_deg": sign * math.degrees(t0 + sweep)}
+            "rotation_deg": to_deg(math.atan2(major[1], major[0])),
+            "start_deg": sign * to_deg(t0), "end_deg": sign * to_deg(t0 + sweep)}
 
 
 def bulge_segment(p1: list[float], p2: list[float], bulge: float) -> Segment:
@@ -167,9 +169,9 @@ def bulge_segment(p1: list[float], p2: list[float], bulge: float) -> Segment:
     v = np.subtract(p2, p1)
     L = float(np.hypot(*v))
     c = (np.add(p1, p2) / 2 + np.array([-v[1], v[0]]) / L * (L / (2 * math.tan(theta / 2)))) if L > 0 else np.array(p1)
-    start = math.degrees(math.atan2(p1[1] - c[1], p1[0] - c[0]))
+    start = to_deg(math.atan2(p1[1] - c[1], p1[0] - c[0]))
     return {"type": "arc", "center": _xy(c), "radius": L / (2 * abs(math.sin(theta / 2))), "start_deg": start,
-            "end_deg": start + math.degrees(theta)}
+            "end_deg": start + to_deg(theta)}
 
 
 def _polyline(e: Any) -> list[Segment]:

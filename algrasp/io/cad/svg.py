@@ -9,10 +9,10 @@ degree; elliptical arcs become exact ``arc``/``ellipse_arc`` segments.
 from __future__ import annotations
 
 import io
-import math
 from typing import Any
 
 from algrasp.errors import PartDocumentError
+from algrasp.geometry.angles import to_deg
 from algrasp.io.cad.chain import Piece, Segment
 
 MM_PER_PX = 1.0 / (96.0 * 0.0393701)
@@ -32,10 +32,10 @@ def _arc(s: Any) -> Segment:
     c, rx, ry = _pt(s.center), float(s.rx) * MM_PER_PX, float(s.ry) * MM_PER_PX
     # after y ↦ −y: rotation ↦ −rotation and parameter t ↦ −t
     if abs(rx - ry) <= CIRCULAR_REL * max(rx, ry):
-        start = -math.degrees(t0 + rot)
-        return {"type": "arc", "center": c, "radius": rx, "start_deg": start, "end_deg": start - math.degrees(sweep)}
-    return {"type": "ellipse_arc", "center": c, "rx": rx, "ry": ry, "rotation_deg": -math.degrees(rot),
-            "start_deg": -math.degrees(t0), "end_deg": -math.degrees(t0 + sweep)}
+        start = -to_deg(t0 + rot)
+        return {"type": "arc", "center": c, "radius": rx, "start_deg": start, "end_deg": start - to_deg(sweep)}
+    return {"type": "ellipse_arc", "center": c, "rx": rx, "ry": ry, "rotation_deg": -to_deg(rot),
+            "start_deg": -to_deg(t0), "end_deg": -to_deg(t0 + sweep)}
 
 
 def _segment(s: Any) -> Segment | None:

@@ -27,6 +27,7 @@ import uuid
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from algrasp.geometry.angles import to_deg
 from algrasp.io.record.schemas import TOPICS
 
 if TYPE_CHECKING:  # numpy is not needed to list or replay runs
@@ -181,8 +182,8 @@ class RunRecorder:
             self._writer.add_message(scene_ch, start_ns, scene.SerializeToString(), start_ns)
             for t, x, y, phi, alpha, ql, qh in samples:
                 ns = start_ns + int(t * 1e9)
-                self.write("/sim/state", {"sample": k, "t_s": t, "x_m": x, "y_m": y, "phi_deg": math.degrees(phi),
-                                          "gripper_angle_deg": math.degrees(alpha), "lower_jaw_m": ql,
+                self.write("/sim/state", {"sample": k, "t_s": t, "x_m": x, "y_m": y, "phi_deg": to_deg(phi),
+                                          "gripper_angle_deg": to_deg(alpha), "lower_jaw_m": ql,
                                           "higher_jaw_m": qh}, ns)
                 tf = _transforms(ns, x, y, phi, alpha, ql, qh)
                 self._writer.add_message(tf_ch, ns, tf.SerializeToString(), ns)

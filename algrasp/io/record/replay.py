@@ -16,7 +16,7 @@ from typing import Any
 from algrasp.errors import AlgraspError, PartDocumentError, RecordError
 
 COMPARE_REL = 1e-9
-"""Recomputed numbers within this relative difference (or 1e-9 absolute) are equal."""
+"""Recomputed numbers within this relative difference (or this absolute) are equal."""
 IGNORED_KEYS = {"timings_s", "optimisation_timings_s"}
 """Wall-clock fields differ on every run by nature; they are not differences."""
 
@@ -172,7 +172,7 @@ def _compare(what: str, recorded: Any, recomputed: Any, path: str = "$") -> list
         return [d for i, (a, b) in enumerate(zip(recorded, recomputed)) for d in _compare(what, a, b, f"{path}[{i}]")]
     if isinstance(recorded, (int, float)) and isinstance(recomputed, (int, float)) \
             and not isinstance(recorded, bool) and not isinstance(recomputed, bool):
-        if math.isclose(recorded, recomputed, rel_tol=COMPARE_REL, abs_tol=1e-9):
+        if math.isclose(recorded, recomputed, rel_tol=COMPARE_REL, abs_tol=COMPARE_REL):
             return []
     elif recorded == recomputed:
         return []
