@@ -20,6 +20,7 @@ from fastapi.responses import Response
 from fastapi_offline import FastAPIOffline
 
 from algrasp.errors import ConfigError
+from algrasp.planning.sampled import MAX_SAMPLES
 from service.admission import Gate
 from service.catalogue import canonical_hash
 from service.contract import ERRORS, IMPORTED, NOT_FOUND, AnalysisOut, PlanOut, ok, typed
@@ -84,7 +85,7 @@ def create_app(settings: Settings | None = None, warmup: dict[str, Any] | None =
             print(f"planned the example part {warmup.get('name')!r}: {len(plan['steps'])}-step push-grasp plan, "
                   f"cycle {plan['cycle_time_s']:.2f} s, run {plan['run_id']}", flush=True)
         if url:
-            print(f"algrasp service ready: API docs at {url}/docs", flush=True)
+            print(f"algrasp service ready: workbench at {url}/, API docs at {url}/docs", flush=True)
         yield
         sweeper.cancel()
         svc.runner.stop_all()
@@ -103,6 +104,9 @@ def create_app(settings: Settings | None = None, warmup: dict[str, Any] | None =
 
     app.include_router(runs_router, responses={**ERRORS, **NOT_FOUND})
     app.include_router(jobs_router, dependencies=[Depends(require_key)], responses={**ERRORS, **NOT_FOUND})
+    from service.web import mount
+
+    mount(app)
     _typed_openapi(app)
     return app
 
@@ -137,16 +141,20 @@ async def _cached(request: Request, key: str, compute: Any, option: str) -> tupl
 
 @router.post("/v1/analyses", tags=["plans"], dependencies=AUTH, responses=ok(AnalysisOut))
 async def analyses(request: Request, part: PartJson,
-                   exact: bool = Query(False, description="the paper's exact frictionless model (no dead band)")) -> Response:
+                   exact: bool = Query(False, description="the paper's exact frictionless model (no dead band)"),
+                   samples: int = Query(0, ge=0, le=MAX_SAMPLES, description="with samples > 0: add `geometry` (outline, "
+                                        "holes, hull, centre of mass) and `curves` (d, r, Γ, p, Γ∘p at samples θ in [0, 360))"
+                                        " for drawing")) -> Response:
     """Part document → the analysis object of ``algrasp analyze --json`` (robust model
-    with the default physics, or ``?exact=true``)."""
+    with the default physics, or ``?exact=true``), plus drawing samples when asked for."""
     from algrasp.io.record.recorder import new_run_id
 
     svc = state(request)
-    key = canonical_hash(["analysis", VERSION, part, exact])
+    key = canonical_hash(["analysis", VERSION, part, exact, samples])
 
     async def compute() -> Any:
-        return await run_task(svc, "fast", who(request), analysis_task, part, str(svc.settings.log_dir), {"exact": exact},
+        options = {"exact": exact, "samples": samples}
+        return await run_task(svc, "fast", who(request), analysis_task, part, str(svc.settings.log_dir), options,
                               timeout_s=svc.settings.analysis_time_limit_s, stage="analysis", run_id=new_run_id())
 
     response, cached = await _cached(request, key, compute, "the part's size")

@@ -130,8 +130,32 @@ class PlanOut(_Open):
     validation: dict[str, Any] | None = Field(None, description="with validate: agreement and per-sample outcomes")
 
 
+class GeometryOut(_Open):
+    """The part drawn (part frame, part unit): closed polylines, first point not repeated."""
+
+    outline: list[Point]
+    holes: list[list[Point]]
+    hull: list[Point]
+    center_of_mass: Point
+
+
+class CurvesOut(_Open):
+    """d, r and the exact transfer functions (lifted, deg) on a regular θ grid in [0, 360)."""
+
+    theta_deg: list[float]
+    diameter: list[float]
+    radius: list[float]
+    squeeze_deg: list[float]
+    push_deg: list[float]
+    push_grasp_deg: list[float]
+
+
 class AnalysisOut(_Open):
-    """``POST /v1/analyses``: the part, its functions and transfer functions."""
+    """``POST /v1/analyses``: the part, its functions and transfer functions (and with
+    ``samples`` the drawing samples ``geometry`` and ``curves``)."""
+
+    geometry: GeometryOut | None = None
+    curves: CurvesOut | None = None
 
     part: dict[str, Any]
     diameter: dict[str, Any]
@@ -170,6 +194,46 @@ class RunDetailOut(RunOut):
     record_error: str | None = None
 
 
+class TrajectoryOut(_Open):
+    """One simulated sample, thinned: lists of equal length; lengths in the part's unit."""
+
+    sample: int
+    t_s: list[float]
+    phi_deg: list[float]
+    gripper_angle_deg: list[float]
+    x: list[float]
+    y: list[float]
+    lower_jaw: list[float]
+    higher_jaw: list[float]
+
+
+class PlaybackOut(_Open):
+    """``GET /v1/runs/{id}/playback``: what a run recorded, for playing it back."""
+
+    run_id: str
+    part: dict[str, Any] = Field(description="the part document as the request gave it")
+    options: dict[str, Any]
+    plan: dict[str, Any] | None
+    validation: dict[str, Any] | None
+    trajectories: list[TrajectoryOut]
+
+
+class ExampleOut(_Open):
+    name: str
+    part: dict[str, Any]
+
+
+class ExamplesOut(_Open):
+    examples: list[ExampleOut]
+
+
+class LayoutOut(_Open):
+    """A Foxglove layout (its own format: panels by id and their arrangement)."""
+
+    configById: dict[str, Any]  # noqa: N815 - Foxglove's field name
+    layout: dict[str, Any] | str
+
+
 class RunsOut(_Open):
     total: int
     limit: int
@@ -181,6 +245,7 @@ class HealthOut(_Open):
     status: Literal["ok"]
     version: str
     executor: str
+    auth_required: bool = Field(description="the other endpoints need `Authorization: Bearer KEY`")
 
 
 class ReadyOut(_Open):
@@ -210,6 +275,20 @@ class JobOut(_Open):
     pending: int
     parts: list[dict[str, Any]]
     progress: dict[str, int]
+
+
+class GripperSpecOut(_Open):
+    """``GET /v1/jobs/{id}/gripper``: the catalogue's gripper specification (mm, s)."""
+
+    parts: int
+    oriented: int
+    jaw_opening_mm: float | None
+    jaw_length_mm: float | None
+    push_stroke_mm: float | None
+    max_cycle_time_s: float | None
+    mean_cycle_time_s: float | None
+    actions: dict[str, int]
+    not_oriented: list[dict[str, Any]]
 
 
 class CancelOut(_Open):

@@ -15,7 +15,7 @@ from starlette.datastructures import UploadFile
 from algrasp.errors import ConfigError, LimitExceededError, PartDocumentError
 from algrasp.io.jsonguard import parse_json
 from service.catalogue import Entry, read_archive
-from service.contract import CancelOut, JobCreatedOut, JobOut, JobsOut, inline, ok
+from service.contract import CancelOut, GripperSpecOut, JobCreatedOut, JobOut, JobsOut, inline, ok
 from service.models import LIMIT, OFFSET, JobBody, JobOptions
 from service.reports import report_zip, results_jsonl
 from service.runtime import check_samples, run_task, who
@@ -122,6 +122,18 @@ async def results(request: Request, job_id: str = Path(pattern=JOB_ID),
     data = await asyncio.to_thread(report_zip, rows, p)
     return Response(data, media_type="application/zip",
                     headers={"Content-Disposition": f'attachment; filename="job-{job_id}.zip"'})
+
+
+@router.get("/{job_id}/gripper", response_model=None, responses=ok(GripperSpecOut))
+async def gripper(request: Request, job_id: str = Path(pattern=JOB_ID)) -> dict[str, Any]:
+    """The gripper specification covering every part oriented so far (``gripper_spec.json``
+    of the results zip): jaw opening and length, push stroke, cycle times, and the parts
+    not oriented with why. Partial while the job runs."""
+    from service.fixture import catalogue_spec
+
+    await _progress(request, job_id)
+    rows = await asyncio.to_thread(_svc(request).store.results, job_id)
+    return catalogue_spec(rows)
 
 
 @router.delete("/{job_id}", response_model=None, responses=ok(CancelOut))

@@ -12,13 +12,13 @@ import uuid
 from pathlib import Path as FilePath
 from typing import Any
 
-from fastapi import APIRouter, HTTPException, Path, Request
+from fastapi import APIRouter, HTTPException, Path, Query, Request
 from fastapi.responses import FileResponse, JSONResponse, PlainTextResponse, Response
 from prometheus_client import CONTENT_TYPE_LATEST, generate_latest
 
 from algrasp.errors import AlgraspError
 from service.catalogue import canonical_hash
-from service.contract import BINARY, HealthOut, ReadyOut, RunDetailOut, RunsOut, media, ok
+from service.contract import BINARY, HealthOut, PlaybackOut, ReadyOut, RunDetailOut, RunsOut, media, ok
 from service.executor import ping
 from service.models import LIMIT, OFFSET
 from service.runtime import AUTH, VERSION, ServiceState, index_run, run_task, state, who
@@ -33,9 +33,10 @@ MIN_FREE_BYTES = 50_000_000
 
 @router.get("/healthz", tags=["service"], response_model=None, responses=ok(HealthOut))
 async def healthz(request: Request) -> dict[str, Any]:
-    """Alive: the process answers (says nothing of its pools or storage: see ``/readyz``)."""
+    """Alive: the process answers (says nothing of its pools or storage: see ``/readyz``);
+    ``auth_required``: whether the other endpoints need an API key."""
     svc = state(request)
-    return {"status": "ok", "version": VERSION, "executor": svc.runner.executor.name}
+    return {"status": "ok", "version": VERSION, "executor": svc.runner.executor.name, "auth_required": bool(svc.settings.keys)}
 
 
 @router.get("/v1/schemas/part", tags=["service"],
@@ -132,6 +133,17 @@ async def run(request: Request, run_id: str = Path(pattern=RUN_ID)) -> dict[str,
 async def record(request: Request, run_id: str = Path(pattern=RUN_ID)) -> FileResponse:
     _, path = _run_file(request, run_id)
     return FileResponse(path, media_type="application/octet-stream", filename=path.name)
+
+
+@router.get("/v1/runs/{run_id}/playback", tags=["runs"], dependencies=AUTH, response_model=None, responses=ok(PlaybackOut))
+async def playback(request: Request, run_id: str = Path(pattern=RUN_ID),
+                   points: int = Query(400, ge=2, le=2000, description="most states per simulated sample")) -> dict[str, Any]:
+    """The recorded part, plan, validation and simulated trajectories (part unit, deg),
+    for playing a run back (422 when the record is damaged)."""
+    from algrasp.io.record.playback import playback as read_playback
+
+    _, path = _run_file(request, run_id)
+    return await asyncio.to_thread(read_playback, path, points)
 
 
 @router.get("/v1/runs/{run_id}/figure.svg", tags=["runs"], dependencies=AUTH, response_class=Response,

@@ -28,14 +28,21 @@ def _run_row(rec: Recording, command: str, doc: dict[str, Any], action: str | No
 def analysis_task(doc: dict[str, Any], record_dir: str, options: dict[str, Any] | None = None,
                   run_id: str | None = None) -> TaskResult:
     """``POST /v1/analyses``: the analysis object of ``algrasp analyze``; ``options``
-    ``{"exact", "physics"}`` choose the model (default robust)."""
+    ``{"exact", "physics"}`` choose the model (default robust); ``"samples"`` > 0 adds the
+    drawing samples of :mod:`algrasp.planning.sampled` (not recorded: they follow from it)."""
     from algrasp.planning.analysis import Model, analyse_document
+    from algrasp.planning.sampled import sampled
 
-    model = Model.from_options(options or {})
+    options = dict(options or {})
+    samples = int(options.pop("samples", 0))
+    model = Model.from_options(options)
     try:
         with recording(True, Path(record_dir), "analyze", doc, model.to_options(), run_id) as rec:
-            out = analyse_document(doc, model).to_dict()
+            analysis = analyse_document(doc, model)
+            out = analysis.to_dict()
             rec.analysis(out)
+            if samples:
+                out = {**out, **sampled(analysis, samples)}
     except StorageError:
         raise  # no run to report: the record could not be written
     except AlgraspError as exc:

@@ -10,11 +10,13 @@ import pytest
 from algrasp import api
 from algrasp.geometry import angles, arcforms, recognise, units
 from algrasp.io import jsonguard
-from algrasp.planning import documents
+from algrasp.planning import documents, sampled
 from service import settings
 
+MODULES = [recognise, arcforms, angles, units, documents, sampled, api, jsonguard, settings]
 
-@pytest.mark.parametrize("module", [recognise, arcforms, angles, units, documents, api, jsonguard, settings], ids=lambda m: m.__name__)
+
+@pytest.mark.parametrize("module", MODULES, ids=lambda m: m.__name__)
 def test_docstring_examples(module: object) -> None:
     result = doctest.testmod(module, raise_on_error=False)  # type: ignore[arg-type]
     assert result.attempted > 0 and result.failed == 0

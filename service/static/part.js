@@ -1,0 +1,168 @@
+// Part & analysis page: pick or upload a part, analyse it (POST /v1/analyses?samples=720),
+// and show the outline, d(θ), r(θ) and the transfer functions; hovering θ anywhere shows
+// the part at that orientation between the jaws.
+
+import { api } from "./api.js";
+import { bounds, documentPolylines, mod } from "./geom.js";
+import { drawScene } from "./scene.js";
+import { el, linePlot, path } from "./svg.js";
+
+const SAMPLES = 720;
+let cursors = [];
+
+export async function loadExamples(state) {
+  const { examples } = await api("/v1/examples");
+  const select = document.getElementById("example");
+  for (const ex of examples) select.append(new Option(ex.name, ex.name));
+  state.examples = Object.fromEntries(examples.map((e) => [e.name, e.part]));
+}
+
+const MAX_THUMBNAILS = 24;
+
+function importForm(file, fields) {
+  const form = new FormData();
+  form.append("file", file);
+  for (const [k, v] of Object.entries(fields)) form.append(k, v);
+  return form;
+}
+
+// A file: a part document (JSON) is used as it is; a drawing goes through /v1/imports:
+// the sheet's listing first, then each part's document (the first MAX_THUMBNAILS).
+export async function importFile(state, file) {
+  if (file.name.toLowerCase().endsWith(".json")) {
+    return { parts: [JSON.parse(await file.text())], warnings: [], ignored: [] };
+  }
+  const sheet = await api("/v1/imports", { form: importForm(file, { list: "true" }) });
+  const parts = [];
+  for (const p of sheet.parts.slice(0, MAX_THUMBNAILS)) {
+    parts.push(await api("/v1/imports", { form: importForm(file, { part: String(p.index) }) }));
+  }
+  if (sheet.parts.length > MAX_THUMBNAILS) sheet.warnings.push(`${sheet.parts.length} parts: only the first ${MAX_THUMBNAILS} are shown`);
+  return { parts, warnings: sheet.warnings, ignored: sheet.ignored };
+}
+
+export function showWarnings(sheet) {
+  const ul = document.getElementById("warnings");
+  const items = [...(sheet.warnings || []), ...(sheet.ignored || []).map((s) => `ignored: ${s}`)];
+  for (const p of sheet.parts) for (const w of (p.source && p.source.warnings) || []) items.push(`${p.name}: ${w}`);
+  ul.replaceChildren(...items.map((w) => Object.assign(document.createElement("li"), { textContent: w })));
+}
+
+// Several parts on a sheet: thumbnails to choose from (drawn from the documents themselves).
+export function showThumbnails(parts, onPick) {
+  const host = document.getElementById("thumbs");
+  host.replaceChildren();
+  if (parts.length < 2) return;
+  parts.forEach((doc, i) => {
+    const { outline, holes } = documentPolylines(doc);
+    const b = bounds(outline);
+    const w = Math.max(b.x1 - b.x0, b.y1 - b.y0) * 1.1 || 1;
+    const svg = el("svg", { viewBox: `${b.x0 - w * 0.05} ${-b.y1 - w * 0.05} ${w} ${w}`, "aria-hidden": "true" });
+    const flip = (pts) => pts.map(([x, y]) => [x, -y]);
+    svg.append(path(flip(outline), { class: "part" }, true), ...holes.map((h) => path(flip(h), { class: "hole" }, true)));
+    const button = document.createElement("button");
+    button.type = "button";
+    button.className = "thumb";
+    button.setAttribute("aria-pressed", "false");
+    button.append(svg, Object.assign(document.createElement("span"), { textContent: doc.name || `part ${i + 1}` }));
+    button.addEventListener("click", () => {
+      host.querySelectorAll(".thumb").forEach((t) => t.setAttribute("aria-pressed", "false"));
+      button.setAttribute("aria-pressed", "true");
+      onPick(doc);
+    });
+    host.append(button);
+  });
+}
+
+export async function analyse(state) {
+  const exact = document.getElementById("exact").checked;
+  state.analysis = await api(`/v1/analyses?samples=${SAMPLES}&exact=${exact}`, { json: state.part });
+  Object.assign(state, { analysisOf: state.part, analysisExact: exact });
+  drawAnalysis(state);
+}
+
+function dead(state, name) {
+  const r = state.analysis.robust;
+  const zones = (r && r[name] && r[name].dead_zones_deg) || [];
+  return zones.map(([a, b]) => ({ x0: a, x1: b, cls: "band-dead" }));
+}
+
+function ramps(tf) {
+  return tf.ramps.map((r) => ({ x0: r.start_deg, x1: r.end_deg, cls: "band-ramp" }));
+}
+
+function extrema(f) {
+  return f.extrema.map((e) => ({ x: e.theta_deg, y: e.value, cls: e.kind === "max" ? "mk-max" : "mk-min",
+    label: `${e.kind} ${e.value.toPrecision(5)} at ${e.theta_deg.toFixed(2)}° (${e.equilibrium})` }));
+}
+
+// The set images of the robust model: θ in [start, end) ends in [lower, upper] (null: θ
+// itself). Values come wrapped into [0, P); each is lifted next to its interval to draw it.
+function imagePolys(state, name, P) {
+  const r = state.analysis.robust;
+  const images = (r && r[name] && r[name].images) || [];
+  return images.map((im) => {
+    const mid = (im.start_deg + im.end_deg) / 2;
+    const lift = (v) => v + P * Math.round((mid - v) / P);
+    const lo = (x) => (im.lower_deg === null ? x : lift(im.lower_deg));
+    const hi = (x) => (im.upper_deg === null ? x : lift(im.upper_deg));
+    const [a, b] = [im.start_deg, im.end_deg];
+    return { points: [[a, lo(a)], [b, lo(b)], [b, hi(b)], [a, hi(a)]], cls: "band-image" };
+  });
+}
+
+function functionPlot(state, hostId, name, key, period, label) {
+  const a = state.analysis, c = a.curves, units = a.part.units;
+  const n = Math.round((c.theta_deg.length * period) / 360);
+  return linePlot(document.getElementById(hostId), {
+    title: `${label}: ● red max, ● green min; grey dead zones, orange constant`,
+    xLabel: "θ, part orientation relative to the gripper (deg)", yLabel: `${key === "diameter" ? "d" : "r"}(θ) (${units})`,
+    xDomain: [0, period], series: [{ xs: c.theta_deg.slice(0, n + 1), ys: c[key].slice(0, n + 1) }],
+    bands: [...dead(state, name), ...a[key].constant_intervals_deg.map(([x0, x1]) => ({ x0, x1, cls: "band-ramp" }))],
+    markers: extrema(a[key]), onHover: (t) => setTheta(state, t),
+  });
+}
+
+function transferPlot(state, name, label) {
+  const a = state.analysis, c = a.curves, tf = a[name];
+  const P = tf.period_deg;
+  const n = Math.round((c.theta_deg.length * P) / 360);
+  const xs = c.theta_deg.slice(0, n), ys = c[`${name}_deg`].slice(0, n);
+  return linePlot(document.getElementById(`plot-${name}`), {
+    title: `${label}: steps, ramps (orange), robust set images (blue)`,
+    xLabel: "θ before (deg)", yLabel: "θ after (deg, lifted)", xDomain: [0, P],
+    series: [{ xs: [0, P], ys: [0, P], cls: "identity" }, { xs, ys, cls: "alt", breakJumps: 1 }],
+    bands: ramps(tf), polys: imagePolys(state, name, P),
+    markers: tf.steps.map((s) => ({ x: mod(s.fixed_point_deg, P), y: mod(s.fixed_point_deg, P), cls: "mk-fixed",
+      label: `fixed point ${s.fixed_point_deg.toFixed(2)}° of step [${s.start_deg.toFixed(2)}, ${s.end_deg.toFixed(2)})` })),
+    onHover: (t) => setTheta(state, t),
+  });
+}
+
+export function drawAnalysis(state) {
+  const a = state.analysis;
+  document.getElementById("analysis").hidden = false;
+  cursors = [
+    functionPlot(state, "plot-d", "squeeze", "diameter", 180, "diameter d(θ)"),
+    functionPlot(state, "plot-r", "push", "radius", 360, "radius r(θ)"),
+    transferPlot(state, "squeeze", "squeeze Γ"),
+    transferPlot(state, "push", "push p"),
+    transferPlot(state, "push_grasp", "push-grasp Γ∘p"),
+  ];
+  const p = a.part;
+  document.getElementById("part-facts").textContent =
+    `${p.name || "part"}: area ${p.area.toPrecision(5)} ${p.units}², hull perimeter ${p.hull_perimeter.toPrecision(5)} ${p.units}; ` +
+    `squeeze ${a.squeeze.orientable ? "orientable" : "not orientable"}, push-grasp ${a.push_grasp.orientable ? "orientable" : "not orientable"}`;
+  setTheta(state, Number(document.getElementById("theta").value));
+}
+
+// θ relative to the gripper; the view shows the gripper at α = 0, so φ = θ.
+export function setTheta(state, theta) {
+  const t = mod(theta, 360);
+  const input = document.getElementById("theta");
+  input.value = t;
+  document.getElementById("theta-out").textContent = `${t.toFixed(1)}°`;
+  drawScene(document.getElementById("part-view"), state.analysis.geometry, { phi: t }, { alpha: 0 },
+    { caption: `θ = ${t.toFixed(1)}°: jaws touching`, label: `the part at θ = ${t.toFixed(1)} degrees between the jaws` });
+  cursors.forEach((c, i) => c.setCursor(i === 0 || i === 2 ? mod(t, 180) : t));
+}

@@ -1,0 +1,156 @@
+// Plan page: POST /v1/plans with the chosen options, the actions, final orientations and
+// their uncertainty, the intervals Θᵢ on the transfer function, and a kinematic animation
+// of the plan from a start orientation the user drags (computed here from the documents).
+
+import { api } from "./api.js";
+import { isClaimed, mod, predict } from "./geom.js";
+import { drawScene, sceneExtent } from "./scene.js";
+import { linePlot } from "./svg.js";
+
+export function planRequest(state, extra = {}) {
+  const gripper = document.getElementById("gripper").value.trim();
+  let profile = null;
+  if (gripper) {
+    try { profile = JSON.parse(gripper); } catch { throw new Error("gripper profile: not valid JSON"); }
+  }
+  return {
+    part: state.part, action: document.getElementById("action").value,
+    min_margin_deg: Number(document.getElementById("min-margin").value),
+    exact: document.getElementById("model").value === "exact",
+    optimise: document.getElementById("optimise").checked || Boolean(profile), gripper: profile, ...extra,
+  };
+}
+
+// The animation needs the analysis of the same part and model as the plan.
+export async function ensureAnalysis(state, exact) {
+  if (!state.analysis || state.analysisOf !== state.part || Boolean(state.analysisExact) !== exact) {
+    state.analysis = await api(`/v1/analyses?samples=720&exact=${exact}`, { json: state.part });
+    state.analysisOf = state.part;
+    state.analysisExact = exact;
+  }
+}
+
+export async function makePlan(state) {
+  const body = planRequest(state);
+  await ensureAnalysis(state, body.exact);
+  state.plan = await api("/v1/plans", { json: body });
+  showPlan(state);
+}
+
+const fmt = (x, d = 2) => (x === null || x === undefined ? "—" : Number(x).toFixed(d));
+
+export function showPlan(state) {
+  const p = state.plan, units = state.analysis.part.units;
+  document.getElementById("plan-out").hidden = false;
+  const finals = p.final_orientations_deg.map((f) => `${fmt(f)}°`).join(", ");
+  const summary = document.getElementById("plan-summary");
+  summary.textContent = `${p.steps.length}-step ${p.action.replace("_", "-")} plan (${p.model} model, ` +
+    `${p.verified ? "verified" : "NOT verified"}): final orientation${p.final_orientations_deg.length > 1 ? "s" : ""} ` +
+    `${finals} ± ${fmt(p.final_uncertainty_deg, 4)}°` + (p.cycle_time_s ? `; cycle time ${fmt(p.cycle_time_s)} s` : "") +
+    `; run ${p.run_id}`;
+  summary.dataset.steps = p.steps.length;
+  const tbody = document.querySelector("#plan-steps tbody");
+  tbody.replaceChildren(...p.steps.map((s, i) => {
+    const tr = document.createElement("tr");
+    const push = s.push_distance === null || s.push_distance === undefined ? "—" : `${fmt(s.push_distance, 3)} ${units}`;
+    for (const v of [i + 1, fmt(s.gripper_angle_deg), s.margin_deg === null ? "— (first)" : fmt(s.margin_deg), push, fmt(s.duration_s)]) {
+      tr.append(Object.assign(document.createElement("td"), { textContent: v }));
+    }
+    return tr;
+  }));
+  drawIntervals(state);
+  showStart(state);
+}
+
+// The Θᵢ of Algorithm A′ as bars under the transfer function the plan uses.
+function drawIntervals(state) {
+  const p = state.plan, a = state.analysis;
+  const name = p.action === "squeeze" ? "squeeze" : "push_grasp";
+  const P = a[name].period_deg, c = a.curves;
+  const n = Math.round((c.theta_deg.length * P) / 360);
+  const hbars = p.intervals_deg.map(([lo, hi], i) => ({ x0: lo, x1: hi, y: -(i + 1) * P * 0.06, cls: "bar-interval" }));
+  linePlot(document.getElementById("plot-intervals"), {
+    title: `${name === "squeeze" ? "Γ" : "Γ∘p"} and the intervals Θᵢ (green bars below, last to first)`,
+    xLabel: "θ before (deg)", yLabel: "θ after (deg); bars: Θᵢ", xDomain: [0, P],
+    series: [{ xs: [0, P], ys: [0, P], cls: "identity" }, { xs: c.theta_deg.slice(0, n), ys: c[`${name}_deg`].slice(0, n), cls: "alt", breakJumps: 1 }],
+    hbars, legend: [{ cls: "bar-interval", label: "Θᵢ of Algorithm A′" }],
+  });
+}
+
+function showStart(state) {
+  const phi0 = Number(document.getElementById("start-deg").value);
+  document.getElementById("start-out").textContent = `${phi0}°`;
+  drawScene(document.getElementById("anim-view"), state.analysis.geometry, { phi: phi0 }, null,
+    { caption: `start φ₀ = ${phi0}° (drag to turn)`, label: "the part at its start orientation" });
+}
+
+// Drag on the view turns the part: the pointer's angle about the centre sets φ₀.
+export function enableDrag(state) {
+  const host = document.getElementById("anim-view");
+  const input = document.getElementById("start-deg");
+  let dragging = false;
+  const angle = (ev) => {
+    const r = host.getBoundingClientRect();
+    return (Math.atan2(-(ev.clientY - (r.top + r.height / 2)), ev.clientX - (r.left + r.width / 2)) * 180) / Math.PI;
+  };
+  let start = 0, phiAtStart = 0;
+  host.addEventListener("pointerdown", (ev) => {
+    if (!state.plan) return;
+    dragging = true;
+    start = angle(ev);
+    phiAtStart = Number(input.value);
+    host.setPointerCapture(ev.pointerId);
+  });
+  host.addEventListener("pointermove", (ev) => {
+    if (!dragging) return;
+    input.value = Math.round(mod(phiAtStart + angle(ev) - start, 360)) % 360;
+    showStart(state);
+  });
+  host.addEventListener("pointerup", () => { dragging = false; });
+  input.addEventListener("input", () => state.plan && showStart(state));
+}
+
+// Frames of one action: turn the gripper, (push), close, open; φ eases between states.
+function frames(state, phases) {
+  const R = sceneExtent(state.analysis.geometry), open = 1.15 * R, out = [];
+  const ease = (u) => 0.5 - 0.5 * Math.cos(Math.PI * u);
+  const push = state.plan.action === "push_grasp";
+  for (const ph of phases) {
+    const N = 24;
+    for (let i = 0; i <= N; i++) out.push({ phi: ph.before, alpha: ph.alpha, lower: -open, higher: open, u: i / N });
+    if (push) for (let i = 0; i <= N; i++) out.push({ phi: ph.before + (ph.pushed - ph.before) * ease(i / N), alpha: ph.alpha, lower: null, higher: open });
+    for (let i = 0; i <= N; i++) out.push({ phi: ph.pushed + (ph.after - ph.pushed) * ease(i / N), alpha: ph.alpha, lower: null, higher: null });
+    for (let i = 0; i <= N / 2; i++) out.push({ phi: ph.after, alpha: ph.alpha, lower: -open, higher: open });
+  }
+  return out;
+}
+
+export function play(state, { host = "anim-view", phi0, onEnd } = {}) {
+  const start = phi0 ?? Number(document.getElementById("start-deg").value);
+  const phases = predict(state.analysis, state.plan, start);
+  const seq = frames(state, phases);
+  const out = document.getElementById("anim-final");
+  out.textContent = "playing…";
+  delete out.dataset.finalDeg;
+  let k = 0;
+  const step = () => {
+    const f = seq[k];
+    const n = Math.min(phases.length, 1 + Math.floor((k / seq.length) * phases.length));
+    drawScene(document.getElementById(host), state.analysis.geometry, { phi: f.phi },
+      { alpha: f.alpha, lower: f.lower ?? undefined, higher: f.higher ?? undefined },
+      { caption: `action ${n}/${phases.length}: α = ${f.alpha.toFixed(1)}°, φ = ${mod(f.phi, 360).toFixed(1)}°` });
+    k += 1;
+    if (k < seq.length) requestAnimationFrame(step);
+    else finish(state, phases, out, onEnd);
+  };
+  requestAnimationFrame(step);
+}
+
+function finish(state, phases, out, onEnd) {
+  const final = mod(phases[phases.length - 1].after, 360);
+  const claimed = isClaimed(state.plan, final);
+  out.dataset.finalDeg = final.toFixed(6);
+  out.dataset.claimed = String(claimed);
+  out.textContent = `ends at φ = ${final.toFixed(2)}° — ${claimed ? "a claimed final orientation" : "NOT a claimed final orientation"}`;
+  if (onEnd) onEnd(final);
+}
