@@ -1,15 +1,20 @@
-"""Batch fixture design of a generated catalogue (default 200 parts: random polygons,
-rectangles, regular polygons, pies, Bezier blobs, disks with flats, and disks and
-Reuleaux triangles that cannot be oriented) with ``algrasp batch`` on the local pool.
-Prints throughput in parts per minute, with and without Drake validation.
+"""Batch fixture design of a generated catalogue (random polygons, rectangles, regular
+polygons, pies, Bezier blobs, disks with flats, and disks and Reuleaux triangles that
+cannot be oriented) with ``algrasp batch`` on the local pool. Prints wall time,
+throughput in parts per minute and peak memory (resident set of the batch process and
+of its largest worker), without validation and with Drake samples.
 
-    python benchmarks/bench_batch.py [--parts 200] [--samples 0 2] [--workers 2]
+Target (issue 21): 10,000 parts without validation ≤ 5 min on 2 cores; with 4 Drake
+samples per part the parts/min is printed (on the first ``--drake-parts`` parts).
+
+    python benchmarks/bench_batch.py [--parts 10000] [--samples 0 4] [--drake-parts 40] [--workers 2]
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import resource
 import tempfile
 import time
 from pathlib import Path
@@ -53,22 +58,26 @@ def run(parts: list[dict[str, Any]], samples: int, workers: int) -> None:
         agreements = [json.loads(x)["result"]["validation"]["agreement"] for x in (out / "results.jsonl").read_text().splitlines()
                       if samples and json.loads(x)["status"] == "done" and json.loads(x)["result"].get("validation")]
         extra = f", mean agreement {sum(agreements) / len(agreements):.3f}" if agreements else ""
-        print(f"== {len(parts)} parts, {samples} Drake samples each, {workers} workers: exit {code}, {wall:.1f} s, "
-              f"{60 * len(parts) / wall:.1f} parts/min; oriented {spec['oriented']}, not oriented {len(spec['not_oriented'])}"
-              f"{extra}")
+        peak_self = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+        peak_worker = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
+        print(f"== {len(parts)} parts, {samples} Drake samples each, {workers} workers: exit {code}, {wall:.1f} s "
+              f"({wall / 60:.2f} min), {60 * len(parts) / wall:.1f} parts/min; oriented {spec['oriented']}, "
+              f"not oriented {len(spec['not_oriented'])}{extra}; peak RSS {peak_self:.0f} MiB (batch process), "
+              f"{peak_worker:.0f} MiB (largest worker)")
         print("   report.md head:")
         print("   " + "\n   ".join((out / "report.md").read_text().splitlines()[:16]))
 
 
 def main() -> None:
     ap = argparse.ArgumentParser()
-    ap.add_argument("--parts", type=int, default=200)
-    ap.add_argument("--samples", type=int, nargs="+", default=[0, 2])
+    ap.add_argument("--parts", type=int, default=10_000)
+    ap.add_argument("--samples", type=int, nargs="+", default=[0, 4])
+    ap.add_argument("--drake-parts", type=int, default=40, help="parts of the catalogue validated in Drake")
     ap.add_argument("--workers", type=int, default=2)
     args = ap.parse_args()
     parts = catalogue(args.parts)
     for s in args.samples:
-        run(parts, s, args.workers)
+        run(parts if s == 0 else parts[:args.drake_parts], s, args.workers)
 
 
 if __name__ == "__main__":

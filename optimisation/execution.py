@@ -15,8 +15,8 @@ units; the lower jaw is negative):
   d_lo − 2δ from the lower one; hold; the grasped part is carried back to the centre;
   the jaws open as for a squeeze.
 
-Each move is a rest-to-rest chain solved time-optimally (``chains``); all chains of a
-plan go into one NLP. The naive reference executes the same moves at contact speed
+Each move is a rest-to-rest chain solved time-optimally: in closed form (``chains``), or
+with a jaw jerk limit by CasADi (``chains_nlp``). The naive reference executes the same moves at contact speed
 throughout, each segment a rest-to-rest trapezoid under the same acceleration limit
 (closed form).
 """
@@ -170,9 +170,9 @@ def optimise_execution(analysis: Analysis, plan: Plan, profile: GripperProfile =
     """Push distances, time-optimal trajectories and cycle time of ``plan``.
 
     ``push_scale`` multiplies the optimised push distances (1: the optimum; the
-    validation uses 0.5 to show the optimum is tight). Cost: one or two IPOPT solves for
-    the pushes and one for all moves (≲ 1 s for the paper's parts; the CasADi problems
-    are built once per process and structure)."""
+    validation uses 0.5 to show the optimum is tight). Cost: tens of milliseconds (push
+    law quadrature, closed-form moves, sampling); with a jaw jerk limit add one IPOPT
+    solve per distinct jaw move (tens to hundreds of ms each)."""
     t0 = time.perf_counter()
     scale = meters_per_unit(analysis.part.units)
     pushes: list[PushResult | None] = [None] * len(plan.steps)
@@ -214,10 +214,10 @@ def _turns(angles: list[float]) -> tuple[list[float], list[float]]:
 
 def _solve(pf: GripperProfile, g: _Geometry, action: str, turns: list[float], push_m: list[float],
            contact: float, fast: float) -> list[list[Move]]:
-    """All actions' moves, with every chain solved in one NLP."""
+    """All actions' moves, every chain solved time-optimally."""
     plans = [_action_chains(pf, g, k, action, turns[k], push_m[k], contact, fast) for k in range(len(turns))]
     chains = [c for moves in plans for _, c in moves if isinstance(c, Chain)]
-    solved = iter(solve_chains(chains))
+    solved = iter(_solve_chains(pf, chains, [axis for moves in plans for axis, c in moves if isinstance(c, Chain)]))
     out = []
     for moves in plans:
         row = []
@@ -231,12 +231,28 @@ def _solve(pf: GripperProfile, g: _Geometry, action: str, turns: list[float], pu
     return out
 
 
+def _solve_chains(pf: GripperProfile, chains: list[Chain], axes: list[str]) -> list[Profile1D]:
+    """Closed-form time-optimal moves; with a jaw jerk limit the jaw moves are CasADi's
+    jerk-limited S-curves (the gripper's rotation keeps its own acceleration limit)."""
+    if pf.jaw_max_jerk_m_s3 <= 0.0:
+        return solve_chains(chains)
+    from optimisation.chains_nlp import solve_jerk_limited
+
+    jaw = [i for i, a in enumerate(axes) if a != "gripper"]
+    out = solve_chains(chains)
+    for i, p in zip(jaw, solve_jerk_limited([chains[i] for i in jaw], pf.jaw_max_jerk_m_s3)):
+        out[i] = p
+    return out
+
+
 def _sample(pf: GripperProfile, moves: list[Move], alpha0: float, push: PushResult | None, scale: float,
             g: _Geometry) -> StepExecution:
     """Samples at ``sample_hz`` plus every move boundary; state carried across moves."""
     W = g.d_max / 2 + pf.open_clearance_m + pf.placement_tolerance_m
     state = np.array([alpha0, -W, W])
-    ts, rows, t, centre, push_end, settle = [0.0], [state.copy()], 0.0, None, None, None
+    ts: list[FloatArray] = [np.zeros(1)]
+    rows: list[FloatArray] = [state[None, :].copy()]
+    t, centre, push_end, settle = 0.0, None, None, None
     for m in moves:
         if m.axis == "dwell":
             settle = t + max(m.duration_s, 0.0)
@@ -247,32 +263,30 @@ def _sample(pf: GripperProfile, moves: list[Move], alpha0: float, push: PushResu
         if m.axis == "push":
             push_end = t + m.duration_s
         local = np.union1d(np.arange(0.0, m.duration_s, 1.0 / pf.sample_hz)[1:], [m.duration_s])
-        base = state.copy()
-        for tau in local:
-            rows.append(_state_at(m, base, float(tau)))
-            ts.append(t + float(tau))
-        state = rows[-1].copy()
+        rows.append(_states_at(m, state, local))
+        ts.append(t + local)
+        state = rows[-1][-1].copy()
         t += m.duration_s
-    arr = np.array(rows)
-    return StepExecution(push, t, np.array(ts), arr[:, 0], arr[:, 1] / scale, arr[:, 2] / scale,
+    arr = np.concatenate(rows)
+    return StepExecution(push, t, np.concatenate(ts), arr[:, 0], arr[:, 1] / scale, arr[:, 2] / scale,
                          centre if push is None else None, push_end, settle)
 
 
-def _state_at(m: Move, base: FloatArray, tau: float) -> FloatArray:
-    """(angle, lower, higher) after τ seconds of move m, from state ``base``."""
-    out = base.copy()
+def _states_at(m: Move, base: FloatArray, tau: FloatArray) -> FloatArray:
+    """(angle, lower, higher) rows after each τ (s) of move m, from state ``base``; (len(τ), 3)."""
+    out = np.repeat(base[None, :], len(tau), axis=0)
     if m.profile is None:
         return out
-    q = float(m.profile.sample(np.array([tau]))[0])
+    q = m.profile.sample(tau)
     q0 = float(m.profile.q[0])
     if m.axis == "gripper":
-        out[0] = base[0] + q
+        out[:, 0] = base[0] + q
     elif m.axis == "jaws":
-        out[1], out[2] = -q, q
+        out[:, 1], out[:, 2] = -q, q
     elif m.axis == "higher":
-        out[2] = q
+        out[:, 2] = q
     elif m.axis == "push":
-        out[1], out[2] = q, base[2] + (q - q0)
+        out[:, 1], out[:, 2] = q, base[2] + (q - q0)
     else:  # "both": carry the grasped part
-        out[1], out[2] = base[1] + q, base[2] + q
+        out[:, 1], out[:, 2] = base[1] + q, base[2] + q
     return out

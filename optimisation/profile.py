@@ -38,6 +38,8 @@ class GripperProfile:
         unstable_band_deg: orientations this close to an unstable push equilibrium are
             left out of the worst case (the needed distance is unbounded there).
         sample_hz: rate of the trajectory samples in the plan document.
+        jaw_max_jerk_m_s3: jerk limit of the jaws (0: not limited; the moves are then the
+            closed-form bang-bang profiles, else CasADi's jerk-limited S-curves).
     """
 
     jaw_max_speed_m_s: float = 0.05
@@ -53,6 +55,7 @@ class GripperProfile:
     push_tolerance_deg: float = 0.5
     unstable_band_deg: float = 2.0
     sample_hz: float = 100.0
+    jaw_max_jerk_m_s3: float = 0.0
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -82,7 +85,7 @@ RANGES: dict[str, tuple[float, float, bool]] = {
     "jaw_stiffness_n_m": (0.0, 1e9, False), "open_clearance_m": (0.0, 1.0, False),
     "placement_tolerance_m": (0.0, 1.0, True), "hold_s": (0.0, 60.0, True),
     "push_tolerance_deg": (0.0, 44.9, False), "unstable_band_deg": (0.0, 44.9, False),
-    "sample_hz": (0.0, 1000.0, False),
+    "sample_hz": (0.0, 1000.0, False), "jaw_max_jerk_m_s3": (0.0, 1e6, True),
 }
 """The documented range of each key: (low, high, whether low itself is allowed). The
 upper bounds keep a plan's size and duration finite (``sample_hz`` ≤ 1 kHz: a plan

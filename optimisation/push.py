@@ -32,8 +32,6 @@ from the worst case (stated in every result).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
-from typing import Any
 
 import numpy as np
 
@@ -46,7 +44,7 @@ from algrasp.planning.analysis import Analysis
 TABLE_POINTS = 7200
 """Samples of q_x(θ) per turn (0.05°): exact support points, linearly interpolated."""
 PATH_STEPS = 400
-"""Simpson steps along the orientation path in the CasADi model."""
+"""Simpson steps along the orientation path."""
 MIN_LEVER_REL = 1e-9
 """|q_x| floor (relative to the covering radius) where the push law is inverted."""
 
@@ -55,7 +53,7 @@ MIN_LEVER_REL = 1e-9
 class PushResult:
     """Push distance of one push-grasp step (part units) with its evidence.
 
-    ``distance`` optimum of the CasADi model; ``bound`` Peshkin's covering-disk bound;
+    ``distance`` the worst case over the step's starts of the push law's distance; ``bound`` Peshkin's covering-disk bound;
     ``worst_start_deg`` the relative orientation that needs it, turning to
     ``fixed_point_deg``; ``candidates`` number of basins (monotone start ranges) considered."""
 
@@ -77,31 +75,18 @@ class PushModel:
     mean_radius: float  # c = r̄
     cover_radius: float  # a: largest distance from the centre of mass to the hull
 
-    @cached_property
-    def path_distance(self) -> Any:
-        """CasADi function (θ₀, θ₁, c) → push distance to turn from θ₀ to θ₁: the push
-        law inverted along the path, s = ∫ (c² + q_x²)/|q_x| dθ, integrated with
-        PATH_STEPS RK4 (Simpson) steps through a linear interpolant of q_x."""
-        import casadi as ca
-
-        k = np.arange(-1, 3)  # four periods: no orientation a plan reaches needs wrapping
-        grid = np.concatenate([self.theta[:-1] + i * TWO_PI for i in k] + [self.theta[-1:] + 2 * TWO_PI])
-        vals = np.concatenate([self.lever[:-1]] * len(k) + [self.lever[-1:]])
-        lever = ca.interpolant("lever", "linear", [grid], vals)
-        th, h, c, acc = ca.MX.sym("theta"), ca.MX.sym("h"), ca.MX.sym("c"), ca.MX.sym("s")
-        floor = MIN_LEVER_REL * self.cover_radius
-
-        def g(x: Any) -> Any:
-            q = lever(x)
-            return (c * c + q * q) / ca.fmax(ca.fabs(q), floor)
-
-        mid, end = th + h / 2, th + h
-        step = ca.Function("simpson", [ca.vertcat(th, acc), ca.vertcat(h, c)],
-                           [ca.vertcat(end, acc + h / 6 * (g(th) + 4 * g(mid) + g(end)))])
-        t0, t1 = ca.MX.sym("t0"), ca.MX.sym("t1")
-        many = step.mapaccum("path", PATH_STEPS)
-        out = many(ca.vertcat(t0, 0), ca.repmat(ca.vertcat((t1 - t0) / PATH_STEPS, c), 1, PATH_STEPS))
-        return ca.Function("path_distance", [t0, t1, c], [ca.fabs(out[1, -1])])
+    def path_distances(self, start: FloatArray, end: FloatArray, c: FloatArray) -> FloatArray:
+        """Push distance to turn from each ``start`` to ``end`` (radians, lifted; shape
+        (B,)) for friction radii ``c`` (B,): the push law inverted along the path,
+        s = ∫ (c² + q_x²)/|q_x| dθ, by composite Simpson with PATH_STEPS steps through a
+        linear interpolant of q_x. O(B·PATH_STEPS), vectorised."""
+        u = np.linspace(0.0, 1.0, 2 * PATH_STEPS + 1)
+        theta = start[:, None] + (end - start)[:, None] * u[None, :]
+        q = np.interp(np.mod(theta, TWO_PI), self.theta, self.lever)
+        g = (c[:, None] ** 2 + q * q) / np.maximum(np.abs(q), MIN_LEVER_REL * self.cover_radius)
+        w = np.ones(2 * PATH_STEPS + 1)
+        w[1:-1:2], w[2:-1:2] = 4.0, 2.0
+        return np.abs((end - start) / (6 * PATH_STEPS) * (g @ w))  # type: ignore[no-any-return]
 
 
 def push_model(analysis: Analysis, mean_radius: float) -> PushModel:
@@ -156,14 +141,14 @@ def _worst_case(model: PushModel, groups: list[list[Basin]]) -> list[tuple[float
     The flow is one-dimensional and monotone: a start farther from the fixed point passes
     through every nearer start on its way, so over a basin the needed distance is
     maximised at its far end — the maximiser is known exactly and only the path
-    integrals are computed (one vectorised CasADi call over all basins and both c).
+    integrals are computed (one vectorised quadrature over all basins and both c).
     Returns (distance, bound, worst start) per step."""
     flat = [b for g in groups for b in g]
     K = len(flat)
     far = np.array([b.far for b in flat] * 2)
     target = np.array([b.target for b in flat] * 2)
     cs = np.array([model.mean_radius] * K + [model.cover_radius] * K)
-    ss = np.asarray(model.path_distance.map(2 * K)(far[None, :], target[None, :], cs[None, :])).ravel()
+    ss = model.path_distances(far, target, cs)
     if not np.all(np.isfinite(ss)):
         raise AlgraspError("push distance: the push law could not be integrated (degenerate part?)")
     out, i = [], 0

@@ -91,7 +91,9 @@ def design_part(doc: dict[str, Any], opts: DesignOptions, rec: Any, analysis: An
                       placement=opts.placement, exact=opts.exact, physics=opts.physics)
     res = plan_part(doc, req, rec, sim_workers=sim_workers, analysis=analysis, plan=best)  # analysed and planned once
     out["action"] = best.action
-    out["plan"] = res.plan_doc
+    # The sampled trajectories (100 Hz: most of a plan's bytes) stay in the run record;
+    # a catalogue's results carry the plan without them (``GET /v1/runs/{run_id}`` has them).
+    out["plan"] = {**res.plan_doc, "steps": [{k: v for k, v in s.items() if k != "trajectory"} for s in res.plan_doc["steps"]]}
     v = res.validation
     out["validation"] = None if v is None else {"samples": len(v.samples), "agreement": v.agreement,
                                                 "agreement_clear": v.agreement_clear, "push_agreement": v.push_agreement}

@@ -3,14 +3,17 @@ Dask — the same code), store each outcome as it arrives, resume unfinished job
 restart, cancel on request.
 
 Durability: the store is the truth. A part is dispatched only while ``pending`` and
-stored once (``Store.finish_part``), so a restart re-dispatches exactly the parts
-without a stored outcome: nothing is lost, nothing finished is redone.
+stored once (``Store.finish_parts``: the outcomes that arrived together, in one
+transaction), so a restart re-dispatches exactly the parts without a stored outcome:
+nothing is lost, nothing finished is redone. Progress callbacks are throttled and
+count with one query, so a 10,000-part job is not slowed by its own bookkeeping.
 """
 
 from __future__ import annotations
 
 import concurrent.futures as cf
 import threading
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -21,13 +24,15 @@ from sqlalchemy.exc import SQLAlchemyError
 from algrasp.errors import AlgraspError, UnavailableError
 from algrasp.io.record.recorder import discard_partial, new_run_id
 from service.executor import Executor
-from service.store import Store
+from service.store import Outcome, Store
 from service.work import design_task
 
 STORE_RETRY_S = 5.0
 """A job whose database cannot be written waits this long before trying again."""
 MAX_ATTEMPTS = 3
 """Dispatches of one part without an outcome before it is failed (not resumed forever)."""
+REPORT_EVERY_S = 0.25
+"""Progress callbacks are throttled to this interval (plus one when the job ends)."""
 Progress = Callable[[str, int, int], None]  # (job_id, finished parts, total)
 
 
@@ -50,6 +55,7 @@ class JobRunner:
         self._cancel: dict[str, threading.Event] = {}
         self._threads: dict[str, threading.Thread] = {}
         self._stopping = threading.Event()
+        self._reported_at: dict[str, float] = {}
 
     def start(self, job_id: str) -> None:
         """Run the job in a background thread."""
@@ -100,26 +106,36 @@ class JobRunner:
             fut.cancel()
         if not self._stopping.is_set():
             self.store.set_state(job_id, "done", only_if=("running",))
-        self._report(job_id)
+        self._report(job_id, final=True)
 
     def _step(self, job_id: str, options: dict[str, Any], todo: list[tuple[int, dict[str, Any]]],
               inflight: dict[cf.Future[Any], tuple[int, dict[str, Any], str]]) -> None:
         """Dispatch up to the window, then store what finished. A finished part leaves
         ``inflight`` only once its outcome is stored, so a storage fault loses nothing."""
-        while todo and len(inflight) < self.cfg.window:
-            idx, doc = todo[-1]
-            self.store.start_attempt(job_id, idx)
-            todo.pop()
+        batch = todo[len(todo) - min(len(todo), self.cfg.window - len(inflight)):][::-1]
+        self.store.start_attempts(job_id, [idx for idx, _ in batch])  # counted before sent
+        del todo[len(todo) - len(batch):]
+        for idx, doc in batch:
             run_id = new_run_id()
             inflight[self.executor.submit(design_task, doc, options, self.cfg.record_dir, self.cfg.sim_workers,
                                           run_id, timeout_s=self.cfg.part_time_limit_s, stage="part")] = (idx, doc, run_id)
         done, _ = cf.wait(inflight, timeout=0.5, return_when=cf.FIRST_COMPLETED)
+        outcomes, retry = [], []
         for fut in done:
             idx, doc, run_id = inflight[fut]
-            again = self._store(job_id, idx, fut, run_id)
+            outcome = self._outcome(job_id, idx, fut, run_id)
+            if outcome is None:
+                retry.append((fut, (idx, doc)))  # its worker died: another worker tries it
+            else:
+                outcomes.append((fut, outcome))
+        # One transaction for everything that finished since the last step; a finished part
+        # leaves ``inflight`` only once stored, so a storage fault loses nothing.
+        self.store.finish_parts(job_id, [o for _, o in outcomes])
+        for fut, _o in outcomes:
             del inflight[fut]
-            if again:
-                todo.append((idx, doc))  # its worker died: another worker tries it
+        for fut, item in retry:
+            del inflight[fut]
+            todo.append(item)
         self._report(job_id)
 
     def _given_up(self, job_id: str, idx: int, attempts: int) -> bool:
@@ -132,30 +148,27 @@ class JobRunner:
             "(a part that crashes its worker?)").to_dict())
         return True
 
-    def _store(self, job_id: str, idx: int, fut: cf.Future[Any], run_id: str) -> bool:
-        """Store a part's outcome; True when it should be tried again (worker lost)."""
+    def _outcome(self, job_id: str, idx: int, fut: cf.Future[Any], run_id: str) -> Outcome | None:
+        """A finished part's outcome; None when it should be tried again (worker lost)."""
         try:
             response, run, err = fut.result()
         except AlgraspError as exc:  # worker lost, time limit, a request that cannot be sent
             discard_partial(Path(self.cfg.record_dir), run_id)
             lost = isinstance(exc, UnavailableError) and exc.reason == "worker_lost"
             if lost and self.store.attempts(job_id, idx) < MAX_ATTEMPTS:
-                return True
-            self.store.finish_part(job_id, idx, "failed", error=exc.to_dict())
-            return False
+                return None
+            return Outcome(idx, "failed", error=exc.to_dict())
         except Exception as exc:  # noqa: BLE001 - a crashed worker must not stop the job
-            self.store.finish_part(job_id, idx, "failed", error={"type": "internal_error", "message": repr(exc)})
-            return False
-        self.store.add_run(run, job_id)
+            return Outcome(idx, "failed", error={"type": "internal_error", "message": repr(exc)})
         if err is not None:
-            self.store.finish_part(job_id, idx, "failed", error=err.to_dict(), run_id=run["run_id"])
-        else:
-            self.store.finish_part(job_id, idx, "done", result=response, run_id=run["run_id"])
-        return False
+            return Outcome(idx, "failed", error=err.to_dict(), run=run)
+        return Outcome(idx, "done", result=response, run=run)
 
-    def _report(self, job_id: str) -> None:
-        if self.on_progress is None:
+    def _report(self, job_id: str, final: bool = False) -> None:
+        """Progress to the callback, at most every REPORT_EVERY_S (counting costs a query)."""
+        now = time.monotonic()
+        if self.on_progress is None or (not final and now - self._reported_at.get(job_id, -REPORT_EVERY_S) < REPORT_EVERY_S):
             return
-        p = self.store.progress(job_id)
-        if p is not None:
-            self.on_progress(job_id, p["total"] - p["pending"], p["total"])
+        self._reported_at[job_id] = now
+        done, total = self.store.finished(job_id)
+        self.on_progress(job_id, done, total)

@@ -76,7 +76,7 @@ class Settings(BaseSettings):
     workers: int = Field(default=2, ge=1, le=64)
     sim_workers: int = Field(default=2, ge=1, le=64)
     max_body_bytes: int = Field(default=8_000_000, ge=1_000)
-    max_batch_parts: int = Field(default=2_000, ge=1)
+    max_batch_parts: int = Field(default=20_000, ge=1)
     max_samples: int = Field(default=500, ge=1)
     analysis_time_limit_s: float = Field(default=20.0, gt=0)
     plan_time_limit_s: float = Field(default=60.0, gt=0)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import time
 import uuid
+from dataclasses import dataclass
 from typing import Any
 
 from sqlalchemy import JSON, Float, ForeignKey, Integer, String, UniqueConstraint, create_engine, delete, event, func, select, update
@@ -67,6 +68,22 @@ class PartRow(Base):
     error: Mapped[dict[str, Any] | None] = mapped_column(JSON)
     run_id: Mapped[str | None] = mapped_column(String(64))
     finished_at: Mapped[float | None] = mapped_column(Float)
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """A batch part's outcome: status "done" (``result``) or "failed" (``error``), and
+    the run row that recorded it (None when no run was recorded)."""
+
+    idx: int
+    status: str
+    result: dict[str, Any] | None = None
+    error: dict[str, Any] | None = None
+    run: dict[str, Any] | None = None
+
+    @property
+    def run_id(self) -> str | None:
+        return None if self.run is None else str(self.run["run_id"])
 
 
 class Store:
@@ -157,9 +174,12 @@ class Store:
         with self._session() as s:
             return int(s.scalar(select(PartRow.attempts).where(PartRow.job_id == job_id, PartRow.idx == idx)) or 0)
 
-    def start_attempt(self, job_id: str, idx: int) -> None:
+    def start_attempts(self, job_id: str, idxs: list[int]) -> None:
+        """Count one more dispatch of each part (one transaction)."""
+        if not idxs:
+            return
         with self._session.begin() as s:
-            s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx == idx)
+            s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx.in_(idxs))
                       .values(attempts=PartRow.attempts + 1))
 
     def finish_part(self, job_id: str, idx: int, status: str, result: dict[str, Any] | None = None,
@@ -169,6 +189,19 @@ class Store:
             res = s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx == idx, PartRow.status == "pending")
                             .values(status=status, result=result, error=error, run_id=run_id, finished_at=time.time()))
             return bool(res.rowcount)  # type: ignore[attr-defined]
+
+    def finish_parts(self, job_id: str, outcomes: list[Outcome]) -> None:
+        """Several parts' outcomes and their runs in one transaction (all or none); a part
+        no longer pending keeps its stored outcome."""
+        if not outcomes:
+            return
+        now = time.time()
+        with self._session.begin() as s:
+            for o in outcomes:
+                if o.run is not None:
+                    s.merge(RunRow(job_id=job_id, created_at=now, **o.run))
+                s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx == o.idx, PartRow.status == "pending")
+                          .values(status=o.status, result=o.result, error=o.error, run_id=o.run_id, finished_at=now))
 
     def cancel_pending(self, job_id: str) -> int:
         with self._session.begin() as s:
@@ -188,6 +221,14 @@ class Store:
         counts = {k: sum(p["status"] == k for p in parts) for k in ("done", "failed", "cancelled", "pending")}
         return {"id": job.id, "state": job.state, "total": job.total, **counts, "options": job.options,
                 "created_at": job.created_at, "updated_at": job.updated_at, "parts": parts}
+
+    def finished(self, job_id: str) -> tuple[int, int]:
+        """(parts no longer pending, all parts) of a job: one counting query, for progress
+        bars (``progress`` reads every part)."""
+        with self._session() as s:
+            rows = dict(s.execute(select(PartRow.status == "pending", func.count()).where(PartRow.job_id == job_id)
+                                  .group_by(PartRow.status == "pending")).all())
+        return int(rows.get(False, 0)), int(rows.get(False, 0) + rows.get(True, 0))
 
     def counts(self) -> dict[str, dict[str, int]]:
         """Jobs by state and parts by status (for /metrics)."""

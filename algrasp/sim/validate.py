@@ -24,7 +24,7 @@ from algrasp.geometry.angles import to_deg, to_rad
 from algrasp.geometry.tolerances import SYMMETRY_TOL_RAD
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.plans import Plan
-from algrasp.sim.config import DEFAULT_SIM, OPEN_CLEARANCE_M, SimConfig, SimSchedule, schedule
+from algrasp.sim.config import DEFAULT_SIM, OPEN_CLEARANCE_M, SimConfig, SimSchedule, schedule, similar_config
 from algrasp.sim.geometry import Geometry, part_geometry
 
 Placement = Literal["centred", "random"]
@@ -200,6 +200,8 @@ def validate_plan(analysis: Analysis, plan: Plan, samples: int = 36, seed: int =
     rng = np.random.default_rng(seed)
     phi0 = rng.uniform(0.0, 2 * math.pi, samples)
     geom = part_geometry(analysis.part, cfg)
+    if sim_schedule is None:  # the default schedule's speeds are ours to scale; an execution's are not
+        cfg = similar_config(cfg, geom.reach_m)
     sch = sim_schedule or default_schedule(plan, geom, cfg)
     offsets = rng.uniform(-0.5, 0.5, samples) * (sch.half_open_m - geom.reach_m) if placement == "random" \
         else np.zeros(samples)

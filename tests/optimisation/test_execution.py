@@ -127,3 +127,21 @@ def test_slower_gripper_gives_longer_cycle() -> None:
     fast = optimise_execution(analysis, plan)
     slow = optimise_execution(analysis, plan, GripperProfile(rotate_max_speed_rad_s=1.0))
     assert slow.cycle_time_s > fast.cycle_time_s
+
+
+def test_a_jaw_jerk_limit_gives_a_slower_smoother_cycle() -> None:
+    """CasADi's jerk-limited jaw moves: never faster than the closed-form cycle, and the
+    jaw samples' third divided differences (means of the jerk) within the limit."""
+    analysis = analyse_part(load_part(json.loads(EXAMPLE.read_text())))
+    plan = make_plan(analysis, "squeeze")
+    free = optimise_execution(analysis, plan)
+    limited = optimise_execution(analysis, plan, profile_from_dict({"jaw_max_jerk_m_s3": 20.0, "sample_hz": 1000.0}))
+    assert limited.cycle_time_s >= free.cycle_time_s * (1 - 1e-9)
+    for s in limited.steps:
+        for jaw in (s.lower, s.higher):
+            q, t = jaw * 1e-3, s.t_s
+            # 6·f[t0..t3] is a weighted mean of f‴ over [t0, t3]: bounded by the jerk limit.
+            d1 = np.diff(q) / np.diff(t)
+            d2 = np.diff(d1) / (t[2:] - t[:-2])
+            d3 = np.diff(d2) / (t[3:] - t[:-3])
+            assert np.max(np.abs(6 * d3)) <= 20.0 * (1 + 1e-3)

@@ -41,6 +41,9 @@ def test_batch_directory_reports_and_resumes(tmp_path: Path, capsys: pytest.Capt
     assert spec["jaw_opening_mm"] == pytest.approx(math.hypot(30, 10) + 4.0, rel=1e-9)  # widest part's diagonal + 2×2 mm
     lines = [json.loads(x) for x in (out / "results.jsonl").read_text().splitlines()]
     assert [r["name"] for r in lines] == ["rect0", "rect1", "tri"]
+    steps = [s for r in lines for s in r["result"]["plan"]["steps"]]
+    # The 100 Hz trajectories stay in the run records; results keep the plan's figures.
+    assert steps and all("trajectory" not in s and s["duration_s"] > 0 for s in steps)
     capsys.readouterr()
     assert main(args) == 0  # the same catalogue again: nothing recomputed
     assert "3 of 3 parts already finished" in capsys.readouterr().out

@@ -79,7 +79,7 @@ def test_a_part_that_keeps_killing_workers_fails_and_is_not_resumed_forever(tmp_
     # a job left "running" by a server that died on its parts' attempts is failed on resume
     job2 = store.create_job({}, [("p", rectangle(2.0, 1.0), None)])
     for _ in range(MAX_ATTEMPTS):
-        store.start_attempt(job2, 0)
+        store.start_attempts(job2, [0])
     runner.run(job2)
     assert store.results(job2)[0]["status"] == "failed" and store.results(job2)[0]["attempts"] == MAX_ATTEMPTS
 
@@ -106,15 +106,15 @@ def test_a_read_only_database_pauses_a_job_and_loses_nothing(tmp_path: Path, mon
 
     store = Store(f"sqlite:///{tmp_path / 'jobs.db'}")
     job_id = store.create_job({}, [(f"p{i}", rectangle(2.0 + i, 1.0), None) for i in range(3)])
-    real, faults = Store.finish_part, {"left": 4}
+    real, faults = Store.finish_parts, {"left": 4}
 
-    def flaky(self: Store, *a: object, **k: object) -> bool:
+    def flaky(self: Store, *a: object, **k: object) -> None:
         if faults["left"] > 0:
             faults["left"] -= 1
             raise OperationalError("UPDATE", {}, Exception("attempt to write a readonly database"))
         return real(self, *a, **k)  # type: ignore[arg-type]
 
-    monkeypatch.setattr(Store, "finish_part", flaky)
+    monkeypatch.setattr(Store, "finish_parts", flaky)
     monkeypatch.setattr(jobs, "STORE_RETRY_S", 0.01)
     JobRunner(store, _QuickExecutor(), RunnerConfig(str(tmp_path), 1, 10.0, 2)).run(job_id)  # type: ignore[arg-type]
     rows = store.results(job_id)

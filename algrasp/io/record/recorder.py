@@ -24,6 +24,7 @@ import math
 import os
 import time
 import uuid
+from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -49,7 +50,13 @@ def new_run_id() -> str:
 
 
 def versions() -> dict[str, str]:
-    """Versions of the software that computed the run."""
+    """Versions of the software that computed the run (a new dict each call)."""
+    return dict(_versions())
+
+
+@cache
+def _versions() -> dict[str, str]:
+    """Read once per process: package metadata costs milliseconds per lookup."""
     import importlib.metadata as md
     import platform
 

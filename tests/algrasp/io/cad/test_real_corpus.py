@@ -1,4 +1,4 @@
-"""Real drawings made by other projects (tests/data/real/SOURCES.md: 25 files), imported
+"""Real drawings made by other projects (tests/data/real/SOURCES.md: 26 files), imported
 as delivered, with no options: every part's box lies inside ezdxf's own bounding box of the
 drawing, drawings that hold only outlines match it exactly, nothing is printed, nothing
 takes over 10 s. The part counts were read off each drawing (ezdxf's own viewer) once;
@@ -36,6 +36,7 @@ EXPECTED = {
     "ezdxf-usa.dxf": (12, 0, False),
     "ezdxf-wipeout_door.dxf": (18, 2, False),
     "ezdxf-uncommon.dxf": (7, 0, False),
+    "landrs-battery-plate.dxf": (1, 12, False),
     **{p.name: (1, 1, True) for p in sorted(REAL.glob("koppi-involute-14.5-teeth-*.dxf"))},
 }
 
