@@ -80,13 +80,14 @@ def _junction_caps(c: Chain) -> list[float]:
     the smaller limit of the segments meeting there (zero-length segments included)."""
     d = np.diff(c.waypoints)
     caps = [0.0] + [min(c.speed_limits[j - 1], c.speed_limits[j]) for j in range(1, len(d))] + [0.0]
-    last = 0.0  # direction of the last moving segment
+    last = 0.0  # direction (±1) of the last moving segment: signs, since products of tiny steps underflow
     for j, dj in enumerate(d):
         if dj == 0.0:
             continue
-        if last * dj < 0.0:
+        direction = 1.0 if dj > 0.0 else -1.0
+        if last == -direction:
             caps[j] = 0.0
-        last = dj
+        last = direction
     for j, dj in enumerate(d):  # a zero-length segment caps the speed through its point
         if dj == 0.0:
             caps[j] = min(caps[j], c.speed_limits[j])

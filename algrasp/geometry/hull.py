@@ -7,7 +7,7 @@ S¹; straight edges are the breakpoints between consecutive features.
 
 Method (n pieces, m hull features): the curves are split at inflections and at
 quadrant changes of the tangent into convex pieces; points *on* the exact curves
-(vertices and samples) locate the combinatorial hull (qhull, O(N log N)); every
+(vertices and samples) locate the combinatorial hull (monotone chain, O(N log N)); every
 straight edge is then solved exactly — vertex–curve tangents as polynomial roots,
 curve–curve bitangents by Newton on the curve equations — and verified against every
 piece (control-polygon bound, then the exact extreme point from a polynomial root).
@@ -15,12 +15,11 @@ piece (control-polygon bound, then the exact extreme point from a polynomial roo
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
-from scipy.spatial import ConvexHull as Qhull
-from scipy.spatial import QhullError
 
 from algrasp.errors import GeometryError
 from algrasp.geometry.angles import TWO_PI, to_deg
@@ -35,7 +34,7 @@ from algrasp.geometry.hull_loop import (
     verified_edge,
 )
 from algrasp.geometry.segments import Segment, gauss_legendre_01
-from algrasp.geometry.tolerances import HULL_TURN_RAD, Tolerances
+from algrasp.geometry.tolerances import HULL_TURN_RAD, ROUNDING, Tolerances
 
 
 def unit(psi: FloatArray | float) -> FloatArray:
@@ -176,7 +175,7 @@ def _stretch(loop: Loop, path: list[int], cin: Contact, cout: Contact) -> list[_
     return elems
 
 
-def _elements(loop: Loop, order: FloatArray, links: list[int], contacts: list[Contact], size: float) -> list[_Element]:
+def _elements(loop: Loop, order: list[int], links: list[int], contacts: list[Contact], size: float) -> list[_Element]:
     h = len(order)
     edge_at = [i for i in range(h) if links[i] < 0]
     if not edge_at:
@@ -251,6 +250,32 @@ def _features(loop: Loop, elems: list[_Element], tol: Tolerances) -> list[HullFe
                         f.center, f.radius, f.piece, f.s0, f.s1) for i, f in enumerate(feats)]
 
 
+def hull_order(pts: FloatArray) -> list[int]:
+    """Indices of the corners of the convex hull of ``pts`` (N, 2), counter-clockwise,
+    collinear (to rounding) and repeated points left out (Andrew's monotone chain,
+    O(N log N)). Only
+    locates the hull: the exact hull is verified against the curves afterwards. Written
+    here rather than importing scipy.spatial's qhull, whose import alone cost the CLI
+    0.4 s."""
+    idx = sorted(range(len(pts)), key=lambda i: (pts[i, 0], pts[i, 1]))
+    xy = pts.tolist()
+
+    def chain(order: list[int]) -> list[int]:
+        out: list[int] = []
+        for i in order:
+            while len(out) >= 2:
+                (ax, ay), (bx, by), (cx, cy) = xy[out[-2]], xy[out[-1]], xy[i]
+                # A left turn beyond rounding (sine of the turn > ROUNDING) keeps b.
+                scale = math.hypot(bx - ax, by - ay) * math.hypot(cx - ax, cy - ay)
+                if (bx - ax) * (cy - ay) - (by - ay) * (cx - ax) > ROUNDING * scale:
+                    break
+                out.pop()
+            out.append(i)
+        return out[:-1]
+
+    return chain(idx) + chain(idx[::-1])
+
+
 def exact_hull(boundary: list[Segment], size: float, tol: Tolerances) -> ConvexHull:
     """Exact convex hull of a counter-clockwise loop of segments.
 
@@ -259,11 +284,10 @@ def exact_hull(boundary: list[Segment], size: float, tol: Tolerances) -> ConvexH
     """
     loop = build_loop(boundary, size)
     pts, members, contacts = candidate_points(loop, tol)
-    try:
-        order = Qhull(pts).vertices
-    except QhullError:  # fewer than 3 hull points (a cusp or a sliver drawn as a curve)
+    order = hull_order(pts)
+    if len(order) < 3:  # a cusp or a sliver drawn as a curve
         raise GeometryError(f"boundary: the convex hull is degenerate ({len(pts)} candidate points): is the part "
-                            "a sliver or a curve with a cusp?") from None
+                            "a sliver or a curve with a cusp?")
     h = len(order)
     links = [_link(members[order[i]], members[order[(i + 1) % h]]) for i in range(h)]
     elems = _elements(loop, order, links, contacts, size)

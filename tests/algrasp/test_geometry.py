@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from algrasp.geometry import shapes
 from algrasp.geometry.part import load_part
@@ -100,3 +102,28 @@ def test_a_cusp_in_a_bezier_is_a_hull_corner() -> None:
     a = analyse(tent, exact=True)
     assert a.part.hull.perimeter == pytest.approx(2.0 + 2.0 * math.sqrt(3.25), rel=1e-12)
     assert a.part.area == pytest.approx(1.2, rel=1e-12)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.tuples(st.integers(-1000, 1000), st.integers(-1000, 1000)), min_size=3, max_size=60, unique=True))
+def test_hull_order_matches_qhull(points: list[tuple[int, int]]) -> None:
+    """The monotone chain that locates the hull, against qhull (scipy: an independent
+    implementation) on grid points (exact arithmetic, many collinear triples): the same
+    corners, strictly convex and counter-clockwise."""
+    from scipy.spatial import ConvexHull as Qhull
+    from scipy.spatial import QhullError
+
+    from algrasp.geometry.hull import hull_order
+
+    pts = np.array(points, dtype=float) / 100.0
+    order = hull_order(pts)
+    try:
+        expected = set(Qhull(pts).vertices.tolist())
+    except QhullError:  # all points on one line: no 2-D hull
+        assert len(order) < 3
+        return
+    assert set(order) == expected
+    ring = pts[order]
+    e1 = np.roll(ring, -1, axis=0) - ring
+    e2 = np.roll(e1, -1, axis=0)
+    assert np.all(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0] > 0)
