@@ -35,7 +35,7 @@ def _warm(niceness: int = 0) -> None:
         import os
 
         os.nice(niceness)
-    # The imports every task needs, once per worker (numpy/scipy/casadi ≈ 1 s cold).
+    # The imports every task needs, once per worker (numpy, the core, the optimiser).
     import algrasp.pipeline  # noqa: F401
     import optimisation.execution  # noqa: F401
     from algrasp.lifecycle import exit_with_parent
