@@ -93,3 +93,19 @@ def test_gripper_specification_of_a_job(server: Server, pie: dict[str, Any]) -> 
     assert spec["parts"] == 2 and spec["oriented"] == 1
     assert [f["name"] for f in spec["not_oriented"]] == ["disk"]
     assert spec["jaw_opening_mm"] >= 5.0  # wider than the pie's largest width (its radius, 5 mm)
+
+
+def test_the_gripper_profile_example_on_the_page_is_a_valid_profile() -> None:
+    """The plan page's placeholder is what a new user copies: it must be accepted
+    (it once named a key that does not exist)."""
+    import html
+    import re
+
+    from optimisation.profile import profile_from_dict
+    from service.web import STATIC
+
+    page = (STATIC / "index.html").read_text()
+    m = re.search(r"id=\"gripper\"[^>]*placeholder='([^']*)'", page)
+    assert m is not None
+    profile = profile_from_dict(json.loads(html.unescape(m.group(1))))
+    assert profile.jaw_max_jerk_m_s3 == 20.0
