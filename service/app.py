@@ -54,7 +54,8 @@ def build_state(settings: Settings, metrics: Metrics) -> ServiceState:
     store = Store(settings.db_url)
     job_exec = make_executor(settings.scheduler, settings.workers, SLOW_NICENESS)
     limit = settings.plan_time_limit_s + settings.validation_time_limit_s
-    runner = JobRunner(store, job_exec, RunnerConfig(str(settings.log_dir), settings.sim_workers, limit, 2 * settings.workers))
+    runner = JobRunner(store, job_exec, RunnerConfig.for_workers(str(settings.log_dir), settings.sim_workers, limit,
+                                                              settings.workers, settings.batch_chunk))
     pools = {"fast": make_executor("", settings.fast_workers), "slow": make_executor("", settings.workers, SLOW_NICENESS)}
     gate = Gate({"fast": settings.fast_workers + settings.queue_depth, "slow": settings.workers + settings.queue_depth},
                 settings.max_inflight_per_client)

@@ -75,7 +75,8 @@ def cmd_batch(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     with Progress(TextColumn(f"[bold]{executor.name}[/] parts"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn()) as bar:
         task = bar.add_task("parts", total=before["total"], completed=before["total"] - before["pending"])
-        runner = JobRunner(store, executor, RunnerConfig(record_dir, args.sim_workers, limit, 2 * settings.workers),
+        runner = JobRunner(store, executor, RunnerConfig.for_workers(record_dir, args.sim_workers, limit, settings.workers,
+                                                                    settings.batch_chunk),
                            on_progress=lambda _j, n, _t: bar.update(task, completed=n))
         try:
             runner.run(job_id)

@@ -25,7 +25,7 @@ from algrasp.errors import AlgraspError, UnavailableError
 from algrasp.io.record.recorder import discard_partial, new_run_id
 from service.executor import Executor
 from service.store import Outcome, Store
-from service.work import design_task
+from service.work import design_chunk, design_task
 
 STORE_RETRY_S = 5.0
 """A job whose database cannot be written waits this long before trying again."""
@@ -33,6 +33,7 @@ MAX_ATTEMPTS = 3
 """Dispatches of one part without an outcome before it is failed (not resumed forever)."""
 REPORT_EVERY_S = 0.25
 """Progress callbacks are throttled to this interval (plus one when the job ends)."""
+Item = tuple[int, dict[str, Any], str]  # (part index, part document, run id)
 Progress = Callable[[str, int, int], None]  # (job_id, finished parts, total)
 
 
@@ -42,6 +43,13 @@ class RunnerConfig:
     sim_workers: int
     part_time_limit_s: float
     window: int  # parts in flight at once (bounded, so ``attempts`` counts real dispatches)
+    chunk: int = 1  # parts sent to a worker in one task
+
+    @classmethod
+    def for_workers(cls, record_dir: str, sim_workers: int, part_time_limit_s: float, workers: int,
+                    chunk: int) -> RunnerConfig:
+        """Two chunks per worker in flight: each worker has its next chunk waiting."""
+        return cls(record_dir, sim_workers, part_time_limit_s, 2 * workers * chunk, chunk)
 
 
 class JobRunner:
@@ -56,6 +64,7 @@ class JobRunner:
         self._threads: dict[str, threading.Thread] = {}
         self._stopping = threading.Event()
         self._reported_at: dict[str, float] = {}
+        self._solo: set[tuple[str, int]] = set()  # parts of a lost chunk: sent alone from now on
 
     def start(self, job_id: str) -> None:
         """Run the job in a background thread."""
@@ -94,7 +103,7 @@ class JobRunner:
         stop = self._cancel.setdefault(job_id, threading.Event())
         todo = [(i, d) for i, d, a in self.store.pending_parts(job_id) if not self._given_up(job_id, i, a)]
         todo.reverse()
-        inflight: dict[cf.Future[Any], tuple[int, dict[str, Any], str]] = {}
+        inflight: dict[cf.Future[Any], list[Item]] = {}
         while (todo or inflight) and not (stop.is_set() or self._stopping.is_set()):
             try:
                 self._step(job_id, job.options, todo, inflight)
@@ -109,34 +118,63 @@ class JobRunner:
         self._report(job_id, final=True)
 
     def _step(self, job_id: str, options: dict[str, Any], todo: list[tuple[int, dict[str, Any]]],
-              inflight: dict[cf.Future[Any], tuple[int, dict[str, Any], str]]) -> None:
-        """Dispatch up to the window, then store what finished. A finished part leaves
-        ``inflight`` only once its outcome is stored, so a storage fault loses nothing."""
-        batch = todo[len(todo) - min(len(todo), self.cfg.window - len(inflight)):][::-1]
+              inflight: dict[cf.Future[Any], list[Item]]) -> None:
+        """Dispatch up to the window (in chunks), then store what finished. A finished part
+        leaves ``inflight`` only once its outcome is stored, so a storage fault loses nothing."""
+        free = self.cfg.window - sum(len(g) for g in inflight.values())
+        batch = todo[len(todo) - min(len(todo), max(free, 0)):][::-1]
         self.store.start_attempts(job_id, [idx for idx, _ in batch])  # counted before sent
         del todo[len(todo) - len(batch):]
-        for idx, doc in batch:
-            run_id = new_run_id()
-            inflight[self.executor.submit(design_task, doc, options, self.cfg.record_dir, self.cfg.sim_workers,
-                                          run_id, timeout_s=self.cfg.part_time_limit_s, stage="part")] = (idx, doc, run_id)
+        for group in self._chunks(job_id, batch):
+            inflight[self._submit(options, group)] = group
         done, _ = cf.wait(inflight, timeout=0.5, return_when=cf.FIRST_COMPLETED)
-        outcomes, retry = [], []
+        outcomes: list[Outcome] = []
+        retry: list[tuple[int, dict[str, Any]]] = []
         for fut in done:
-            idx, doc, run_id = inflight[fut]
+            self._collect(job_id, fut, inflight[fut], outcomes, retry)
+        # One transaction for everything that finished since the last step.
+        self.store.finish_parts(job_id, outcomes)
+        for fut in done:
+            del inflight[fut]
+        todo.extend(retry)
+        self._report(job_id)
+
+    def _chunks(self, job_id: str, batch: list[tuple[int, dict[str, Any]]]) -> list[list[Item]]:
+        """Chunks of at most ``cfg.chunk`` parts, each with its run id; parts of a lost chunk alone."""
+        items = [(idx, doc, new_run_id()) for idx, doc in batch]
+        alone = [[it] for it in items if (job_id, it[0]) in self._solo]
+        rest = [it for it in items if (job_id, it[0]) not in self._solo]
+        return alone + [rest[i:i + self.cfg.chunk] for i in range(0, len(rest), self.cfg.chunk)]
+
+    def _submit(self, options: dict[str, Any], group: list[Item]) -> cf.Future[Any]:
+        cfg = self.cfg
+        if len(group) == 1:
+            _, doc, run_id = group[0]
+            return self.executor.submit(design_task, doc, options, cfg.record_dir, cfg.sim_workers, run_id,
+                                        timeout_s=cfg.part_time_limit_s, stage="part")
+        return self.executor.submit(design_chunk, [(doc, run_id) for _, doc, run_id in group], options, cfg.record_dir,
+                                    cfg.sim_workers, timeout_s=cfg.part_time_limit_s * len(group), stage="part")
+
+    def _collect(self, job_id: str, fut: cf.Future[Any], group: list[Item], outcomes: list[Outcome],
+                 retry: list[tuple[int, dict[str, Any]]]) -> None:
+        """The outcomes of a finished task; parts to dispatch again go to ``retry``."""
+        if len(group) == 1:
+            idx, doc, run_id = group[0]
             outcome = self._outcome(job_id, idx, fut, run_id)
             if outcome is None:
-                retry.append((fut, (idx, doc)))  # its worker died: another worker tries it
+                retry.append((idx, doc))  # its worker died: another worker tries it
             else:
-                outcomes.append((fut, outcome))
-        # One transaction for everything that finished since the last step; a finished part
-        # leaves ``inflight`` only once stored, so a storage fault loses nothing.
-        self.store.finish_parts(job_id, [o for _, o in outcomes])
-        for fut, _o in outcomes:
-            del inflight[fut]
-        for fut, item in retry:
-            del inflight[fut]
-            todo.append(item)
-        self._report(job_id)
+                outcomes.append(outcome)
+            return
+        try:
+            results = fut.result()
+        except Exception:  # noqa: BLE001 - a chunk lost (worker died, time limit): each part alone
+            for idx, doc, run_id in group:
+                discard_partial(Path(self.cfg.record_dir), run_id)
+                self._solo.add((job_id, idx))
+                retry.append((idx, doc))
+            return
+        outcomes.extend(_finished(idx, result) for (idx, _, _), result in zip(group, results))
 
     def _given_up(self, job_id: str, idx: int, attempts: int) -> bool:
         """A part that was dispatched MAX_ATTEMPTS times without an outcome (its worker
@@ -151,7 +189,7 @@ class JobRunner:
     def _outcome(self, job_id: str, idx: int, fut: cf.Future[Any], run_id: str) -> Outcome | None:
         """A finished part's outcome; None when it should be tried again (worker lost)."""
         try:
-            response, run, err = fut.result()
+            result = fut.result()
         except AlgraspError as exc:  # worker lost, time limit, a request that cannot be sent
             discard_partial(Path(self.cfg.record_dir), run_id)
             lost = isinstance(exc, UnavailableError) and exc.reason == "worker_lost"
@@ -160,9 +198,7 @@ class JobRunner:
             return Outcome(idx, "failed", error=exc.to_dict())
         except Exception as exc:  # noqa: BLE001 - a crashed worker must not stop the job
             return Outcome(idx, "failed", error={"type": "internal_error", "message": repr(exc)})
-        if err is not None:
-            return Outcome(idx, "failed", error=err.to_dict(), run=run)
-        return Outcome(idx, "done", result=response, run=run)
+        return _finished(idx, result)
 
     def _report(self, job_id: str, final: bool = False) -> None:
         """Progress to the callback, at most every REPORT_EVERY_S (counting costs a query)."""
@@ -172,3 +208,11 @@ class JobRunner:
         self._reported_at[job_id] = now
         done, total = self.store.finished(job_id)
         self.on_progress(job_id, done, total)
+
+
+def _finished(idx: int, result: Any) -> Outcome:
+    """The outcome of a part whose design task returned ``(response, run, error)``."""
+    response, run, err = result
+    if err is not None:
+        return Outcome(idx, "failed", error=err.to_dict(), run=run)
+    return Outcome(idx, "done", result=response, run=run)

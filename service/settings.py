@@ -48,6 +48,8 @@ class Settings(BaseSettings):
         sim_workers: Drake worker processes per validation.
         max_body_bytes: largest request body (bytes; the archive upload too).
         max_batch_parts: most parts in one job.
+        batch_chunk: parts of a job sent to a worker in one task (fewer round trips to
+            the pool; a chunk whose worker dies or runs out of time is retried part by part).
         max_samples: most validation samples per part.
         analysis_time_limit_s / plan_time_limit_s: per request, analysis alone / analysis+plan+optimisation.
         validation_time_limit_s: added to the plan limit when a validation is asked for.
@@ -77,6 +79,7 @@ class Settings(BaseSettings):
     sim_workers: int = Field(default=2, ge=1, le=64)
     max_body_bytes: int = Field(default=8_000_000, ge=1_000)
     max_batch_parts: int = Field(default=20_000, ge=1)
+    batch_chunk: int = Field(default=8, ge=1, le=256)
     max_samples: int = Field(default=500, ge=1)
     analysis_time_limit_s: float = Field(default=20.0, gt=0)
     plan_time_limit_s: float = Field(default=60.0, gt=0)

@@ -93,6 +93,14 @@ def design_task(doc: dict[str, Any], options: dict[str, Any], record_dir: str, s
                                                    val.get("agreement")), None
 
 
+def design_chunk(items: list[tuple[dict[str, Any], str]], options: dict[str, Any], record_dir: str,
+                 sim_workers: int) -> list[TaskResult]:
+    """Several parts of a batch job in one task: ``design_task`` for each ``(doc, run_id)``,
+    in order. Chunks spare the per-task round trip to the pool; a chunk whose worker is
+    lost is retried part by part by the runner."""
+    return [design_task(doc, options, record_dir, sim_workers, run_id) for doc, run_id in items]
+
+
 def figure_task(record_path: str) -> bytes:
     """The plan figure (SVG) of a recorded plan run, recomputed from its request."""
     from algrasp.io.record.replay import recorded_plan

@@ -120,3 +120,43 @@ def test_a_read_only_database_pauses_a_job_and_loses_nothing(tmp_path: Path, mon
     rows = store.results(job_id)
     assert faults["left"] == 0 and [r["status"] for r in rows] == ["done"] * 3
     assert [r["attempts"] for r in rows] == [1, 1, 1]  # paused, not redone
+
+
+class _PoisonChunkExecutor(_DyingExecutor):
+    """Really runs the tasks in-process, except that any task holding the part named
+    "poison" loses its worker (as a part that crashes the interpreter would)."""
+
+    def __init__(self) -> None:
+        self.chunks: list[int] = []
+
+    def submit(self, fn: object, *args: object, timeout_s: float, stage: str) -> object:
+        import concurrent.futures as cf
+
+        from algrasp.errors import UnavailableError
+
+        docs = [d for d, _ in args[0]] if isinstance(args[0], list) else [args[0]]  # type: ignore[index]
+        self.chunks.append(len(docs))
+        fut: cf.Future[object] = cf.Future()
+        if any(d.get("name") == "poison" for d in docs):  # type: ignore[attr-defined]
+            fut.set_exception(UnavailableError("worker_lost", "the worker died"))
+        else:
+            fut.set_result(fn(*args))  # type: ignore[operator]
+        return fut
+
+
+def test_a_lost_chunk_is_retried_part_by_part(tmp_path: Path) -> None:
+    """Parts go to workers in chunks; when a chunk's worker dies, its parts are sent one
+    by one, so only the part that kills workers fails and the others are designed."""
+    from service.jobs import MAX_ATTEMPTS, JobRunner, RunnerConfig
+
+    store = Store(f"sqlite:///{tmp_path / 'jobs.db'}")
+    parts = [(f"p{i}", dict(rectangle(2.0 + i, 1.0), name=f"p{i}"), None) for i in range(5)]
+    parts.insert(2, ("poison", dict(rectangle(9.0, 1.0), name="poison"), None))
+    job_id = store.create_job({}, parts)
+    ex = _PoisonChunkExecutor()
+    JobRunner(store, ex, RunnerConfig.for_workers(str(tmp_path), 1, 10.0, 1, 3)).run(job_id)  # type: ignore[arg-type]
+    rows = store.results(job_id)
+    assert [r["status"] for r in rows] == ["done", "done", "failed", "done", "done", "done"]
+    assert rows[2]["attempts"] == MAX_ATTEMPTS and rows[2]["error"]["reason"] == "worker_lost"
+    assert [r["attempts"] for i, r in enumerate(rows) if i != 2] == [2, 2, 1, 1, 1]  # p0, p1 shared the poison's chunk
+    assert ex.chunks[:2] == [3, 3] and all(r["result"]["orientable"] for r in rows if r["status"] == "done")

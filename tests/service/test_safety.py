@@ -44,6 +44,15 @@ def test_time_limits_kill_the_work_and_the_service_goes_on(tmp_path: Path) -> No
             assert slow.status_code == 422, slow.text
             err = slow.json()["error"]
             assert err["type"] == "time_limit_exceeded" and err["stage"] == "analysis" and err["limit_s"] == 0.2
-            assert c.post("/v1/analyses", json=rectangle(3.0, 1.0)).status_code == 200  # a fresh worker answers
+            # A fresh worker answers. The 0.2 s limit is tight for a machine loaded by the
+            # parallel suite (it once ran out on the rectangle), so a limit hit may repeat.
+            codes = []
+            for _ in range(3):
+                r = c.post("/v1/analyses", json=rectangle(3.0, 1.0))
+                codes.append(r.status_code)
+                if r.status_code == 200:
+                    break
+                assert r.json()["error"]["type"] == "time_limit_exceeded", r.text
+            assert codes[-1] == 200, codes
     finally:
         s.kill()
