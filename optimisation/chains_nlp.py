@@ -30,6 +30,8 @@ IPOPT_OPTIONS: dict[str, Any] = {"print_level": 0, "sb": "yes", "max_iter": 500,
 ARRIVAL_TOL = 1e-6
 """A solution whose waypoint, final speed or acceleration error (scaled units) exceeds
 this has not converged."""
+MIN_WARM_START_S = 1e-3
+"""Shortest segment duration the warm start offers IPOPT (a zero-length start stalls it)."""
 LOWER_BOUND_SLACK = 1e-6
 """Relative slack when checking that the NLP is no faster than the jerk-free closed form."""
 
@@ -82,7 +84,7 @@ def jerk_limited(c: Chain, jerk_limit: float) -> Profile1D:
     K = len(d)
     # Warm start: the closed form's segment durations plus a ramp of a/j at each end.
     ends = [0, *lower.segment_ends]
-    t0 = [max(float(lower.t[b] - lower.t[a]), 1e-3) + 2 * c.accel_limit / jerk_limit / K for a, b in zip(ends, ends[1:])]
+    t0 = [max(float(lower.t[b] - lower.t[a]), MIN_WARM_START_S) + 2 * c.accel_limit / jerk_limit / K for a, b in zip(ends, ends[1:])]
     T, J = (np.asarray(x) for x in _solver(K)(d, np.asarray(c.speed_limits) / s, c.accel_limit / s, jerk_limit / s, t0))
     prof = _profile(c, s, T.ravel(), J * s)
     if prof is None or prof.duration_s < lower.duration_s * (1 - LOWER_BOUND_SLACK):
@@ -108,12 +110,3 @@ def _profile(c: Chain, s: float, T: Any, J: Any) -> Profile1D | None:
     if not np.isfinite(err) or err > ARRIVAL_TOL or abs(v[-1]) / s > ARRIVAL_TOL or abs(a[-1]) / s > ARRIVAL_TOL:
         return None
     return Profile1D(t, np.array(q), np.array(v), np.array(a[:-1]), ends, j)
-
-
-def solve_jerk_limited(chains: list[Chain], jerk_limit: float) -> list[Profile1D]:
-    """``jerk_limited`` for several chains (repeated chains solved once)."""
-    solved: dict[Chain, Profile1D] = {}
-    for c in chains:
-        if c not in solved:
-            solved[c] = jerk_limited(c, jerk_limit)
-    return [solved[c] for c in chains]

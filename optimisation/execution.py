@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from functools import partial
 
 import numpy as np
 
@@ -35,7 +36,7 @@ from algrasp.geometry.units import meters_per_unit
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.deadband import mean_radius
 from algrasp.planning.plans import Plan
-from optimisation.chains import Chain, Profile1D, solve_chains, trapezoid_duration
+from optimisation.chains import Chain, Profile1D, solve_chains, time_optimal, trapezoid_duration
 from optimisation.profile import DEFAULT_PROFILE, GripperProfile
 from optimisation.push import PushResult, push_distances, push_model
 
@@ -236,13 +237,11 @@ def _solve_chains(pf: GripperProfile, chains: list[Chain], axes: list[str]) -> l
     jerk-limited S-curves (the gripper's rotation keeps its own acceleration limit)."""
     if pf.jaw_max_jerk_m_s3 <= 0.0:
         return solve_chains(chains)
-    from optimisation.chains_nlp import solve_jerk_limited
+    from optimisation.chains_nlp import jerk_limited
 
-    jaw = [i for i, a in enumerate(axes) if a != "gripper"]
-    out = solve_chains(chains)
-    for i, p in zip(jaw, solve_jerk_limited([chains[i] for i in jaw], pf.jaw_max_jerk_m_s3)):
-        out[i] = p
-    return out
+    jerk = partial(jerk_limited, jerk_limit=pf.jaw_max_jerk_m_s3)
+    jaws = iter(solve_chains([c for c, a in zip(chains, axes) if a != "gripper"], jerk))
+    return [time_optimal(c) if a == "gripper" else next(jaws) for c, a in zip(chains, axes)]
 
 
 def _sample(pf: GripperProfile, moves: list[Move], alpha0: float, push: PushResult | None, scale: float,

@@ -181,9 +181,9 @@ class JobRunner:
         died each time, or the server did) fails, so the job cannot loop forever."""
         if attempts < MAX_ATTEMPTS:
             return False
-        self.store.finish_part(job_id, idx, "failed", error=UnavailableError(
+        self.store.finish_parts(job_id, [Outcome(idx, "failed", error=UnavailableError(
             "worker_lost", f"no outcome after {attempts} attempts: the worker or the server died each time "
-            "(a part that crashes its worker?)").to_dict())
+            "(a part that crashes its worker?)").to_dict())])
         return True
 
     def _outcome(self, job_id: str, idx: int, fut: cf.Future[Any], run_id: str) -> Outcome | None:

@@ -99,14 +99,11 @@ class Store:
         self._session = sessionmaker(self.engine, expire_on_commit=False)
 
     # ------------------------------------------------------------------ runs
-    def add_run(self, run: dict[str, Any], job_id: str | None = None) -> None:
-        self.add_runs([run], job_id)
-
     def add_runs(self, runs: list[dict[str, Any]], job_id: str | None = None) -> None:
         """Several run rows in one transaction (all or none)."""
         with self._session.begin() as s:
             for run in runs:
-                s.merge(RunRow(job_id=job_id, created_at=time.time(), **run))
+                s.merge(_run_row(job_id, run))
 
     def delete_runs(self, run_ids: list[str]) -> None:
         """Forget runs whose records retention deleted."""
@@ -182,14 +179,6 @@ class Store:
             s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx.in_(idxs))
                       .values(attempts=PartRow.attempts + 1))
 
-    def finish_part(self, job_id: str, idx: int, status: str, result: dict[str, Any] | None = None,
-                    error: dict[str, Any] | None = None, run_id: str | None = None) -> bool:
-        """Store a part's outcome once; False if it was no longer pending."""
-        with self._session.begin() as s:
-            res = s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx == idx, PartRow.status == "pending")
-                            .values(status=status, result=result, error=error, run_id=run_id, finished_at=time.time()))
-            return bool(res.rowcount)  # type: ignore[attr-defined]
-
     def finish_parts(self, job_id: str, outcomes: list[Outcome]) -> None:
         """Several parts' outcomes and their runs in one transaction (all or none); a part
         no longer pending keeps its stored outcome."""
@@ -199,7 +188,7 @@ class Store:
         with self._session.begin() as s:
             for o in outcomes:
                 if o.run is not None:
-                    s.merge(RunRow(job_id=job_id, created_at=now, **o.run))
+                    s.merge(_run_row(job_id, o.run))
                 s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx == o.idx, PartRow.status == "pending")
                           .values(status=o.status, result=o.result, error=o.error, run_id=o.run_id, finished_at=now))
 
@@ -253,6 +242,11 @@ def _run_dict(r: RunRow) -> dict[str, Any]:
     return {"run_id": r.run_id, "created_at": r.created_at, "command": r.command, "part_name": r.part_name,
             "action": r.action, "steps": r.steps, "agreement": r.agreement, "cycle_time_s": r.cycle_time_s,
             "status": r.status, "error": r.error, "job_id": r.job_id}
+
+
+def _run_row(job_id: str | None, run: dict[str, Any]) -> RunRow:
+    """The index row of a recorded run (``job_id`` None: not part of a job)."""
+    return RunRow(job_id=job_id, created_at=time.time(), **run)
 
 
 def _sqlite_pragmas(conn: Any, _record: Any) -> None:

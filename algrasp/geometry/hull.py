@@ -253,10 +253,9 @@ def _features(loop: Loop, elems: list[_Element], tol: Tolerances) -> list[HullFe
 def hull_order(pts: FloatArray) -> list[int]:
     """Indices of the corners of the convex hull of ``pts`` (N, 2), counter-clockwise,
     collinear (to rounding) and repeated points left out (Andrew's monotone chain,
-    O(N log N)). Only
-    locates the hull: the exact hull is verified against the curves afterwards. Written
-    here rather than importing scipy.spatial's qhull, whose import alone cost the CLI
-    0.4 s."""
+    O(N log N)). It only locates the hull: the exact hull is verified against the curves
+    afterwards. Written here rather than importing scipy.spatial's qhull, whose import
+    alone cost the CLI 0.4 s."""
     idx = sorted(range(len(pts)), key=lambda i: (pts[i, 0], pts[i, 1]))
     xy = pts.tolist()
 

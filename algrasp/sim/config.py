@@ -102,9 +102,10 @@ def similar_config(cfg: SimConfig, reach_m: float) -> SimConfig:
     from dataclasses import replace
 
     k = math.sqrt(reach_m / cfg.similarity_reach_m)
+    step = min(k * cfg.time_step_s, cfg.max_time_step_s)
     return replace(cfg, jaw_speed_m_s=k * cfg.jaw_speed_m_s, open_speed_m_s=k * cfg.open_speed_m_s,
-                   stiction_speed_m_s=k * cfg.stiction_speed_m_s, time_step_s=min(k * cfg.time_step_s, cfg.max_time_step_s),
-                   relaxation_time_s=min(k * cfg.time_step_s, cfg.max_time_step_s) * cfg.relaxation_time_s / cfg.time_step_s,
+                   stiction_speed_m_s=k * cfg.stiction_speed_m_s, time_step_s=step,
+                   relaxation_time_s=step * cfg.relaxation_time_s / cfg.time_step_s,  # the same number of steps
                    hold_s=k * cfg.hold_s,
                    settle_speed_m_s=k * cfg.settle_speed_m_s, settle_rate_rad_s=cfg.settle_rate_rad_s / k,
                    settle_quiet_s=k * cfg.settle_quiet_s, settle_max_s=k * cfg.settle_max_s,
