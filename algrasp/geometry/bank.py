@@ -36,6 +36,15 @@ _NEWTON_STEPS = 6  # from an interpolated start: quadratic convergence reaches r
 _TABLE_SIZE = 33  # normal-angle samples per feature that start Newton
 
 
+def unit_vectors(psi: FloatArray) -> FloatArray:
+    """Unit vectors (cos ψ, sin ψ) of an array of angles (m,) → (m, 2); one buffer,
+    no stacking (this sits on every support-function evaluation)."""
+    out = np.empty((*np.shape(psi), 2))
+    np.cos(psi, out=out[..., 0])
+    np.sin(psi, out=out[..., 1])
+    return out
+
+
 def _der(c: FloatArray) -> FloatArray:
     """Derivatives of stacked power-basis polynomials (P, m) → (P, m)."""
     out = np.zeros_like(c)
@@ -152,7 +161,8 @@ class FeatureTable:
         """Feature holding each normal ψ (right-open ranges) and ψ lifted into the table's turn."""
         base = self.breakpoints[0]
         x = base + (np.asarray(psi, dtype=float) - base) % TWO_PI
-        idx = np.clip(np.searchsorted(self.breakpoints, x, side="right") - 1, 0, len(self.breakpoints) - 1)
+        # x ≥ breakpoints[0], so only the top needs clamping (x may round up to base + 2π).
+        idx = np.minimum(np.searchsorted(self.breakpoints, x, side="right") - 1, len(self.breakpoints) - 1)
         return idx, x
 
     def params(self, slots: IntArray, psi: FloatArray) -> FloatArray:
@@ -185,7 +195,7 @@ class FeatureTable:
     def points(self, idx: IntArray, psi: FloatArray) -> FloatArray:
         """Support points (n, 2) of features ``idx`` for outward normals ψ (n,)."""
         psi = np.asarray(psi, dtype=float)
-        out = self.centers[idx] + self.radii[idx, None] * np.stack([np.cos(psi), np.sin(psi)], axis=-1)
+        out = self.centers[idx] + self.radii[idx, None] * unit_vectors(psi)
         slots = self.slot[idx]
         curve = slots >= 0
         if np.any(curve):

@@ -23,7 +23,7 @@ import numpy as np
 
 from algrasp.errors import GeometryError
 from algrasp.geometry.angles import TWO_PI, to_deg
-from algrasp.geometry.bank import FeatureTable
+from algrasp.geometry.bank import FeatureTable, unit_vectors
 from algrasp.geometry.curves import FloatArray, Piece
 from algrasp.geometry.hull_loop import (
     Contact,
@@ -41,8 +41,7 @@ def unit(psi: FloatArray | float) -> FloatArray:
     """Unit vectors (cos ψ, sin ψ), shape (..., 2)."""
     if np.ndim(psi) == 0:
         return np.array([np.cos(psi), np.sin(psi)])
-    psi = np.asarray(psi, dtype=float)
-    return np.stack([np.cos(psi), np.sin(psi)], axis=-1)
+    return unit_vectors(np.asarray(psi, dtype=float))
 
 
 @dataclass(frozen=True, eq=False)
@@ -108,7 +107,8 @@ class ConvexHull:
     def support_many(self, psi: FloatArray) -> FloatArray:
         """h(ψ) for an array of normals, vectorised per feature; O(m log n)."""
         psi = np.asarray(psi, dtype=float)
-        out: FloatArray = np.sum(self.support_points(psi) * unit(psi), axis=-1)
+        pts = self.support_points(psi)
+        out: FloatArray = pts[..., 0] * np.cos(psi) + pts[..., 1] * np.sin(psi)
         return out
 
     def inside_margin(self, p: FloatArray) -> float:
@@ -202,8 +202,7 @@ def _element_normals(loop: Loop, elems: list[_Element]) -> list[tuple[float, flo
     raw: list[tuple[float, float] | None] = []
     for el in elems:
         if el[0] == "edge":
-            d = np.asarray(el[2]) - np.asarray(el[1])
-            psi = float(np.arctan2(-d[0], d[1]))
+            psi = math.atan2(el[1][0] - el[2][0], el[2][1] - el[1][1])
             raw.append((psi, psi))
         elif el[0] == "curve":
             p = loop.pieces[el[1]]
@@ -293,8 +292,9 @@ def exact_hull(boundary: list[Segment], size: float, tol: Tolerances) -> ConvexH
     feats = _features(loop, elems, tol)
     edges = tuple((tuple(map(float, e[1])), tuple(map(float, e[2]))) for e in elems if e[0] == "edge")
     table = FeatureTable.build(feats)
-    perimeter = sum(float(np.hypot(*(np.asarray(b) - np.asarray(a)))) for a, b in edges)
+    perimeter = math.fsum(math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in edges)
     perimeter += sum(f.radius * (f.psi1 - f.psi0) for f in feats if f.kind == "circle")
-    # Composite Gauss-Legendre (8 panels × 24 nodes) converges to rounding on these arcs.
-    perimeter += float(np.sum(table.curve_lengths(*gauss_legendre_01(24, 8))))
+    if any(f.kind == "curve" for f in feats):
+        # Composite Gauss-Legendre (8 panels × 24 nodes) converges to rounding on these arcs.
+        perimeter += float(np.sum(table.curve_lengths(*gauss_legendre_01(24, 8))))
     return ConvexHull(tuple(feats), edges, perimeter, table)  # type: ignore[arg-type]

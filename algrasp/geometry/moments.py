@@ -62,12 +62,14 @@ def _line_group(segs: list[Line]) -> FloatArray:
     q = np.array([s.end for s in segs], dtype=float)
     (px, py), (qx, qy) = p.T, q.T
     dx, dy = qx - px, qy - py
+    sx, sy = px + qx, py + qy
+    # p² + pq + q² = s² − pq and p³ + p²q + pq² + q³ = s (p² + q²); dot products sum.
     return np.array([
-        np.sum((px + qx) / 2.0 * dy),
-        np.sum(dy * (px * px + px * qx + qx * qx)) / 6.0,
-        -np.sum(dx * (py * py + py * qy + qy * qy)) / 6.0,
-        np.sum(dy * (px**3 + px * px * qx + px * qx * qx + qx**3)) / 12.0,
-        -np.sum(dx * (py**3 + py * py * qy + py * qy * qy + qy**3)) / 12.0,
+        np.dot(sx, dy) / 2.0,
+        np.dot(dy, sx * sx - px * qx) / 6.0,
+        -np.dot(dx, sy * sy - py * qy) / 6.0,
+        np.dot(dy, sx * (px * px + qx * qx)) / 12.0,
+        -np.dot(dx, sy * (py * py + qy * qy)) / 12.0,
     ])
 
 

@@ -169,7 +169,7 @@ def _check_loop(loop: list[Segment], field: str, size: float, tol: Tolerances) -
         starts = np.array([s.start for s in loop])
         ends = np.array([s.end for s in loop])
         short = np.hypot(*(ends - starts).T) <= tol.zero_length_rel * size
-        gaps = np.hypot(*(np.roll(starts, -1, axis=0) - ends).T) > tol.closure_rel * size
+        gaps = np.hypot(*(np.concatenate([starts[1:], starts[:1]]) - ends).T) > tol.closure_rel * size
         if not (short.any() or gaps.any()):
             return  # a valid polygon: no per-segment diagnosis needed
     for i, seg in enumerate(loop):
@@ -195,7 +195,7 @@ def _polyline(loop: list[Segment]) -> tuple[FloatArray, list[FloatArray]]:
 def _check_simple(boundary: list[Segment], holes: list[list[Segment]], field: str) -> None:
     """Self-intersection of the boundary and holes (tessellated only for this test)."""
     shell, parts = _polyline(boundary)
-    if len(np.unique(np.round(shell, 12), axis=0)) < 3:
+    if len({(round(x, 12), round(y, 12)) for x, y in shell.tolist()}) < 3:
         raise PartDocumentError(field, "the loop is degenerate: it has fewer than three distinct points")
     reason = shapely.is_valid_reason(Polygon(shell))
     if reason != "Valid Geometry":

@@ -30,8 +30,10 @@ Moments = tuple[float, float, float]
 
 
 @lru_cache(maxsize=32)
+@lru_cache(maxsize=16)
 def gauss_legendre_01(n: int, panels: int) -> tuple[FloatArray, FloatArray]:
-    """Nodes and weights of composite n-point Gauss-Legendre on [0, 1] (``panels`` panels)."""
+    """Nodes and weights of composite n-point Gauss-Legendre on [0, 1] (``panels`` panels).
+    Cached: the arrays are read-only and shared."""
     nodes, wts = np.polynomial.legendre.leggauss(n)
     edges = np.linspace(0.0, 1.0, panels + 1)
     t = np.concatenate([(a + b) / 2 + (b - a) / 2 * nodes for a, b in zip(edges[:-1], edges[1:])])

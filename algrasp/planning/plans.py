@@ -141,31 +141,47 @@ def final_orientations(F: TransferFunction, intervals: list[tuple[float, float]]
     return sorted(wrap(value + i * T, 2 * np.pi, ROUNDING) for i in range(k))
 
 
+_UNIT_SAMPLES = {VERIFY_SAMPLES: np.linspace(0.0, 2 * np.pi, VERIFY_SAMPLES, endpoint=False)}
+
+
 def verify(plan: Plan, samples: int = VERIFY_SAMPLES) -> bool:
     """Run the plan from a dense set of orientations plus every breakpoint (and its
     neighbours) of every action; true when exactly 360/T final orientations remain,
-    the reported ones."""
-    phi = [np.linspace(0.0, 2 * np.pi, samples, endpoint=False)]
-    starts = np.array([p.start for p in plan.transfer.pieces])
-    for s in plan.steps:
-        for eps in (-PROBE_RAD, 0.0, PROBE_RAD):
-            phi.append(starts + s.gripper_angle + eps)
-            phi.append(starts + plan.transfer.period + s.gripper_angle + eps)
-    final = np.sort(np.mod(plan.run(np.concatenate(phi)), 2 * np.pi))
+    the reported ones. O((s + nN) N log n) for s samples, n pieces, N actions."""
+    grid = _UNIT_SAMPLES.get(samples)
+    if grid is None:
+        grid = np.linspace(0.0, 2 * np.pi, samples, endpoint=False)
+    starts = plan.transfer.starts_array
+    shifts = np.array([s.gripper_angle for s in plan.steps])[:, None, None]
+    probes = np.array([-PROBE_RAD, 0.0, PROBE_RAD])[None, :, None]
+    lifted = np.concatenate([starts, starts + plan.transfer.period])[None, None, :]
+    phi = np.concatenate([grid, (lifted + shifts + probes).ravel()])
+    # The first action sends whole step intervals to one orientation: run each distinct
+    # outcome once through the rest (the final set, and so the clusters, are unchanged).
+    a1 = plan.steps[0].gripper_angle
+    phi = np.unique(plan.transfer.apply(phi - a1) + a1)
+    final = np.sort(np.mod(replace(plan, steps=plan.steps[1:]).run(phi), 2 * np.pi))
     clusters = _clusters(final)
     want = np.array(plan.final_orientations)
     if len(clusters) != len(want):
         return False
-    return bool(all(np.min(np.abs((c - want + np.pi) % (2 * np.pi) - np.pi)) <= FINAL_CLUSTER_RAD for c in clusters))
+    off = np.abs((clusters[:, None] - want + np.pi) % (2 * np.pi) - np.pi)
+    return bool(np.all(off.min(axis=1) <= FINAL_CLUSTER_RAD))
 
 
-def _clusters(sorted_angles: FloatArray) -> list[float]:
-    gaps = np.diff(sorted_angles) > FINAL_CLUSTER_RAD
-    groups = np.split(sorted_angles, np.nonzero(gaps)[0] + 1)
-    if len(groups) > 1 and (groups[0][0] + 2 * np.pi - groups[-1][-1]) <= FINAL_CLUSTER_RAD:
-        groups[0] = np.concatenate([groups[-1] - 2 * np.pi, groups[0]])
-        groups.pop()
-    return [float(np.mean(g)) % (2 * np.pi) for g in groups]
+def _clusters(sorted_angles: FloatArray) -> FloatArray:
+    """Means (radians, [0, 2π)) of runs of sorted angles closer than FINAL_CLUSTER_RAD,
+    the last run joined to the first across 2π. O(m)."""
+    if not len(sorted_angles):
+        return np.zeros(0)
+    first = np.concatenate([[0], np.nonzero(np.diff(sorted_angles) > FINAL_CLUSTER_RAD)[0] + 1])
+    counts = np.diff(np.append(first, len(sorted_angles)))
+    means = np.add.reduceat(sorted_angles, first) / counts
+    if len(first) > 1 and (sorted_angles[0] + 2 * np.pi - sorted_angles[-1]) <= FINAL_CLUSTER_RAD:
+        joined = counts[0] + counts[-1]
+        means[0] = (means[0] * counts[0] + (means[-1] - 2 * np.pi) * counts[-1]) / joined
+        means = means[:-1]
+    return np.asarray(np.mod(means, 2 * np.pi))
 
 
 def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -> Plan:

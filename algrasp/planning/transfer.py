@@ -63,8 +63,15 @@ class TransferFunction:
     @cached_property
     def _arrays(self) -> tuple[FloatArray, FloatArray]:
         """Starts and step values (NaN for ramps) as arrays for :meth:`apply`."""
-        return (np.array(self.starts),
-                np.array([np.nan if p.value is None else p.value for p in self.pieces]))
+        starts = np.array(self.starts)
+        values = np.array([np.nan if p.value is None else p.value for p in self.pieces])
+        starts.flags.writeable = values.flags.writeable = False
+        return starts, values
+
+    @property
+    def starts_array(self) -> FloatArray:
+        """Piece starts (n,) as a read-only array (radians)."""
+        return self._arrays[0]
 
     def piece_at(self, theta: float) -> tuple[TransferPiece, float]:
         """The piece holding θ and the lift offset (a multiple of the period) to add."""
@@ -86,7 +93,8 @@ class TransferFunction:
         k = np.floor((thetas - base) / self.period)
         x = thetas - k * self.period
         starts, values = self._arrays
-        idx = np.clip(np.searchsorted(starts, x, side="right") - 1, 0, len(self.pieces) - 1)
+        # x ≥ starts[0]: only the top needs clamping (x may round up to base + P).
+        idx = np.minimum(np.searchsorted(starts, x, side="right") - 1, len(self.pieces) - 1)
         vals = values[idx]
         return np.where(np.isnan(vals), thetas, vals + k * self.period)
 
