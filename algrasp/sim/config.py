@@ -8,8 +8,8 @@ Model (stated for users and the README):
 - Support friction: the ellipsoidal limit surface of uniform-pressure Coulomb friction,
   f_max = μ m g and m_max = μ m g r̄ with r̄ the mean distance of the region's points from
   the centre of mass; below ``stiction_speed_m_s`` the force is regularised (viscous).
-- Jaws: two frictionless boxes on prismatic joints of a gripper turned to α; each jaw is
-  PD-tracked along its schedule with its force capped at ``jaw_force_n``.
+- Jaws: two frictionless rigid planes (half-spaces, solid away from the part) on
+  prismatic joints of a gripper turned to α; each jaw is PD-tracked along its schedule with its force capped at ``jaw_force_n``.
 - Grasp detection: at the end of each squeeze (the hold), the gripper keeps its targets
   until the part has settled — its speed below ``settle_speed_m_s`` / ``settle_rate_rad_s``
   for ``settle_quiet_s`` — at most ``settle_max_s``, as a gripper that reports "object
@@ -48,7 +48,10 @@ class SimConfig:
     gravity_m_s2: float = DEFAULT_PHYSICS.gravity_m_s2
     stiction_speed_m_s: float = 5e-3
     jaw_speed_m_s: float = 0.01
-    open_speed_m_s: float = 0.05
+    open_speed_m_s: float = 0.1
+    """Jaw speed away from contact (the fast approach and the release), within what
+    electric parallel grippers reach (0.1–0.15 m/s). 0.05 m/s gave the same agreement on
+    every part of ``bench_validate.py`` and cost the pie's 36 samples 9.8 s against 8.7 s."""
     rotate_speed_rad_s: float = 6.0
     jaw_force_n: float = DEFAULT_PHYSICS.grip_force_n
     jaw_stiffness_n_m: float = 2000.0

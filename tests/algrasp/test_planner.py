@@ -4,6 +4,7 @@ perturbation within the reported margins."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -12,7 +13,7 @@ from algrasp.errors import NotOrientableError
 from algrasp.geometry import shapes
 from algrasp.geometry.part import load_part
 from algrasp.planning.analysis import Analysis, analyse_part
-from algrasp.planning.plans import Plan, make_plan
+from algrasp.planning.plans import Plan, _clusters, make_plan, verify
 
 GRID = 36000  # 0.01° grid for the independent simulation
 
@@ -191,3 +192,27 @@ def test_not_orientable_errors() -> None:
     with pytest.raises(NotOrientableError) as info:
         make_plan(analysed(shapes.pie()), "squeeze", 40.0)
     assert info.value.reason == "margin_too_large" and "40" in info.value.message
+
+
+def test_verification_rejects_wrong_plans() -> None:
+    """The sampled verification must be able to fail: a plan missing its first action
+    leaves more orientations than it claims; a plan claiming the wrong finals (turned by
+    1°) or too few of them is refused."""
+    plan = make_plan(analysed(shapes.pie()), "squeeze")
+    assert verify(plan)
+    assert not verify(replace(plan, steps=plan.steps[1:]))
+    turned = tuple((f + math.radians(1.0)) % (2 * math.pi) for f in plan.final_orientations)
+    assert not verify(replace(plan, final_orientations=turned))
+    assert not verify(replace(plan, final_orientations=plan.final_orientations[:1]))
+
+
+def test_clusters_join_across_a_full_turn() -> None:
+    """Angles within the cluster distance either side of 0 form one cluster (mean ≈ 0);
+    a lone angle is its own cluster; means are weighted by how many angles fall in each."""
+    tiny = 1e-8
+    got = _clusters(np.array([tiny, 2 * tiny, 1.0, 1.0, 2 * np.pi - tiny]))
+    assert len(got) == 2
+    assert min(got[0], 2 * np.pi - got[0]) == pytest.approx(2 * tiny / 3, abs=1e-14)
+    assert got[1] == 1.0
+    assert list(_clusters(np.array([0.5, 0.5 + tiny, 3.0]))) == pytest.approx([0.5 + tiny / 2, 3.0], abs=1e-15)
+    assert len(_clusters(np.zeros(0))) == 0
