@@ -21,7 +21,7 @@ from typing import Any
 
 import pytest
 
-from tests.service.conftest import Server
+from tests.service.conftest import Server, start_server
 
 ROOT = Path(__file__).resolve().parents[2]
 ARTIFACTS = ROOT / "tests" / "artifacts" / "workbench"
@@ -50,6 +50,16 @@ def browser() -> Iterator[Any]:
         b = p.chromium.launch(executable_path=chromium(), args=["--no-sandbox", "--disable-gpu"])
         yield b
         b.close()
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
+    """A service of its own: on the session's shared one, a job another test left running
+    can add more than a page of newer runs between this module's POST and its listing
+    (seen once in CI: the run under test was not on the runs page)."""
+    s = start_server(tmp_path_factory.mktemp("workbench"))
+    yield s
+    s.kill()
 
 
 @pytest.fixture()
