@@ -30,7 +30,6 @@ Moments = tuple[float, float, float]
 
 
 @lru_cache(maxsize=32)
-@lru_cache(maxsize=16)
 def gauss_legendre_01(n: int, panels: int) -> tuple[FloatArray, FloatArray]:
     """Nodes and weights of composite n-point Gauss-Legendre on [0, 1] (``panels`` panels).
     Cached: the arrays are read-only and shared."""

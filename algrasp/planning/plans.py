@@ -141,16 +141,11 @@ def final_orientations(F: TransferFunction, intervals: list[tuple[float, float]]
     return sorted(wrap(value + i * T, 2 * np.pi, ROUNDING) for i in range(k))
 
 
-_UNIT_SAMPLES = {VERIFY_SAMPLES: np.linspace(0.0, 2 * np.pi, VERIFY_SAMPLES, endpoint=False)}
-
-
 def verify(plan: Plan, samples: int = VERIFY_SAMPLES) -> bool:
     """Run the plan from a dense set of orientations plus every breakpoint (and its
     neighbours) of every action; true when exactly 360/T final orientations remain,
     the reported ones. O((s + nN) N log n) for s samples, n pieces, N actions."""
-    grid = _UNIT_SAMPLES.get(samples)
-    if grid is None:
-        grid = np.linspace(0.0, 2 * np.pi, samples, endpoint=False)
+    grid = np.linspace(0.0, 2 * np.pi, samples, endpoint=False)
     starts = plan.transfer.starts_array
     shifts = np.array([s.gripper_angle for s in plan.steps])[:, None, None]
     probes = np.array([-PROBE_RAD, 0.0, PROBE_RAD])[None, :, None]

@@ -27,7 +27,7 @@ class Geometry:
 
 def jaw_size_m(geom: Geometry) -> tuple[float, float]:
     """Length and thickness (m) of the jaws as drawn in run records (the simulator's
-    jaws are planes): long enough to cover the part at any offset, thick enough for a stable hydroelastic contact."""
+    jaws are planes): long enough to cover the part at any offset."""
     return 5.0 * geom.reach_m, max(0.3 * geom.reach_m, MIN_THICKNESS_M)
 
 

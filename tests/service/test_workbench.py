@@ -54,9 +54,9 @@ def browser() -> Iterator[Any]:
 
 @pytest.fixture(scope="module")
 def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
-    """A service of its own: on the session's shared one, a job another test left running
-    can add more than a page of newer runs between this module's POST and its listing
-    (seen once in CI: the run under test was not on the runs page)."""
+    """A service of its own, so the runs page lists only this module's runs. On the
+    session's shared service the run under test was once missing from the runs page in
+    CI (the cause was not found; other modules' runs share that service's list)."""
     s = start_server(tmp_path_factory.mktemp("workbench"))
     yield s
     s.kill()
