@@ -17,7 +17,9 @@ PARTS = 12
 
 def test_restart_resumes_without_losing_or_redoing(tmp_path: Path) -> None:
     parts = [dict(rectangle(10.0 + i, 3.0 + 0.1 * i), name=f"rect-{i}") for i in range(PARTS)]
-    server = start_server(tmp_path)
+    # One part per dispatch: with chunks of 8, the second chunk of this small job could
+    # finish before the kill lands (seen in CI once parts got faster).
+    server = start_server(tmp_path, ALGRASP_BATCH_CHUNK="1")
     try:
         with server.client() as c:
             job_id = c.post("/v1/jobs", json={"parts": parts}).json()["id"]
