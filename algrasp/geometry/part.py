@@ -87,7 +87,10 @@ def load_part(doc: Mapping[str, Any], tol: Tolerances = DEFAULT_TOLERANCES, limi
     _check_loop(boundary, field, size, tol)
     for i, hole in enumerate(holes):
         _check_loop(hole, f"holes[{i}]", size, tol)
-    moments = loop_moments(boundary)
+    # Moments about a point of the part: about the world origin a part far from it
+    # loses digits to cancellation (see algrasp.geometry.moments).
+    origin = boundary[0].start
+    moments = loop_moments(boundary, origin)
     if abs(moments[0]) <= tol.zero_area_rel * size * size:
         raise PartDocumentError(field, f"the boundary encloses zero area ({moments[0]:.3g})")
     _check_simple(boundary, holes, field)
@@ -96,7 +99,7 @@ def load_part(doc: Mapping[str, Any], tol: Tolerances = DEFAULT_TOLERANCES, limi
         moments = -moments
     oriented_holes = []
     for hole in holes:
-        hm = loop_moments(hole)
+        hm = loop_moments(hole, origin)
         if hm[0] > 0.0:
             hole = [s.reversed() for s in reversed(hole)]
             hm = -hm
@@ -106,8 +109,10 @@ def load_part(doc: Mapping[str, Any], tol: Tolerances = DEFAULT_TOLERANCES, limi
     if area <= tol.zero_area_rel * size * size:
         raise PartDocumentError("holes", "the holes leave the part with zero area")
     hull = exact_hull(boundary, size, tol)
-    com, given = _center_of_mass(doc, (sx / area, sy / area), hull)
-    polar = ixx + iyy - area * (com[0] ** 2 + com[1] ** 2)
+    com, given = _center_of_mass(doc, (origin[0] + sx / area, origin[1] + sy / area), hull)
+    # ∬|p − c|² dA about the centre of mass c (given, or the centroid), from the moments about the origin.
+    cx, cy = com[0] - origin[0], com[1] - origin[1]
+    polar = ixx + iyy - 2.0 * (cx * sx + cy * sy) + area * (cx * cx + cy * cy)
     notes = (f"{recognised} tessellated arc(s) recognised as circular arcs",) if recognised else ()
     return Part(str(doc.get("name", "part")), str(doc.get("units", "mm")), tuple(boundary), tuple(oriented_holes),
                 float(area), com, given, size, hull, doc, float(polar), notes)

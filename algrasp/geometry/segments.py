@@ -26,8 +26,6 @@ from algrasp.geometry.curves import (
 )
 from algrasp.geometry.tolerances import PARAM_END
 
-Moments = tuple[float, float, float]
-
 
 @lru_cache(maxsize=32)
 def gauss_legendre_01(n: int, panels: int) -> tuple[FloatArray, FloatArray]:
@@ -105,30 +103,22 @@ class EllipseArc:
     def reversed(self) -> EllipseArc:
         return EllipseArc(self.center, self.rx, self.ry, self.rotation, self.end_t, self.start_t, self.is_circle)
 
-    def _trace(self, t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-        """x, y, dx/dt, dy/dt at parameters t."""
+    def _trace(self, t: FloatArray, origin: tuple[float, float]) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """x, y (relative to ``origin``), dx/dt, dy/dt at parameters t."""
         A, (cx, cy) = self.axes, self.center
         c, s = np.cos(t), np.sin(t)
-        return (cx + A[0, 0] * c + A[0, 1] * s, cy + A[1, 0] * c + A[1, 1] * s,
+        return ((cx - origin[0]) + A[0, 0] * c + A[0, 1] * s, (cy - origin[1]) + A[1, 0] * c + A[1, 1] * s,
                 -A[0, 0] * s + A[0, 1] * c, -A[1, 0] * s + A[1, 1] * c)
 
-    def moments(self) -> Moments:
-        """Green's moments; the integrands are trigonometric polynomials, integrated exactly."""
+    def moments(self, origin: tuple[float, float] = (0.0, 0.0)) -> tuple[float, float, float, float, float]:
+        """Green's integrals (∮ x dy, ½∮ x² dy, −½∮ y² dx, ⅓∮ x³ dy, −⅓∮ y³ dx) of
+        x, y measured from ``origin``: trigonometric polynomials of degree ≤ 4, exact."""
         def f(t: FloatArray) -> FloatArray:
-            x, y, dx, dy = self._trace(t)
-            return np.stack([x * dy, 0.5 * x * x * dy, -0.5 * y * y * dx])
+            x, y, dx, dy = self._trace(t, origin)
+            return np.stack([x * dy, 0.5 * x * x * dy, -0.5 * y * y * dx, x**3 * dy / 3.0, -(y**3) * dx / 3.0])
 
-        a, sx, sy = _trig_integral(f, self.start_t, self.end_t)
-        return a, sx, sy
-
-    def second_moments(self) -> tuple[float, float]:
-        """(⅓∮ x³ dy, −⅓∮ y³ dx): trigonometric polynomials of degree 4, exact."""
-        def f(t: FloatArray) -> FloatArray:
-            x, y, dx, dy = self._trace(t)
-            return np.stack([x**3 * dy / 3.0, -(y**3) * dx / 3.0])
-
-        ixx, iyy = _trig_integral(f, self.start_t, self.end_t)
-        return ixx, iyy
+        a, sx, sy, ixx, iyy = _trig_integral(f, self.start_t, self.end_t)
+        return a, sx, sy, ixx, iyy
 
     def polyline(self, max_turn_rad: float) -> FloatArray:
         n = max(2, int(np.ceil(abs(self.end_t - self.start_t) / max_turn_rad)) + 1)

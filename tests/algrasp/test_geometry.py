@@ -91,6 +91,42 @@ def test_polar_moments_closed_forms() -> None:
     assert part.polar_moment == pytest.approx(j - poly.area * (cx * cx + cy * cy), rel=1e-6)
 
 
+@pytest.mark.parametrize("form", ["arc", "bezier"])
+@pytest.mark.parametrize("center", [(0.0, 0.0), (100.0, 50.0), (-3000.0, 2000.0)])
+def test_thin_segment_far_from_the_origin_has_its_closed_form_centroid(center: tuple[float, float], form: str) -> None:
+    """A circular segment of radius r and half-angle a (a 5° sliver, 0.044 × 0.0005 for
+    r = 0.5): area r²(2a − sin 2a)/2, centroid 4r sin³a / 3(2a − sin 2a) from the centre
+    (closed forms). Far from the origin the moments about the world origin kept only a
+    few digits of it (the centroid moved by 1e-6 at (100, 50)); given as an arc or as the
+    rational quadratic Bezier of the same arc, it stays within 1e-9 of the part's size
+    (the coordinates themselves are rounded to 2e-13 at 2000)."""
+    r, a = 0.5, math.radians(2.5)
+    cx, cy = center
+    p0, p2 = (cx + r * math.cos(a), cy - r * math.sin(a)), (cx + r * math.cos(a), cy + r * math.sin(a))
+    arc = {"type": "arc", "center": [cx, cy], "radius": r, "start_deg": -2.5, "end_deg": 2.5}
+    bez = {"type": "bezier", "points": [list(p0), [cx + r / math.cos(a), cy], list(p2)], "weights": [1.0, math.cos(a), 1.0]}
+    part = load_part({"boundary": [arc if form == "arc" else bez, {"type": "line", "start": list(p2), "end": list(p0)}]})
+    area = r * r * (2 * a - math.sin(2 * a)) / 2
+    offset = 4 * r * math.sin(a) ** 3 / (3 * (2 * a - math.sin(2 * a)))
+    chord = 2 * r * math.sin(a)
+    assert part.area == pytest.approx(area, rel=1e-9)
+    assert abs(part.center_of_mass[0] - (cx + offset)) <= 1e-9 * chord
+    assert abs(part.center_of_mass[1] - cy) <= 1e-9 * chord
+
+
+def test_polar_moment_about_a_given_center_of_mass() -> None:
+    """∬|p − c|² dA = ∬|p − g|² dA + A|c − g|² for a centre of mass c given away from the
+    centroid g (parallel axes); a w × h rectangle far from the origin."""
+    w, h, x0, y0 = 3.0, 1.0, 250.0, -75.0
+    doc = shapes.rectangle(w, h)
+    moved = {**doc, "polygon": [[x + x0, y + y0] for x, y in doc["polygon"]]}
+    c = (x0 + w / 2 + 0.4, y0 + h / 2 - 0.2)
+    part = load_part({**moved, "center_of_mass": list(c)})
+    assert part.center_of_mass == c
+    assert part.polar_moment == pytest.approx((w * w + h * h) * w * h / 12 + w * h * (0.4**2 + 0.2**2), rel=1e-12)
+    assert load_part(moved).polar_moment == pytest.approx((w * w + h * h) * w * h / 12, rel=1e-12)
+
+
 def test_a_cusp_in_a_bezier_is_a_hull_corner() -> None:
     """x = 6t(1−t)² + 2t³, y = 6t(1−t) stops at t = ½ (x′ = 6(1−2t)², y′ = 6(1−2t)):
     a tent with concave sides whose hull is the triangle (0,0), (2,0), (1, 1.5). It was
