@@ -139,14 +139,22 @@ class FeatureTable:
     @classmethod
     def build(cls, features: Sequence[HullFeature]) -> FeatureTable:
         curves = [f for f in features if f.kind == "curve"]
-        slot = np.full(len(features), -1, dtype=np.intp)
-        slot[[i for i, f in enumerate(features) if f.kind == "curve"]] = np.arange(len(curves))
+        slots, n = [], 0
+        for f in features:
+            slots.append(n if f.kind == "curve" else -1)
+            n += f.kind == "curve"
+        slot = np.array(slots, dtype=np.intp)
         centers = np.array([f.center if f.kind != "curve" else (0.0, 0.0) for f in features], dtype=float)
         radii = np.array([f.radius if f.kind != "curve" else 0.0 for f in features], dtype=float)
         coef = coefficient_stack([f.piece for f in curves]) if curves else np.zeros((0, 7, 1))  # type: ignore[misc]
         return cls(np.array([f.psi0 for f in features]), centers, radii, slot, coef,
                    np.array([f.s0 for f in curves]), np.array([f.s1 for f in curves]),
                    np.array([f.psi0 for f in curves]))
+
+    @cached_property
+    def breakpoint_list(self) -> list[float]:
+        """:attr:`breakpoints` as floats (for scalar work on the features)."""
+        return self.breakpoints.tolist()  # type: ignore[no-any-return]
 
     @cached_property
     def _normal_table(self) -> tuple[FloatArray, FloatArray]:
@@ -196,6 +204,8 @@ class FeatureTable:
         """Support points (n, 2) of features ``idx`` for outward normals ψ (n,)."""
         psi = np.asarray(psi, dtype=float)
         out = self.centers[idx] + self.radii[idx, None] * unit_vectors(psi)
+        if not len(self.s0):  # no curve features (polygons, circular arcs)
+            return out
         slots = self.slot[idx]
         curve = slots >= 0
         if np.any(curve):
@@ -203,6 +213,21 @@ class FeatureTable:
             out[curve] = points(self.coef, sl, self.params(sl, psi[curve]))
         result: FloatArray = out
         return result
+
+    def support(self, idx: IntArray, psi: FloatArray) -> FloatArray:
+        """Support values h(ψ) = ⟨p, u(ψ)⟩ (n,) of features ``idx`` at normals ψ (n,):
+        ⟨c, u⟩ + r for points and circular arcs, the exact support point's for curves."""
+        u = unit_vectors(psi)
+        c = self.centers[idx]
+        out: FloatArray = c[:, 0] * u[:, 0] + c[:, 1] * u[:, 1] + self.radii[idx]
+        if len(self.s0):
+            slots = self.slot[idx]
+            curve = slots >= 0
+            if np.any(curve):
+                sl = slots[curve]
+                p = points(self.coef, sl, self.params(sl, psi[curve]))
+                out[curve] = p[:, 0] * u[curve, 0] + p[:, 1] * u[curve, 1]
+        return out
 
     def curve_lengths(self, nodes: FloatArray, weights: FloatArray) -> FloatArray:
         """Arc lengths (C,) of the curve features by the quadrature rule (nodes, weights) on [0, 1]."""

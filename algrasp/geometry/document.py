@@ -144,13 +144,18 @@ def polygon_segments(raw: Sequence[Any], field: str, limits: Limits) -> list[Seg
 
 
 def _fast_points(raw: Sequence[Any], limits: Limits) -> list[tuple[float, float]] | None:
-    """All vertices at once when every one is a valid [x, y] of numbers; else None."""
-    if not all(type(p) in (list, tuple) and len(p) == 2 and all(type(c) in (int, float) for c in p) for p in raw):
-        return None
-    arr = np.asarray(raw, dtype=float)
-    if not np.all(np.isfinite(arr)) or np.max(np.abs(arr)) > limits.max_abs_coordinate:
-        return None
-    return [(float(x), float(y)) for x, y in arr.tolist()]
+    """All vertices at once when every one is a valid [x, y] of numbers; else None.
+    Plain floats: a comparison per coordinate (NaN fails it, ±inf exceeds the limit)."""
+    top = limits.max_abs_coordinate
+    out = []
+    for p in raw:
+        if type(p) not in (list, tuple) or len(p) != 2:
+            return None
+        x, y = p
+        if type(x) not in (int, float) or type(y) not in (int, float) or not (abs(x) <= top and abs(y) <= top):
+            return None
+        out.append((float(x), float(y)))
+    return out
 
 
 def check_document_shape(doc: Any, limits: Limits) -> None:

@@ -30,7 +30,7 @@ from algrasp.geometry.hull_loop import (
     Loop,
     build_loop,
     candidate_points,
-    contact_point,
+    contact_xy,
     verified_edge,
 )
 from algrasp.geometry.segments import Segment, gauss_legendre_01
@@ -106,10 +106,8 @@ class ConvexHull:
 
     def support_many(self, psi: FloatArray) -> FloatArray:
         """h(ψ) for an array of normals, vectorised per feature; O(m log n)."""
-        psi = np.asarray(psi, dtype=float)
-        pts = self.support_points(psi)
-        out: FloatArray = pts[..., 0] * np.cos(psi) + pts[..., 1] * np.sin(psi)
-        return out
+        idx, x = self.table.feature_index(np.asarray(psi, dtype=float))
+        return self.table.support(idx, x)
 
     def inside_margin(self, p: FloatArray) -> float:
         """min over ψ of h(ψ) − ⟨p, u(ψ)⟩ at every feature end and 2,048 normals.
@@ -160,18 +158,18 @@ def _stretch(loop: Loop, path: list[int], cin: Contact, cout: Contact) -> list[_
     if cout[1] >= 0 and (not path or path[-1] != cout[1]):
         path.append(cout[1])
     if not path:
-        return [("point", tuple(loop.vertices[cin[0]]))]
+        return [("point", loop.vertex_list[cin[0]])]
     elems: list[_Element] = []
     if cin[0] >= 0:
-        elems.append(("point", tuple(loop.vertices[cin[0]])))
+        elems.append(("point", loop.vertex_list[cin[0]]))
     for idx, pid in enumerate(path):
         if idx > 0:
-            elems.append(("point", tuple(loop.vertices[loop.start_vertex[pid]])))
+            elems.append(("point", loop.vertex_list[loop.start_vertex[pid]]))
         s = cin[2] if idx == 0 and cin[1] == pid else 0.0
         e = cout[2] if idx == len(path) - 1 and cout[1] == pid else 1.0
         elems.append(("curve", pid, s, e))
     if cout[0] >= 0:
-        elems.append(("point", tuple(loop.vertices[cout[0]])))
+        elems.append(("point", loop.vertex_list[cout[0]]))
     return elems
 
 
@@ -194,11 +192,13 @@ def _elements(loop: Loop, order: list[int], links: list[int], contacts: list[Con
         path = [links[j % h] for j in span]
         cout = solved[(k + 1) % len(edge_at)][0]
         elems.extend(_stretch(loop, path, solved[k][1], cout))
-        elems.append(("edge", contact_point(loop, cout), contact_point(loop, solved[(k + 1) % len(edge_at)][1])))
+        elems.append(("edge", contact_xy(loop, cout), contact_xy(loop, solved[(k + 1) % len(edge_at)][1])))
     return elems
 
 
 def _element_normals(loop: Loop, elems: list[_Element]) -> list[tuple[float, float]]:
+    """Normal range (ψ₀, ψ₁) of each element: an edge's normal, a curve's end normals;
+    a point spans from the element before it to the one after (cyclically). O(m)."""
     raw: list[tuple[float, float] | None] = []
     for el in elems:
         if el[0] == "edge":
@@ -209,44 +209,48 @@ def _element_normals(loop: Loop, elems: list[_Element]) -> list[tuple[float, flo
             raw.append((float(p.normal_angle(el[2])), float(p.normal_angle(el[3]))))
         else:
             raw.append(None)
-    n = len(elems)
-    out = []
-    for i, r in enumerate(raw):
-        if r is None:
-            prev = next(raw[(i - k) % n] for k in range(1, n + 1) if raw[(i - k) % n] is not None)
-            nxt = next(raw[(i + k) % n] for k in range(1, n + 1) if raw[(i + k) % n] is not None)
-            r = (prev[1], nxt[0])  # type: ignore[index]
-        out.append(r)
+    ranges = [r for r in raw if r is not None]
+    before: list[tuple[float, float]] = []  # the nearest range before each element
+    last = ranges[-1]
+    for r in raw:
+        before.append(last)
+        last = r or last
+    out: list[tuple[float, float]] = [(0.0, 0.0)] * len(raw)
+    after = ranges[0]  # the nearest range after, walking back
+    for i in range(len(raw) - 1, -1, -1):
+        r = raw[i]
+        out[i] = r if r is not None else (before[i][1], after[0])
+        after = r or after
     return out
 
 
 def _features(loop: Loop, elems: list[_Element], tol: Tolerances) -> list[HullFeature]:
     normals = _element_normals(loop, elems)
-    feats: list[HullFeature] = []
+    specs: list[tuple[Any, ...]] = []  # HullFeature's fields, psi1 still the element's own
     level = normals[0][0]
     for el, (a, b) in zip(elems, normals):
         # Around a convex loop the normal only advances, by less than π at a corner; a
         # small apparent step back is a contact resolved within the length tolerance
         # on the wrong side of a curve's end, and is clamped.
-        a = level + max((a - level + np.pi) % TWO_PI - np.pi, 0.0)
-        b = a + max((b - a + np.pi) % TWO_PI - np.pi, 0.0)
+        a = level + max((a - level + math.pi) % TWO_PI - math.pi, 0.0)
+        b = a + max((b - a + math.pi) % TWO_PI - math.pi, 0.0)
         level = b
         if el[0] == "edge" or b - a <= tol.sliver_rad:
             continue
         if el[0] == "point":
-            feats.append(HullFeature("point", a, b, center=(float(el[1][0]), float(el[1][1]))))
+            specs.append(("point", a, b, (float(el[1][0]), float(el[1][1])), 0.0, None, 0.0, 1.0))
             continue
         p = loop.pieces[el[1]]
         if p.circle is not None:
-            feats.append(HullFeature("circle", a, b, (p.circle[0], p.circle[1]), p.circle[2], p, el[2], el[3]))
+            specs.append(("circle", a, b, (p.circle[0], p.circle[1]), p.circle[2], p, el[2], el[3]))
         else:
-            feats.append(HullFeature("curve", a, b, piece=p, s0=el[2], s1=el[3]))
-    total = feats[-1].psi1 - feats[0].psi0
+            specs.append(("curve", a, b, (0.0, 0.0), 0.0, p, el[2], el[3]))
+    total = specs[-1][2] - specs[0][1]
     if abs(total - TWO_PI) > HULL_TURN_RAD:
         raise GeometryError(f"hull normals cover {to_deg(total):.6f}° instead of 360°")
     # Tile S¹ exactly: each range ends where the next begins.
-    return [HullFeature(f.kind, f.psi0, feats[i + 1].psi0 if i + 1 < len(feats) else feats[0].psi0 + TWO_PI,
-                        f.center, f.radius, f.piece, f.s0, f.s1) for i, f in enumerate(feats)]
+    ends = [f[1] for f in specs[1:]] + [specs[0][1] + TWO_PI]
+    return [HullFeature(k, a, e, c, r, p, s0, s1) for (k, a, _, c, r, p, s0, s1), e in zip(specs, ends)]
 
 
 def hull_order(pts: FloatArray) -> list[int]:
@@ -255,8 +259,8 @@ def hull_order(pts: FloatArray) -> list[int]:
     O(N log N)). It only locates the hull: the exact hull is verified against the curves
     afterwards. Written here rather than importing scipy.spatial's qhull, whose import
     alone cost the CLI 0.4 s."""
-    idx = sorted(range(len(pts)), key=lambda i: (pts[i, 0], pts[i, 1]))
     xy = pts.tolist()
+    idx = sorted(range(len(xy)), key=xy.__getitem__)  # by x, then y
 
     def chain(order: list[int]) -> list[int]:
         out: list[int] = []
@@ -290,7 +294,7 @@ def exact_hull(boundary: list[Segment], size: float, tol: Tolerances) -> ConvexH
     links = [_link(members[order[i]], members[order[(i + 1) % h]]) for i in range(h)]
     elems = _elements(loop, order, links, contacts, size)
     feats = _features(loop, elems, tol)
-    edges = tuple((tuple(map(float, e[1])), tuple(map(float, e[2]))) for e in elems if e[0] == "edge")
+    edges = tuple((e[1], e[2]) for e in elems if e[0] == "edge")
     table = FeatureTable.build(feats)
     perimeter = math.fsum(math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in edges)
     perimeter += sum(f.radius * (f.psi1 - f.psi0) for f in feats if f.kind == "circle")

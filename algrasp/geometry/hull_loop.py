@@ -50,6 +50,11 @@ class Loop:
         return np.concatenate([p.points for p in self.pieces]), np.concatenate([[0], np.cumsum(sizes)[:-1]])
 
     @cached_property
+    def vertex_list(self) -> list[tuple[float, float]]:
+        """:attr:`vertices` as float pairs (for scalar work on the hull's corners)."""
+        return [(x, y) for x, y in self.vertices.tolist()]
+
+    @cached_property
     def coef(self) -> FloatArray:
         """Stacked coefficient rows (P, 7, L) of the pieces (:mod:`algrasp.geometry.bank`)."""
         return coefficient_stack(self.pieces)
@@ -142,6 +147,14 @@ def contact_point(loop: Loop, c: Contact) -> FloatArray:
     if c[0] >= 0:
         return np.asarray(loop.vertices[c[0]])
     return np.asarray(loop.pieces[c[1]].point(c[2]))
+
+
+def contact_xy(loop: Loop, c: Contact) -> tuple[float, float]:
+    """:func:`contact_point` as a float pair."""
+    if c[0] >= 0:
+        return loop.vertex_list[c[0]]
+    x, y = loop.pieces[c[1]].point(c[2]).tolist()
+    return x, y
 
 
 def _vertex_tangent(loop: Loop, a: FloatArray, pid: int, t_guess: float, size: float) -> float | None:

@@ -143,19 +143,24 @@ def _check_precision(loops: list[list[Segment]], size: float, field: str, tol: T
 
 
 def _size(loops: list[list[Segment]]) -> float:
-    """Diagonal of the bounding box of all control points (arcs: their full circle)."""
-    pts: list[tuple[float, float]] = []
+    """Diagonal of the bounding box of all control points (arcs: their full circle).
+    In plain floats: numpy's per-call cost outweighs a few points per segment."""
+    xs: list[float] = []
+    ys: list[float] = []
     for loop in loops:
         for seg in loop:
             if isinstance(seg, Line):
-                pts.append(seg.start)
+                xs.append(seg.start[0])
+                ys.append(seg.start[1])
             elif isinstance(seg, Bezier):
-                pts.extend(map(tuple, seg.points.tolist()))
+                for x, y in seg.points.tolist():
+                    xs.append(x)
+                    ys.append(y)
             else:
                 r = max(seg.rx, seg.ry)
-                pts.extend([(seg.center[0] - r, seg.center[1] - r), (seg.center[0] + r, seg.center[1] + r)])
-    arr = np.asarray(pts)
-    return float(np.hypot(*np.ptp(arr, axis=0)))
+                xs += [seg.center[0] - r, seg.center[0] + r]
+                ys += [seg.center[1] - r, seg.center[1] + r]
+    return math.hypot(max(xs) - min(xs), max(ys) - min(ys))
 
 
 def _length(seg: Segment) -> float:
@@ -170,31 +175,31 @@ def _length(seg: Segment) -> float:
 
 def _check_loop(loop: list[Segment], field: str, size: float, tol: Tolerances) -> None:
     """Zero-length segments and gaps between consecutive segments."""
-    if all(isinstance(s, Line) for s in loop):
-        starts = np.array([s.start for s in loop])
-        ends = np.array([s.end for s in loop])
-        short = np.hypot(*(ends - starts).T) <= tol.zero_length_rel * size
-        gaps = np.hypot(*(np.concatenate([starts[1:], starts[:1]]) - ends).T) > tol.closure_rel * size
-        if not (short.any() or gaps.any()):
-            return  # a valid polygon: no per-segment diagnosis needed
+    shortest, widest = tol.zero_length_rel * size, tol.closure_rel * size
     for i, seg in enumerate(loop):
         length = _length(seg)
-        if length <= tol.zero_length_rel * size:
+        if length <= shortest:
             raise PartDocumentError(f"{field}[{i}]", f"zero-length segment (length {length:.3g})", i)
     for i, seg in enumerate(loop):
         nxt = loop[(i + 1) % len(loop)]
-        gap = math.hypot(seg.end[0] - nxt.start[0], seg.end[1] - nxt.start[1])
-        if gap > tol.closure_rel * size:
+        (ex, ey), (sx, sy) = seg.end, nxt.start
+        gap = math.hypot(ex - sx, ey - sy)
+        if gap > widest:
             j = (i + 1) % len(loop)
             raise PartDocumentError(f"{field}[{i}].end",
                                     f"open loop: gap of {gap:.6g} between the end of segment {i} and the start of segment {j}", i)
 
 
-def _polyline(loop: list[Segment]) -> tuple[FloatArray, list[FloatArray]]:
+def _polyline(loop: list[Segment]) -> tuple[FloatArray, list[FloatArray] | None]:
+    """The closed polyline's points and each segment's part of it (None for a polygon:
+    its parts are its vertices, made only to explain an invalid loop)."""
     if all(isinstance(s, Line) for s in loop):
-        starts = np.array([s.start for s in loop])
-        return starts, list(starts[:, None, :])
+        return np.array([s.start for s in loop]), None
     return loop_polyline(loop, _TESSELLATION_TURN_RAD)
+
+
+def _invalid(reason: str, shell: FloatArray, parts: list[FloatArray] | None, field: str) -> PartDocumentError:
+    return PartDocumentError(field, _explain(reason, list(shell[:, None, :]) if parts is None else parts, field))
 
 
 def _check_simple(boundary: list[Segment], holes: list[list[Segment]], field: str) -> None:
@@ -202,15 +207,15 @@ def _check_simple(boundary: list[Segment], holes: list[list[Segment]], field: st
     shell, parts = _polyline(boundary)
     if len({(round(x, 12), round(y, 12)) for x, y in shell.tolist()}) < 3:
         raise PartDocumentError(field, "the loop is degenerate: it has fewer than three distinct points")
-    reason = shapely.is_valid_reason(Polygon(shell))
+    reason = shapely.is_valid_reason(shapely.polygons(shell))
     if reason != "Valid Geometry":
-        raise PartDocumentError(field, _explain(reason, parts, field))
+        raise _invalid(reason, shell, parts, field)
     rings = []
     for i, hole in enumerate(holes):
         ring, hparts = _polyline(hole)
         r = shapely.is_valid_reason(Polygon(ring))
         if r != "Valid Geometry":
-            raise PartDocumentError(f"holes[{i}]", _explain(r, hparts, f"holes[{i}]"))
+            raise _invalid(r, ring, hparts, f"holes[{i}]")
         rings.append(ring)
     if rings:
         reason = shapely.is_valid_reason(Polygon(shell, rings))

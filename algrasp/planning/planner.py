@@ -48,14 +48,8 @@ class _Pieces:
     keys: FloatArray  # value a piece must stay below to fit (monotone)
 
     @staticmethod
-    def of(F: TransferFunction, periods: range) -> _Pieces:
-        one_s = np.array([p.start for p in F.pieces])
-        one_e = np.array([p.end for p in F.pieces])
-        ramp1 = np.array([p.value is None for p in F.pieces])
-        one_v = np.where(ramp1, one_s, np.array([0.0 if p.value is None else p.value for p in F.pieces]))
-        lift = (np.array(list(periods)) * F.period)[:, None]
-        s, e, v = (one_s + lift).ravel(), (one_e + lift).ravel(), (one_v + lift).ravel()
-        r = np.tile(ramp1, len(periods))
+    def of(F: TransferFunction) -> _Pieces:
+        s, e, v, r = F.lifted
         keys = np.maximum.accumulate(np.where(r, s, v + STRICT_RAD))
         return _Pieces(s, e, v, r, keys)
 
@@ -69,9 +63,9 @@ class _Lifted:
     upper: _Pieces
 
     @staticmethod
-    def of(F: TransferFunction, periods: range, upper: TransferFunction | None = None) -> _Lifted:
-        lo = _Pieces.of(F, periods)
-        return _Lifted(lo, lo if upper is None else _Pieces.of(upper, periods))
+    def of(F: TransferFunction, upper: TransferFunction | None = None) -> _Lifted:
+        lo = _Pieces.of(F)
+        return _Lifted(lo, lo if upper is None else _Pieces.of(upper))
 
     @property
     def starts(self) -> FloatArray:
@@ -131,14 +125,15 @@ def algorithm_a_prime(F: TransferFunction, T: float, min_margin: float = 0.0,
     if not F.steps:
         raise NotOrientableError("no_step", "the transfer function has no step (constant width or "
                                  "constant radius): no plan of this action can orient the part")
-    return _grow(F, _Lifted.of(F, range(-1, 4)), T, widest_step(F), min_margin, tol)
+    return _grow(F, None, T, widest_step(F), min_margin, tol)
 
 
-def _grow(F: TransferFunction, lifted: _Lifted, T: float, first: tuple[float, float], min_margin: float,
+def _grow(F: TransferFunction, lifted: _Lifted | None, T: float, first: tuple[float, float], min_margin: float,
           tol: float, circle: float | None = None) -> list[tuple[float, float]]:
     """Θ₂, Θ₃, … after ``first``: each the widest interval whose image fits the last.
     ``circle``: the width of the image of the whole circle (set-valued functions), which
-    ends the plan as soon as it fits."""
+    ends the plan as soon as it fits. ``lifted`` (F's, made here when None) is only
+    searched when Θ₁ is narrower than T."""
     intervals = [first]
     while intervals[-1][1] - intervals[-1][0] < T - tol:
         room = intervals[-1][1] - intervals[-1][0] - 2.0 * max(min_margin, GUARD_RAD)
@@ -147,6 +142,7 @@ def _grow(F: TransferFunction, lifted: _Lifted, T: float, first: tuple[float, fl
         if circle is not None and circle <= room:
             intervals.append((intervals[-1][0], intervals[-1][0] + T))
             break
+        lifted = lifted or _Lifted.of(F)
         a, b = _widest(F, lifted, room)
         if b - a <= intervals[-1][1] - intervals[-1][0] + tol:
             raise _margin_error(min_margin, intervals)
@@ -175,7 +171,7 @@ def set_a_prime(lower: TransferFunction, upper: TransferFunction, T: float, circ
     the plan is shortest for the widest Θ₁: among precise finals (w₀ ≤ ``PRECISE_RAD``) the
     widest Θ₁ (then the narrower image) is grown, else the widest of all. O(s·n log n + A′).
     """
-    lifted = _Lifted.of(lower, range(-1, 4), upper)
+    lifted = _Lifted.of(lower, upper)
     firsts = [(w0, *_widest(lower, lifted, w0 + 2.0 * STRICT_RAD)) for w0 in _sink_widths(lower, upper, lifted, max_final_rad)]
     firsts = [(w0, a, b) for w0, a, b in firsts if b - a > tol]
     if not firsts:
@@ -219,7 +215,9 @@ def images(F: TransferFunction, intervals: list[tuple[float, float]],
            upper: TransferFunction | None = None) -> list[tuple[float, float]]:
     """[F(a), F(b⁻)] of each [a, b) (radians, lifted; with ``upper``, [F(a), upper(b⁻)]);
     one lifting for all. O((n + m) log n)."""
-    lifted = _Lifted.of(F, range(-1, 4), upper)
+    if not intervals:
+        return []
+    lifted = _Lifted.of(F, upper)
     lo = lifted.value_at(np.array([a for a, _ in intervals]))
     hi, _ = lifted.top(np.array([b for _, b in intervals]))
     return [(float(x), float(y)) for x, y in zip(lo, hi)]

@@ -66,9 +66,7 @@ class Plan:
         if self.bounds is not None:
             lo, hi = self.run_set(phi, phi)
             return self.nearest_final(0.5 * (lo + hi))
-        for s in self.steps:
-            phi = self.transfer.apply(phi - s.gripper_angle) + s.gripper_angle
-        return phi
+        return _through(self.transfer, self.steps, phi)
 
     def run_set(self, lo: FloatArray, hi: FloatArray, steps: int | None = None) -> tuple[FloatArray, FloatArray]:
         """Hull of the world orientations after the plan (its first ``steps`` actions, or
@@ -104,6 +102,13 @@ class Plan:
         return PlanDocument.from_plan(self).to_json()
 
 
+def _through(F: TransferFunction, steps: tuple[PlanStep, ...], phi: FloatArray) -> FloatArray:
+    """World orientations after ``steps`` of the exact model from ``phi`` (radians)."""
+    for s in steps:
+        phi = F.apply(phi - s.gripper_angle) + s.gripper_angle
+    return phi
+
+
 def transfer_for(analysis: Analysis, action: Action) -> TransferFunction:
     if action == "squeeze":
         if not analysis.squeeze.steps:
@@ -123,8 +128,8 @@ def gripper_steps(F: TransferFunction, intervals: list[tuple[float, float]],
     order = intervals[::-1]  # I_1 … I_N
     alphas = [0.0] * len(order)
     margins: list[float | None] = [None] * len(order)
-    imgs = images(F, order, upper)
-    if first_image is not None and len(order) > 1:
+    imgs = images(F, order[:-1], upper)  # the last action's image is not needed
+    if first_image is not None and imgs:
         imgs[0] = first_image
     for j in range(len(order) - 2, -1, -1):
         lo, hi = imgs[j]
@@ -142,41 +147,57 @@ def final_orientations(F: TransferFunction, intervals: list[tuple[float, float]]
 
 
 def verify(plan: Plan, samples: int = VERIFY_SAMPLES) -> bool:
-    """Run the plan from a dense set of orientations plus every breakpoint (and its
-    neighbours) of every action; true when exactly 360/T final orientations remain,
-    the reported ones. O((s + nN) N log n) for s samples, n pieces, N actions."""
-    grid = np.linspace(0.0, 2 * np.pi, samples, endpoint=False)
-    starts = plan.transfer.starts_array
-    shifts = np.array([s.gripper_angle for s in plan.steps])[:, None, None]
-    probes = np.array([-PROBE_RAD, 0.0, PROBE_RAD])[None, :, None]
-    lifted = np.concatenate([starts, starts + plan.transfer.period])[None, None, :]
-    phi = np.concatenate([grid, (lifted + shifts + probes).ravel()])
-    # The first action sends whole step intervals to one orientation: run each distinct
-    # outcome once through the rest (the final set, and so the clusters, are unchanged).
+    """True when the plan leaves exactly 360/T final orientations, the reported ones.
+
+    The first action sends each step interval to the step's value and leaves each ramp
+    where it is, so its outcomes from the whole circle are every step value over a turn —
+    exactly, with no sampling — and, on its ramps only, a dense set of ``samples``
+    orientations plus every breakpoint (and its neighbours) of every action. Each outcome
+    is run through the remaining actions. O(nN log n) for n pieces and N actions when F
+    has no ramp, O((s + nN) N log n) with s samples when it has.
+    """
+    F = plan.transfer
     a1 = plan.steps[0].gripper_angle
-    phi = np.unique(plan.transfer.apply(phi - a1) + a1)
-    final = np.sort(np.mod(replace(plan, steps=plan.steps[1:]).run(phi), 2 * np.pi))
+    turns = [k * F.period for k in range(round(2 * np.pi / F.period))]
+    steps = F.steps
+    phi = np.array([(p.value + t) + a1 for p in steps for t in turns])  # type: ignore[operator]
+    if len(steps) < len(F.pieces):  # ramps: orientations on them are not collapsed
+        grid = np.linspace(0.0, 2 * np.pi, samples, endpoint=False)
+        starts = F.starts_array
+        shifts = np.array([s.gripper_angle for s in plan.steps])[:, None, None]
+        probes = np.array([-PROBE_RAD, 0.0, PROBE_RAD])[None, :, None]
+        lifted = np.concatenate([starts, starts + F.period])[None, None, :]
+        x = np.concatenate([grid, (lifted + shifts + probes).ravel()])
+        phi = np.concatenate([phi, x[F.on_ramp(x - a1)]])
+    final = np.sort(np.mod(_through(F, plan.steps[1:], phi), 2 * np.pi))
     clusters = _clusters(final)
     want = np.array(plan.final_orientations)
     if len(clusters) != len(want):
         return False
     off = np.abs((clusters[:, None] - want + np.pi) % (2 * np.pi) - np.pi)
-    return bool(np.all(off.min(axis=1) <= FINAL_CLUSTER_RAD))
+    return bool((off.min(axis=1) <= FINAL_CLUSTER_RAD).all())
 
 
 def _clusters(sorted_angles: FloatArray) -> FloatArray:
     """Means (radians, [0, 2π)) of runs of sorted angles closer than FINAL_CLUSTER_RAD,
-    the last run joined to the first across 2π. O(m)."""
-    if not len(sorted_angles):
+    the last run joined to the first across 2π. O(m), one pass in plain floats."""
+    xs = sorted_angles.tolist()
+    if not xs:
         return np.zeros(0)
-    first = np.concatenate([[0], np.nonzero(np.diff(sorted_angles) > FINAL_CLUSTER_RAD)[0] + 1])
-    counts = np.diff(np.append(first, len(sorted_angles)))
-    means = np.add.reduceat(sorted_angles, first) / counts
-    if len(first) > 1 and (sorted_angles[0] + 2 * np.pi - sorted_angles[-1]) <= FINAL_CLUSTER_RAD:
-        joined = counts[0] + counts[-1]
-        means[0] = (means[0] * counts[0] + (means[-1] - 2 * np.pi) * counts[-1]) / joined
-        means = means[:-1]
-    return np.asarray(np.mod(means, 2 * np.pi))
+    sums, counts = [xs[0]], [1]
+    for prev, x in zip(xs, xs[1:]):
+        if x - prev > FINAL_CLUSTER_RAD:
+            sums.append(x)
+            counts.append(1)
+        else:
+            sums[-1] += x
+            counts[-1] += 1
+    means = [s / c for s, c in zip(sums, counts)]
+    if len(means) > 1 and xs[0] + 2 * np.pi - xs[-1] <= FINAL_CLUSTER_RAD:
+        last, n_last = means.pop() - 2 * np.pi, counts.pop()
+        means[0] = (means[0] * counts[0] + last * n_last) / (counts[0] + n_last)
+    out: FloatArray = np.mod(np.array(means), 2 * np.pi)
+    return out
 
 
 def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -> Plan:

@@ -10,20 +10,28 @@ maps every θ in [start, end) to itself.
 from __future__ import annotations
 
 import bisect
+import math
 from dataclasses import dataclass
 from functools import cached_property
+from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import NDArray
 
 from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import Run
 from algrasp.geometry.tolerances import ROUNDING
 
+BoolArray = NDArray[np.bool_]
+LIFTS = range(-1, 4)
+"""The periods :attr:`TransferFunction.lifted` covers: a plan's intervals and images
+start in the first period and reach at most two periods beyond it."""
 
-@dataclass(frozen=True)
-class TransferPiece:
-    """[start, end) (radians, lifted); ``value`` is the step's image, None for a ramp."""
+
+class TransferPiece(NamedTuple):
+    """[start, end) (radians, lifted); ``value`` is the step's image, None for a ramp.
+    A named tuple: immutable, and cheap to make (a composition makes many)."""
 
     start: float
     end: float
@@ -50,11 +58,11 @@ class TransferFunction:
 
     @property
     def steps(self) -> tuple[TransferPiece, ...]:
-        return tuple(p for p in self.pieces if not p.is_ramp)
+        return tuple(p for p in self.pieces if p.value is not None)
 
     @property
     def ramps(self) -> tuple[TransferPiece, ...]:
-        return tuple(p for p in self.pieces if p.is_ramp)
+        return tuple(p for p in self.pieces if p.value is None)
 
     @cached_property
     def starts(self) -> list[float]:
@@ -73,10 +81,24 @@ class TransferFunction:
         """Piece starts (n,) as a read-only array (radians)."""
         return self._arrays[0]
 
+    @cached_property
+    def lifted(self) -> tuple[FloatArray, FloatArray, FloatArray, BoolArray]:
+        """The pieces lifted over the periods −1 … 3 (``LIFTS``), as read-only arrays
+        (5n,) sorted by start: starts, ends, values (a ramp's is its start) and ramp
+        flags. Algorithm A′ searches these; built once per function, O(n)."""
+        starts, values = self._arrays
+        ramp = np.isnan(values)
+        lift = (np.arange(LIFTS.start, LIFTS.stop) * self.period)[:, None]
+        out = ((starts + lift).ravel(), (np.array([p.end for p in self.pieces]) + lift).ravel(),
+               (np.where(ramp, starts, values) + lift).ravel(), np.tile(ramp, len(LIFTS)))
+        for a in out:
+            a.flags.writeable = False
+        return out
+
     def piece_at(self, theta: float) -> tuple[TransferPiece, float]:
         """The piece holding θ and the lift offset (a multiple of the period) to add."""
         base = self.pieces[0].start
-        k = np.floor((theta - base) / self.period)
+        k = math.floor((theta - base) / self.period)
         x = theta - k * self.period
         i = bisect.bisect_right(self.starts, x) - 1
         return self.pieces[max(i, 0)], float(k * self.period)
@@ -89,14 +111,22 @@ class TransferFunction:
     def apply(self, thetas: FloatArray) -> FloatArray:
         """F over an array of θ (radians), vectorised; O(m log n)."""
         thetas = np.asarray(thetas, dtype=float)
+        k, vals = self._lookup(thetas)
+        return np.where(np.isnan(vals), thetas, vals + k * self.period)
+
+    def on_ramp(self, thetas: FloatArray) -> np.ndarray:
+        """Whether each θ (radians) lies on a ramp (F(θ) = θ), vectorised; O(m log n)."""
+        return np.isnan(self._lookup(np.asarray(thetas, dtype=float))[1])
+
+    def _lookup(self, thetas: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """Lift offsets (in periods) and step values (NaN on ramps) of each θ."""
         base = self.pieces[0].start
         k = np.floor((thetas - base) / self.period)
         x = thetas - k * self.period
         starts, values = self._arrays
         # x ≥ starts[0]: only the top needs clamping (x may round up to base + P).
         idx = np.minimum(np.searchsorted(starts, x, side="right") - 1, len(self.pieces) - 1)
-        vals = values[idx]
-        return np.where(np.isnan(vals), thetas, vals + k * self.period)
+        return k, values[idx]
 
     def symmetry_period(self, tol_rad: float) -> float:
         """Smallest T = P/k with F(θ + T) = F(θ) + T (structure and values within tol)."""
@@ -123,13 +153,13 @@ class TransferFunction:
         """self ∘ inner (inner acts first), over inner's period (Appendix C).
         O((n + m) log n): self's starts are lifted once and cut each ramp by search."""
         out: list[TransferPiece] = []
-        lo = min(p.start for p in inner.pieces)
-        hi = max(p.end for p in inner.pieces)
-        cuts_all = self._lifted_starts(lo, hi)
+        cuts_all = None  # made for the first ramp of inner: steps need none
         for p in inner.pieces:
             if p.value is not None:
                 out.append(TransferPiece(p.start, p.end, self(p.value)))
                 continue
+            if cuts_all is None:
+                cuts_all = self._lifted_starts(min(q.start for q in inner.pieces), max(q.end for q in inner.pieces))
             i, j = np.searchsorted(cuts_all, [p.start, p.end], side="right")
             inside = [c for c in cuts_all[i:j].tolist() if p.start < c < p.end]
             cuts = [p.start, *inside, p.end]
@@ -161,7 +191,7 @@ def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> lis
         merged[0] = TransferPiece(last.start - period, merged[0].end, None if last.value is None else last.value - period)
     out = []
     for p in merged:
-        k = np.floor(p.start / period + ROUNDING) if p.start >= 0 else np.floor(p.start / period)
+        k = math.floor(p.start / period + ROUNDING) if p.start >= 0 else math.floor(p.start / period)
         q = p.shifted(-k * period)
         if q.start >= period - tol_rad:
             q = q.shifted(-period)
@@ -170,7 +200,7 @@ def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> lis
 
 
 def _same_kind(a: TransferPiece, b: TransferPiece, tol: float) -> bool:
-    if a.is_ramp and b.is_ramp:
+    if a.value is None and b.value is None:
         return True
     return a.value is not None and b.value is not None and abs(a.value - b.value) <= tol
 
@@ -209,4 +239,3 @@ def from_runs(runs: list[Run], period: float, tol_rad: float) -> TransferFunctio
         last = pieces[-1]
         pieces[-1] = TransferPiece(last.start, first + period, last.value)
     return TransferFunction(period, tuple(canonical(pieces, period, tol_rad)))
-
