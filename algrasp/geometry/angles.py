@@ -2,8 +2,11 @@
 
 Radians inside the package; degrees only at boundaries (documents, drawings, figures,
 records; conventions §1), through :func:`to_deg` and :func:`to_rad`. Both take a float or
-a NumPy array and return the same kind; they are the exact products CPython's
-``math.degrees``/``math.radians`` compute, so documents are byte-identical.
+a NumPy array and return the same kind. :func:`to_deg` is the product CPython's
+``math.degrees`` computes; :func:`to_rad` is ``math.radians``'s product, or a neighbour of
+it one unit in the last place away when that is what :func:`to_deg` writes as the given
+degrees (for 5 % of angles the product misses). So degrees read back give the radians
+they were written from, and a document read back writes out unchanged.
 
 >>> round(to_deg(TWO_PI), 9), to_rad(180.0) == math.pi
 (360.0, True)
@@ -45,8 +48,25 @@ def to_rad(angle_deg: float) -> float: ...
 @overload
 def to_rad(angle_deg: Angles) -> NDArray[np.float64]: ...
 def to_rad(angle_deg: float | Angles) -> float | NDArray[np.float64]:
-    """Degrees → radians: a float for a number, an array for an array or a sequence."""
-    return _scaled(angle_deg, _RAD_PER_DEG)
+    """Degrees → radians: a float for a number, an array for an array or a sequence; the
+    radians :func:`to_deg` writes as these degrees when one lies within an ulp."""
+    if isinstance(angle_deg, (int, float, np.number)):
+        d = float(angle_deg)
+        r = d * _RAD_PER_DEG
+        if r * _DEG_PER_RAD != d:
+            for c in (math.nextafter(r, math.inf), math.nextafter(r, -math.inf)):
+                if c * _DEG_PER_RAD == d:
+                    return c
+        return r
+    deg = np.asarray(angle_deg, dtype=float)
+    out: NDArray[np.float64] = deg * _RAD_PER_DEG
+    for toward in (np.inf, -np.inf):
+        miss = out * _DEG_PER_RAD != deg
+        if not miss.any():
+            break
+        near = np.nextafter(out, toward)
+        out = np.where(miss & (near * _DEG_PER_RAD == deg), near, out)
+    return out
 
 
 def _scaled(x: float | Angles, k: float) -> float | NDArray[np.float64]:
