@@ -120,17 +120,23 @@ def transfer_for(analysis: Analysis, action: Action) -> TransferFunction:
     return analysis.push_grasp
 
 
-def gripper_steps(F: TransferFunction, intervals: list[tuple[float, float]],
+def gripper_steps(F: TransferFunction, intervals: list[tuple[float, float]], T: float,
                   upper: TransferFunction | None = None, first_image: tuple[float, float] | None = None) -> list[PlanStep]:
     """Execution-order gripper angles (last at 0) and margins from Θ₁ … Θ_N.
-    ``first_image``: the image of the first action's input when it is the whole circle
-    (set-valued functions: the circular hull of everything the part can end in)."""
+
+    The first action's input is the whole circle, so its image is the smallest arc (on
+    the circle of the symmetry period T) holding everything one action can leave the part
+    in: ``first_image``, by default :meth:`TransferFunction.circle_image` (set-valued
+    functions pass their own). Taking [F(a), F(a + T⁻)] instead would make the margin of
+    the second action depend on where the width-T interval Θ_N happens to start. Later
+    images are [F(a), upper(b⁻)] of their intervals; the last action's is not needed.
+    """
     order = intervals[::-1]  # I_1 … I_N
     alphas = [0.0] * len(order)
     margins: list[float | None] = [None] * len(order)
-    imgs = images(F, order[:-1], upper)  # the last action's image is not needed
-    if first_image is not None and imgs:
-        imgs[0] = first_image
+    imgs: list[tuple[float, float]] = []
+    if len(order) > 1:
+        imgs = [F.circle_image(T) if first_image is None else first_image, *images(F, order[1:-1], upper)]
     for j in range(len(order) - 2, -1, -1):
         lo, hi = imgs[j]
         a, b = order[j + 1]
@@ -215,7 +221,7 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -
     t0 = time.perf_counter()
     T = F.symmetry_period(SYMMETRY_TOL_RAD)
     intervals = algorithm_a_prime(F, T, to_rad(min_margin_deg))
-    steps = gripper_steps(F, intervals)
+    steps = gripper_steps(F, intervals, T)
     finals = final_orientations(F, intervals, T)
     t1 = time.perf_counter()
     plan = Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), False)
@@ -259,7 +265,7 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
                                  f"shape tolerance (κ_d = {band.kappa_d:.3g}, κ_r = {band.kappa_r:.3g} {analysis.part.units}/rad) "
                                  "leave no sequence of actions that collapses every orientation; a larger grip force, "
                                  "less friction, or --exact (the frictionless model) may") from None
-    steps = gripper_steps(S.lower, intervals, S.upper, circle)
+    steps = gripper_steps(S.lower, intervals, T, S.upper, circle)
     lo, hi = images(S.lower, intervals[:1], S.upper)[0]
     k = int(round(2 * np.pi / T))
     finals = sorted(wrap(0.5 * (lo + hi) + i * T, 2 * np.pi, ROUNDING) for i in range(k))

@@ -33,7 +33,7 @@ from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import SupportPairFunction
 from algrasp.geometry.tolerances import ROUNDING
 from algrasp.planning.barriers import barriers
-from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical
+from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical, circular_hull
 
 GRID_RAD = 2e-3
 """Largest cell of the classification grid (0.115°): dead-zone edges are placed to this
@@ -80,7 +80,7 @@ class SetTransfer:
         the gaps that uncertain zones bridge, but a part only ever rests at an outcome."""
         lo = np.array([a for a, _ in self.outcomes])
         hi = np.array([b for _, b in self.outcomes])
-        return _circular_hull(lo, hi, self.symmetry)
+        return circular_hull(lo, hi, self.symmetry)
 
     def compose_after(self, inner: SetTransfer, tol_rad: float) -> SetTransfer:
         """self ∘ inner (inner acts first): bounds compose since both are monotone. The
@@ -97,27 +97,6 @@ class SetTransfer:
         meets = (start <= (hi - lo)[:, None]) | (start + (mine[:, 1] - mine[:, 0])[None, :] >= T)
         kept = tuple((float(a), float(b)) for a, b in mine[meets.any(axis=0)])
         return SetTransfer(lower, upper, inner.period, inner.symmetry, inner.rest_zones, kept)
-
-def _circular_hull(lo: FloatArray, hi: FloatArray, T: float) -> tuple[float, float]:
-    """Complement of the largest gap left by the intervals [lo_i, hi_i] on a circle of
-    circumference T, as a lifted interval (three lifted copies, so intervals reaching
-    past T cover the start)."""
-    if np.max(hi - lo) >= T:
-        return 0.0, T
-    shift = np.floor(lo / T) * T
-    lo, hi = lo - shift, hi - shift
-    L = np.concatenate([lo - T, lo, lo + T])
-    H = np.concatenate([hi - T, hi, hi + T])
-    order = np.argsort(L, kind="stable")
-    L, H = L[order], H[order]
-    reach = np.maximum.accumulate(H)
-    gaps = L[1:] - reach[:-1]
-    valid = (reach[:-1] >= 0.0) & (reach[:-1] < T) & (gaps > 0.0)
-    if not valid.any():
-        return 0.0, T
-    k = int(np.argmax(np.where(valid, gaps, -np.inf)))
-    return float(L[k + 1]), float(reach[k] + T)
-
 
 def slopes(f: SupportPairFunction, theta: FloatArray) -> tuple[FloatArray, FloatArray]:
     """f′(θ) (part units per radian) and f(θ) from one pass of exact support points.

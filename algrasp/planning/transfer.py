@@ -128,6 +128,14 @@ class TransferFunction:
         idx = np.minimum(np.searchsorted(starts, x, side="right") - 1, len(self.pieces) - 1)
         return k, values[idx]
 
+    def circle_image(self, T: float) -> tuple[float, float]:
+        """The smallest arc, on the circle of circumference T (the symmetry period), that
+        holds every orientation one action leaves the part in from any start: every step
+        value and every ramp. Radians, lifted, end − start ≤ T; O(n log n)."""
+        lo = np.array([p.start if p.value is None else p.value for p in self.pieces])
+        hi = np.array([p.end if p.value is None else p.value for p in self.pieces])
+        return circular_hull(lo, hi, T)
+
     def symmetry_period(self, tol_rad: float) -> float:
         """Smallest T = P/k with F(θ + T) = F(θ) + T (structure and values within tol)."""
         n = len(self.pieces)
@@ -239,3 +247,24 @@ def from_runs(runs: list[Run], period: float, tol_rad: float) -> TransferFunctio
         last = pieces[-1]
         pieces[-1] = TransferPiece(last.start, first + period, last.value)
     return TransferFunction(period, tuple(canonical(pieces, period, tol_rad)))
+
+
+def circular_hull(lo: FloatArray, hi: FloatArray, T: float) -> tuple[float, float]:
+    """Complement of the largest gap left by the intervals [lo_i, hi_i] on a circle of
+    circumference T, as a lifted interval (three lifted copies, so intervals reaching
+    past T cover the start)."""
+    if np.max(hi - lo) >= T:
+        return 0.0, T
+    shift = np.floor(lo / T) * T
+    lo, hi = lo - shift, hi - shift
+    L = np.concatenate([lo - T, lo, lo + T])
+    H = np.concatenate([hi - T, hi, hi + T])
+    order = np.argsort(L, kind="stable")
+    L, H = L[order], H[order]
+    reach = np.maximum.accumulate(H)
+    gaps = L[1:] - reach[:-1]
+    valid = (reach[:-1] >= 0.0) & (reach[:-1] < T) & (gaps > 0.0)
+    if not valid.any():
+        return 0.0, T
+    k = int(np.argmax(np.where(valid, gaps, -np.inf)))
+    return float(L[k + 1]), float(reach[k] + T)

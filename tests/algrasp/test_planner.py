@@ -107,6 +107,42 @@ def assert_simulation_agrees(doc: dict, action: str, margin_deg: float) -> None:
         assert min(abs((g - w + np.pi) % (2 * np.pi) - np.pi) for w in want) < math.radians(0.05)
 
 
+def _outcome_arc(outcomes: np.ndarray, T: float) -> float:
+    """Length of the smallest arc of the circle of circumference T holding every outcome."""
+    x = np.sort(np.mod(outcomes, T))
+    gaps = np.diff(np.concatenate([x, x[:1] + T]))
+    return float(T - gaps.max())
+
+
+@pytest.mark.parametrize(("doc", "action"), [(shapes.random_polygon(8, 1), "squeeze"),
+                                             (shapes.random_polygon(29, 8), "push_grasp"),
+                                             (shapes.pie(5.0, 20.0, (0.0, 2.5)), "push_grasp")],
+                         ids=["8-gon-squeeze", "29-gon-push-grasp", "pie-com-push-grasp"])
+def test_second_margin_is_set_by_the_whole_circles_image(doc: dict, action: str) -> None:
+    """The first action's input is every orientation, so its image is the set of all
+    orientations one action can leave the part in; the second action's margin is half of
+    what its interval leaves of the smallest arc (mod the symmetry period) holding that set,
+    found here by brute force. Centring that arc, the plan orients the part with the second
+    action's gripper angle off by 0.9 × the margin either way (the margins once came from an
+    arbitrary lift of the whole circle: 0.27° instead of 12.4° for the 8-gon)."""
+    analysis = analysed(doc)
+    plan = make_plan(analysis, action)  # type: ignore[arg-type]
+    assert len(plan.steps) >= 2
+    first = replace(plan, steps=plan.steps[:1])
+    outcomes = simulate(analysis, first, np.linspace(0.0, 2 * np.pi, GRID, endpoint=False)) - plan.steps[0].gripper_angle
+    a, b = plan.intervals[-2]
+    margin = plan.steps[1].margin
+    assert margin is not None
+    assert margin == pytest.approx(((b - a) - _outcome_arc(outcomes, plan.symmetry_period)) / 2, abs=math.radians(0.02))
+    phi0 = np.random.default_rng(3).uniform(0, 2 * np.pi, 400)
+    want = np.array(plan.final_orientations)
+    for off in (-0.9 * margin, 0.9 * margin):
+        moved = replace(plan, steps=(replace(plan.steps[0], gripper_angle=plan.steps[0].gripper_angle + off), *plan.steps[1:]))
+        got = simulate(analysis, moved, phi0)
+        miss = np.abs((got[:, None] - want + np.pi) % (2 * np.pi) - np.pi).min(axis=1)
+        assert miss.max() < math.radians(0.05)
+
+
 @pytest.mark.parametrize("seed", range(4))
 def test_random_polygon_plans_simulate(seed: int) -> None:
     assert_simulation_agrees(shapes.random_polygon(8, seed), "squeeze", 0.5)

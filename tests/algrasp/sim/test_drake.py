@@ -79,7 +79,9 @@ def test_validation_api_in_parallel_workers() -> None:
 def test_optimised_push_distance_is_tight() -> None:
     """Push-grasp on the paper's pie with the optimised execution: every first push ends
     at its fixed point and the plan agrees; with half the optimised push distance the
-    pushes fall measurably short (the optimum is not padded)."""
+    worst push falls measurably short (the optimum, a worst case over each action's
+    input, is not padded). The worst, not the mean: which of 8 starts need the whole
+    distance depends on the gripper angles (seen: 3.8° short at worst, 0.73° on average)."""
     from optimisation.execution import optimise_execution
 
     analysis = analyse_part(load_part(shapes.pie(5.0, 20.0, com=(0.0, 2.5))))
@@ -89,7 +91,7 @@ def test_optimised_push_distance_is_tight() -> None:
         ex = optimise_execution(analysis, plan, push_scale=scale)
         v = validate_plan(analysis, plan, samples=8, seed=0, workers=2, sim_schedule=execution_schedule(ex))
         errs = [abs((s.pushed_deg - s.push_predicted_deg + 180) % 360 - 180) for s in v.samples if not s.near_unstable]
-        errors[scale] = float(np.mean(errs))
+        errors[scale] = float(np.max(errs))
         if scale == 1.0:
             assert v.push_agreement == 1.0 and v.agreement_clear == 1.0
     assert errors[0.5] > 5 * errors[1.0] and errors[0.5] > 1.0
