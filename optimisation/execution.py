@@ -183,7 +183,7 @@ def optimise_execution(analysis: Analysis, plan: Plan, profile: GripperProfile =
                                      to_rad(profile.unstable_band_deg)))
     t1 = time.perf_counter()
     g = _widths(analysis, plan, scale)
-    starts, turns = _turns([s.gripper_angle for s in plan.steps])
+    starts, turns = _turns([s.gripper_angle for s in plan.steps], plan.transfer.period)
     push_m = [0.0 if p is None else p.distance * scale * push_scale for p in pushes]
     fast, slow = profile.jaw_max_speed_m_s, profile.contact_speed_m_s
     best = _solve(profile, g, plan.action, turns, push_m, slow, fast)
@@ -199,14 +199,17 @@ def optimise_execution(analysis: Analysis, plan: Plan, profile: GripperProfile =
                      {"push_distances": t1 - t0, "trajectories": t2 - t1})
 
 
-def _turns(angles: list[float]) -> tuple[list[float], list[float]]:
+def _turns(angles: list[float], period: float) -> tuple[list[float], list[float]]:
     """Start angle and shortest signed turn of each action, continuous over the cycle:
     the cycle starts at the last action's angle (where the previous cycle left the
-    gripper), wrapped into [0, 2π)."""
+    gripper), wrapped into [0, 2π). An action maps to itself under a turn by its period
+    (π for a squeeze: the jaws trade places), so the gripper turns the shortest way to an
+    angle equivalent to the plan's (the trajectory's angles may differ from the plan's by
+    multiples of the period)."""
     at = angles[-1] % (2 * math.pi)
     starts, turns = [], []
     for a in angles:
-        turn = (a - at + math.pi) % (2 * math.pi) - math.pi
+        turn = (a - at + period / 2) % period - period / 2
         starts.append(at)
         turns.append(turn)
         at += turn

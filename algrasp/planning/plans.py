@@ -121,29 +121,73 @@ def transfer_for(analysis: Analysis, action: Action) -> TransferFunction:
 
 
 def gripper_steps(F: TransferFunction, intervals: list[tuple[float, float]], T: float,
-                  upper: TransferFunction | None = None, first_image: tuple[float, float] | None = None) -> list[PlanStep]:
-    """Execution-order gripper angles (last at 0) and margins from Θ₁ … Θ_N.
+                  upper: TransferFunction | None = None, first_images: list[tuple[float, float]] | None = None,
+                  period: float | None = None) -> tuple[list[PlanStep], tuple[float, float] | None]:
+    """Execution-order gripper angles (last at 0) and margins from Θ₁ … Θ_N, and the arc
+    the first action's image was placed as (None for a one-action plan).
 
-    The first action's input is the whole circle, so its image is the smallest arc (on
-    the circle of the symmetry period T) holding everything one action can leave the part
-    in: ``first_image``, by default :meth:`TransferFunction.circle_image` (set-valued
-    functions pass their own). Taking [F(a), F(a + T⁻)] instead would make the margin of
-    the second action depend on where the width-T interval Θ_N happens to start. Later
-    images are [F(a), upper(b⁻)] of their intervals; the last action's is not needed.
+    Each action's image is centred in the next action's interval (the paper's choice: the
+    widest margin). The first action's input is the whole circle, so its image is any arc
+    holding everything one action can leave the part in and leaving out one gap between
+    those outcomes (``first_images``, by default :meth:`TransferFunction.circle_images`).
+    Of the arcs whose margin is at least the plan's smallest (the gripper angle error the
+    plan tolerates, which the choice leaves unchanged) the one needing the least turning
+    is used. An action maps to itself under a turn by its period P, and by T where its
+    margin is wide enough to absorb the symmetry tolerance, so each angle is taken nearest
+    the next action's modulo that turn: no turn between actions exceeds T/2 (P/2).
+    ``period``: the action's P (π for a squeeze, 2π for a push-grasp; default F's, which
+    set-valued bounds store over T).
     """
+    P = F.period if period is None else period
     order = intervals[::-1]  # I_1 … I_N
-    alphas = [0.0] * len(order)
-    margins: list[float | None] = [None] * len(order)
-    imgs: list[tuple[float, float]] = []
-    if len(order) > 1:
-        imgs = [F.circle_image(T) if first_image is None else first_image, *images(F, order[1:-1], upper)]
-    for j in range(len(order) - 2, -1, -1):
-        lo, hi = imgs[j]
-        a, b = order[j + 1]
-        delta = 0.5 * (a + b) - 0.5 * (lo + hi)  # centre F(I_j) in I_{j+1}
-        alphas[j] = alphas[j + 1] + delta
-        margins[j + 1] = max(0.0, 0.5 * ((b - a) - (hi - lo)))
-    return [PlanStep(float(al), m) for al, m in zip(alphas, margins)]
+    n = len(order)
+    if n == 1:
+        return [PlanStep(0.0, None)], None
+    alphas = [0.0] * n
+    margins: list[float | None] = [None] * n
+    later = images(F, order[1:-1], upper)  # of I_2 … I_{N−1}: the last action's is not needed
+    for j in range(n - 2, 0, -1):
+        (lo, hi), (a, b) = later[j - 1], order[j + 1]
+        margin = max(0.0, 0.5 * ((b - a) - (hi - lo)))
+        alphas[j] = _nearest(alphas[j + 1] + 0.5 * (a + b - lo - hi), alphas[j + 1], _self_turn(P, T, margin))
+        margins[j + 1] = margin
+    arcs = F.circle_images(T) if first_images is None else first_images
+    a, b = order[1]
+    fit = [max(0.0, 0.5 * ((b - a) - (hi - lo))) for lo, hi in arcs]
+    tolerance = min([m for m in margins[2:] if m is not None] + [max(fit)])
+    choices = [(k, alpha) for k in range(len(arcs)) if fit[k] >= tolerance
+               for alpha in _first_angles(arcs[k], order[1], alphas[1], _self_turn(P, T, fit[k]))]
+    k, alphas[0] = min(choices, key=lambda c: (_turning(c[1], alphas[1], P), c[0]))
+    margins[1] = fit[k]
+    return [PlanStep(float(al), m) for al, m in zip(alphas, margins)], arcs[k]
+
+
+def _self_turn(period: float, T: float, margin: float) -> float:
+    """The smallest turn that maps an action to itself: T (the part's symmetry, true to
+    SYMMETRY_TOL_RAD) when the margin absorbs that on both image ends, else the period."""
+    return T if margin > 2.0 * SYMMETRY_TOL_RAD else period
+
+
+def _nearest(angle: float, ref: float, turn: float) -> float:
+    """``angle`` plus the multiple of ``turn`` that brings it nearest ``ref`` (radians)."""
+    return angle - turn * round((angle - ref) / turn)
+
+
+def _first_angles(arc: tuple[float, float], nxt: tuple[float, float], alpha_next: float, turn: float) -> list[float]:
+    """The first action's angles that centre ``arc`` in the second action's interval, one
+    per turn that maps the action to itself."""
+    base = alpha_next + 0.5 * (nxt[0] + nxt[1]) - 0.5 * (arc[0] + arc[1])
+    return [base + i * turn for i in range(max(1, round(2 * np.pi / turn)))]
+
+
+def _turning(alpha_first: float, alpha_second: float, period: float) -> float:
+    """Turns (radians) that depend on the first action's angle: from the last action's
+    (0, where the previous part left the gripper) and on to the second action's, each the
+    shortest to an equivalent angle under the action's period (as the execution turns)."""
+    def shortest(x: float) -> float:
+        return abs((x + period / 2) % period - period / 2)
+
+    return shortest(alpha_first) + shortest(alpha_second - alpha_first)
 
 
 def final_orientations(F: TransferFunction, intervals: list[tuple[float, float]], T: float) -> list[float]:
@@ -221,7 +265,7 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -
     t0 = time.perf_counter()
     T = F.symmetry_period(SYMMETRY_TOL_RAD)
     intervals = algorithm_a_prime(F, T, to_rad(min_margin_deg))
-    steps = gripper_steps(F, intervals, T)
+    steps, _ = gripper_steps(F, intervals, T)
     finals = final_orientations(F, intervals, T)
     t1 = time.perf_counter()
     plan = Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), False)
@@ -265,7 +309,7 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
                                  f"shape tolerance (κ_d = {band.kappa_d:.3g}, κ_r = {band.kappa_r:.3g} {analysis.part.units}/rad) "
                                  "leave no sequence of actions that collapses every orientation; a larger grip force, "
                                  "less friction, or --exact (the frictionless model) may") from None
-    steps = gripper_steps(S.lower, intervals, T, S.upper, circle)
+    steps, first = gripper_steps(S.lower, intervals, T, S.upper, S.circle_images(), F.period)
     lo, hi = images(S.lower, intervals[:1], S.upper)[0]
     k = int(round(2 * np.pi / T))
     finals = sorted(wrap(0.5 * (lo + hi) + i * T, 2 * np.pi, ROUNDING) for i in range(k))
@@ -273,7 +317,7 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
     uncertainty = 0.5 * (hi - lo) + GUARD_RAD + _edge_tilt(analysis, 0.5 * (lo + hi))
     plan = Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), False, {}, S,
                 uncertainty, {**analysis.robust.physics.to_dict(), **analysis.robust.band.to_dict()})
-    ok = verify_set(plan, circle)
+    ok = verify_set(plan, circle if first is None else first)
     t2 = time.perf_counter()
     if not ok:
         raise NotOrientableError("verification_failed", "the plan did not verify: please report this part")

@@ -33,7 +33,7 @@ from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import SupportPairFunction
 from algrasp.geometry.tolerances import ROUNDING
 from algrasp.planning.barriers import barriers
-from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical, circular_hull
+from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical, holding_arcs
 
 GRID_RAD = 2e-3
 """Largest cell of the classification grid (0.115°): dead-zone edges are placed to this
@@ -78,9 +78,14 @@ class SetTransfer:
         any start (``outcomes``): [start, end] lifted, end − start ≤ T — the complement of
         the largest gap. The image of the whole circle: hulls of single points would fill
         the gaps that uncertain zones bridge, but a part only ever rests at an outcome."""
+        return self.circle_images()[0]
+
+    def circle_images(self) -> list[tuple[float, float]]:
+        """Every arc holding all the outcomes that leaves out one gap between them,
+        shortest first (the first is :meth:`circle_image`; :func:`~algrasp.planning.transfer.holding_arcs`)."""
         lo = np.array([a for a, _ in self.outcomes])
         hi = np.array([b for _, b in self.outcomes])
-        return circular_hull(lo, hi, self.symmetry)
+        return holding_arcs(lo, hi, self.symmetry)
 
     def compose_after(self, inner: SetTransfer, tol_rad: float) -> SetTransfer:
         """self ∘ inner (inner acts first): bounds compose since both are monotone. The

@@ -128,13 +128,14 @@ class TransferFunction:
         idx = np.minimum(np.searchsorted(starts, x, side="right") - 1, len(self.pieces) - 1)
         return k, values[idx]
 
-    def circle_image(self, T: float) -> tuple[float, float]:
-        """The smallest arc, on the circle of circumference T (the symmetry period), that
-        holds every orientation one action leaves the part in from any start: every step
-        value and every ramp. Radians, lifted, end − start ≤ T; O(n log n)."""
+    def circle_images(self, T: float) -> list[tuple[float, float]]:
+        """The arcs, on the circle of circumference T (the symmetry period), that hold
+        every orientation one action leaves the part in from any start — every step value
+        and every ramp — each leaving out one gap between them, shortest first (radians,
+        lifted, end − start ≤ T; :func:`holding_arcs`). O(n log n)."""
         lo = np.array([p.start if p.value is None else p.value for p in self.pieces])
         hi = np.array([p.end if p.value is None else p.value for p in self.pieces])
-        return circular_hull(lo, hi, T)
+        return holding_arcs(lo, hi, T)
 
     def symmetry_period(self, tol_rad: float) -> float:
         """Smallest T = P/k with F(θ + T) = F(θ) + T (structure and values within tol)."""
@@ -249,12 +250,13 @@ def from_runs(runs: list[Run], period: float, tol_rad: float) -> TransferFunctio
     return TransferFunction(period, tuple(canonical(pieces, period, tol_rad)))
 
 
-def circular_hull(lo: FloatArray, hi: FloatArray, T: float) -> tuple[float, float]:
-    """Complement of the largest gap left by the intervals [lo_i, hi_i] on a circle of
-    circumference T, as a lifted interval (three lifted copies, so intervals reaching
-    past T cover the start)."""
+def holding_arcs(lo: FloatArray, hi: FloatArray, T: float) -> list[tuple[float, float]]:
+    """Every arc of the circle of circumference T that holds all the intervals [lo_i, hi_i]
+    and leaves out one gap between them (the gap's complement), as lifted intervals,
+    shortest first — the first is their circular hull; [(0, T)] when they leave no gap.
+    Three lifted copies, so intervals reaching past T cover the start; O(n log n)."""
     if np.max(hi - lo) >= T:
-        return 0.0, T
+        return [(0.0, T)]
     shift = np.floor(lo / T) * T
     lo, hi = lo - shift, hi - shift
     L = np.concatenate([lo - T, lo, lo + T])
@@ -263,8 +265,8 @@ def circular_hull(lo: FloatArray, hi: FloatArray, T: float) -> tuple[float, floa
     L, H = L[order], H[order]
     reach = np.maximum.accumulate(H)
     gaps = L[1:] - reach[:-1]
-    valid = (reach[:-1] >= 0.0) & (reach[:-1] < T) & (gaps > 0.0)
-    if not valid.any():
-        return 0.0, T
-    k = int(np.argmax(np.where(valid, gaps, -np.inf)))
-    return float(L[k + 1]), float(reach[k] + T)
+    ks = np.nonzero((reach[:-1] >= 0.0) & (reach[:-1] < T) & (gaps > 0.0))[0]
+    if not len(ks):
+        return [(0.0, T)]
+    ks = ks[np.argsort(-gaps[ks], kind="stable")]  # the widest gap left out: the shortest arc
+    return [(float(L[k + 1]), float(reach[k] + T)) for k in ks]
