@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Literal, NamedTuple
+from typing import Literal, NamedTuple
 
 import numpy as np
 
@@ -132,7 +132,7 @@ def _cells(kind: Kind, hull: ConvexHull, tol: Tolerances) -> list[tuple[int, int
     # Before the first cut: the features of the last cuts of each term (cyclically).
     far = next(k for k in reversed(order) if k < n)
     near = next((k - n for k in reversed(order) if k >= n), -1)
-    edges: list[list[Any]] = []  # [ψ, near, far] from each cell's start
+    edges: list[tuple[float, int, int]] = []  # (ψ, near, far) from each cell's start
     prev = -math.inf
     for k in order:
         c = cuts[k]
@@ -141,9 +141,9 @@ def _cells(kind: Kind, hull: ConvexHull, tol: Tolerances) -> list[tuple[int, int
         else:
             near = k - n
         if c - prev > tol.angle_rad:
-            edges.append([c, near, far])
-        else:
-            edges[-1][1:] = near, far
+            edges.append((c, near, far))
+        else:  # within angle_rad of the cut before: the same cell start, features updated
+            edges[-1] = (edges[-1][0], near, far)
         prev = c
     ends = [e[0] for e in edges[1:]] + [edges[0][0] + TWO_PI]
     return [(i, j, a, b) for (a, i, j), b in zip(edges, ends) if b - a > tol.angle_rad]

@@ -153,12 +153,13 @@ def gripper_steps(F: TransferFunction, intervals: list[tuple[float, float]], T: 
         margins[j + 1] = margin
     arcs = F.circle_images(T) if first_images is None else first_images
     a, b = order[1]
-    fit = [max(0.0, 0.5 * ((b - a) - (hi - lo))) for lo, hi in arcs]
-    tolerance = min([m for m in margins[2:] if m is not None] + [max(fit)])
-    choices = [(k, alpha) for k in range(len(arcs)) if fit[k] >= tolerance
+    fit = [0.5 * ((b - a) - (hi - lo)) for lo, hi in arcs]  # room on each side; < 0: does not fit
+    # At least the plan's tolerance and the guard room every image keeps; the widest always.
+    need = min(max(min([m for m in margins[2:] if m is not None], default=np.inf), GUARD_RAD), max(fit))
+    choices = [(k, alpha) for k in range(len(arcs)) if fit[k] >= need
                for alpha in _first_angles(arcs[k], order[1], alphas[1], _self_turn(P, T, fit[k]))]
     k, alphas[0] = min(choices, key=lambda c: (_turning(c[1], alphas[1], P), c[0]))
-    margins[1] = fit[k]
+    margins[1] = max(0.0, fit[k])
     return [PlanStep(float(al), m) for al, m in zip(alphas, margins)], arcs[k]
 
 

@@ -166,6 +166,28 @@ def test_the_first_image_is_placed_for_the_least_turning() -> None:
     assert _shortest(angles[0]) < math.radians(20.0)  # 16.06°, not 126.06°
 
 
+def test_an_arc_that_does_not_fit_is_never_chosen() -> None:
+    """Fig. 11 plans have zero margins (tolerance 0): an arc offered for the first action's
+    image that is wider than the second action's interval must not be taken, though it
+    would turn less (push-grasp: 160° in all instead of 170°), and one that fits with less
+    than the guard room neither."""
+    from algrasp.planning.planner import GUARD_RAD, algorithm_a_prime
+    from algrasp.planning.plans import gripper_steps
+
+    F = analysed(shapes.disk_with_flats(1.0, 10.0)).push_grasp
+    T = F.symmetry_period(1e-7)
+    intervals = algorithm_a_prime(F, T)
+    best = F.circle_images(T)[0]
+    a, b = intervals[-2]
+    mid = 0.5 * (a + b)  # centred on the second interval: no turn at all
+    too_wide = (mid - 0.5 * (b - a) - 0.1, mid + 0.5 * (b - a) + 0.1)
+    no_guard = (a + 0.5 * GUARD_RAD, b - 0.5 * GUARD_RAD)
+    for offered in ([best, too_wide], [best, no_guard]):
+        steps, used = gripper_steps(F, intervals, T, first_images=offered)
+        assert used == best
+        assert steps[1].margin == pytest.approx(0.5 * ((b - a) - (best[1] - best[0])), abs=1e-12)
+
+
 @pytest.mark.parametrize(("doc", "action"), [(shapes.rectangle(10.0, 4.0), "push_grasp"),
                                              (shapes.disk_with_flats(1.0, 10.0), "squeeze"),
                                              (shapes.disk_with_flats(1.0, 10.0), "push_grasp"),
