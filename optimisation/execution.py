@@ -30,7 +30,7 @@ from functools import partial
 
 import numpy as np
 
-from algrasp.geometry.angles import to_deg, to_rad
+from algrasp.geometry.angles import shortest_turn, to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.units import meters_per_unit
 from algrasp.planning.analysis import Analysis
@@ -209,7 +209,7 @@ def _turns(angles: list[float], period: float) -> tuple[list[float], list[float]
     at = angles[-1] % (2 * math.pi)
     starts, turns = [], []
     for a in angles:
-        turn = (a - at + period / 2) % period - period / 2
+        turn = shortest_turn(a - at, period)
         starts.append(at)
         turns.append(turn)
         at += turn

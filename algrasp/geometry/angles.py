@@ -75,6 +75,16 @@ def _scaled(x: float | Angles, k: float) -> float | NDArray[np.float64]:
     return np.asarray(x, dtype=float) * k
 
 
+def shortest_turn(angle_rad: float, period_rad: float = TWO_PI) -> float:
+    """The signed turn in [−period/2, period/2) equivalent to ``angle_rad`` modulo
+    ``period_rad`` (a gripper turning to an action that maps to itself under that period).
+
+    >>> round(to_deg(shortest_turn(to_rad(170.0), math.pi)), 9)
+    -10.0
+    """
+    return (angle_rad + period_rad / 2) % period_rad - period_rad / 2
+
+
 def wrap_deg(angle_deg: float) -> float:
     """An angle in degrees wrapped into [0, 360)."""
     return float(angle_deg) % 360.0

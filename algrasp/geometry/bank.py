@@ -203,16 +203,11 @@ class FeatureTable:
     def points(self, idx: IntArray, psi: FloatArray) -> FloatArray:
         """Support points (n, 2) of features ``idx`` for outward normals ψ (n,)."""
         psi = np.asarray(psi, dtype=float)
-        out = self.centers[idx] + self.radii[idx, None] * unit_vectors(psi)
-        if not len(self.s0):  # no curve features (polygons, circular arcs)
-            return out
-        slots = self.slot[idx]
-        curve = slots >= 0
-        if np.any(curve):
-            sl = slots[curve]
-            out[curve] = points(self.coef, sl, self.params(sl, psi[curve]))
-        result: FloatArray = out
-        return result
+        out: FloatArray = self.centers[idx] + self.radii[idx, None] * unit_vectors(psi)
+        hit = self._curve_points(idx, psi)
+        if hit is not None:
+            out[hit[0]] = hit[1]
+        return out
 
     def support(self, idx: IntArray, psi: FloatArray) -> FloatArray:
         """Support values h(ψ) = ⟨p, u(ψ)⟩ (n,) of features ``idx`` at normals ψ (n,):
@@ -220,14 +215,24 @@ class FeatureTable:
         u = unit_vectors(psi)
         c = self.centers[idx]
         out: FloatArray = c[:, 0] * u[:, 0] + c[:, 1] * u[:, 1] + self.radii[idx]
-        if len(self.s0):
-            slots = self.slot[idx]
-            curve = slots >= 0
-            if np.any(curve):
-                sl = slots[curve]
-                p = points(self.coef, sl, self.params(sl, psi[curve]))
-                out[curve] = p[:, 0] * u[curve, 0] + p[:, 1] * u[curve, 1]
+        hit = self._curve_points(idx, psi)
+        if hit is not None:
+            curve, p = hit
+            out[curve] = p[:, 0] * u[curve, 0] + p[:, 1] * u[curve, 1]
         return out
+
+    def _curve_points(self, idx: IntArray, psi: FloatArray) -> tuple[NDArray[np.bool_], FloatArray] | None:
+        """Which queries (features ``idx``, normals ψ) fall on curve features, and their
+        exact support points (Newton, :meth:`params`); None when none do (polygons and
+        circular arcs need no lookup at all)."""
+        if not len(self.s0):
+            return None
+        slots = self.slot[idx]
+        curve = slots >= 0
+        if not np.any(curve):
+            return None
+        sl = slots[curve]
+        return curve, points(self.coef, sl, self.params(sl, psi[curve]))
 
     def curve_lengths(self, nodes: FloatArray, weights: FloatArray) -> FloatArray:
         """Arc lengths (C,) of the curve features by the quadrature rule (nodes, weights) on [0, 1]."""

@@ -143,18 +143,17 @@ def _samples(coef: FloatArray, max_turn: float) -> tuple[IntArray, FloatArray]:
 Contact = tuple[int, int, float]  # (vertex id or -1, piece id or -1, parameter)
 
 
-def contact_point(loop: Loop, c: Contact) -> FloatArray:
-    if c[0] >= 0:
-        return np.asarray(loop.vertices[c[0]])
-    return np.asarray(loop.pieces[c[1]].point(c[2]))
-
-
 def contact_xy(loop: Loop, c: Contact) -> tuple[float, float]:
-    """:func:`contact_point` as a float pair."""
+    """The point of contact ``c``: a vertex, or a piece at its parameter."""
     if c[0] >= 0:
         return loop.vertex_list[c[0]]
     x, y = loop.pieces[c[1]].point(c[2]).tolist()
     return x, y
+
+
+def contact_point(loop: Loop, c: Contact) -> FloatArray:
+    """:func:`contact_xy` as an array (2,)."""
+    return np.array(contact_xy(loop, c))
 
 
 def _vertex_tangent(loop: Loop, a: FloatArray, pid: int, t_guess: float, size: float) -> float | None:

@@ -17,7 +17,7 @@ from typing import Literal
 import numpy as np
 
 from algrasp.errors import ConfigError, NotOrientableError
-from algrasp.geometry.angles import to_rad
+from algrasp.geometry.angles import shortest_turn, to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import wrap
 from algrasp.geometry.tolerances import PROBE_RAD, ROUNDING, SYMMETRY_TOL_RAD
@@ -185,10 +185,7 @@ def _turning(alpha_first: float, alpha_second: float, period: float) -> float:
     """Turns (radians) that depend on the first action's angle: from the last action's
     (0, where the previous part left the gripper) and on to the second action's, each the
     shortest to an equivalent angle under the action's period (as the execution turns)."""
-    def shortest(x: float) -> float:
-        return abs((x + period / 2) % period - period / 2)
-
-    return shortest(alpha_first) + shortest(alpha_second - alpha_first)
+    return abs(shortest_turn(alpha_first, period)) + abs(shortest_turn(alpha_second - alpha_first, period))
 
 
 def final_orientations(F: TransferFunction, intervals: list[tuple[float, float]], T: float) -> list[float]:
@@ -299,7 +296,8 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
     F = analysis.squeeze if action == "squeeze" else analysis.push_grasp
     t0 = time.perf_counter()
     T = S.symmetry
-    circle = S.circle_image()
+    arcs = S.circle_images()
+    circle = arcs[0]
     try:
         intervals = set_a_prime(S.lower, S.upper, T, circle[1] - circle[0], margin)
     except NotOrientableError as e:
@@ -310,7 +308,7 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
                                  f"shape tolerance (κ_d = {band.kappa_d:.3g}, κ_r = {band.kappa_r:.3g} {analysis.part.units}/rad) "
                                  "leave no sequence of actions that collapses every orientation; a larger grip force, "
                                  "less friction, or --exact (the frictionless model) may") from None
-    steps, first = gripper_steps(S.lower, intervals, T, S.upper, S.circle_images(), F.period)
+    steps, first = gripper_steps(S.lower, intervals, T, S.upper, arcs, F.period)
     lo, hi = images(S.lower, intervals[:1], S.upper)[0]
     k = int(round(2 * np.pi / T))
     finals = sorted(wrap(0.5 * (lo + hi) + i * T, 2 * np.pi, ROUNDING) for i in range(k))

@@ -73,16 +73,13 @@ class SetTransfer:
         """Hull of the images of the closed intervals [lo, hi] (radians, lifted)."""
         return self.lower.apply(lo), self.upper.apply(hi)
 
-    def circle_image(self) -> tuple[float, float]:
-        """Hull, on the circle of period T, of every orientation the part can end in from
-        any start (``outcomes``): [start, end] lifted, end − start ≤ T — the complement of
-        the largest gap. The image of the whole circle: hulls of single points would fill
-        the gaps that uncertain zones bridge, but a part only ever rests at an outcome."""
-        return self.circle_images()[0]
-
     def circle_images(self) -> list[tuple[float, float]]:
-        """Every arc holding all the outcomes that leaves out one gap between them,
-        shortest first (the first is :meth:`circle_image`; :func:`~algrasp.planning.transfer.holding_arcs`)."""
+        """The arcs, on the circle of period T, that hold every orientation the part can
+        end in from any start (``outcomes``), each leaving out one gap between them:
+        [start, end] lifted, end − start ≤ T, shortest first (the first is their circular
+        hull; :func:`~algrasp.planning.transfer.holding_arcs`). The image of the whole
+        circle: hulls of single points would fill the gaps that uncertain zones bridge, but
+        a part only ever rests at an outcome."""
         lo = np.array([a for a, _ in self.outcomes])
         hi = np.array([b for _, b in self.outcomes])
         return holding_arcs(lo, hi, self.symmetry)
