@@ -75,11 +75,13 @@ class NotOrientableError(AlgraspError):
     """No plan of the requested kind can orient the part (``reason`` says why)."""
 
     kind = "not_orientable"
-    public_fields = ("reason",)
+    public_fields = ("reason", "limits")
 
-    def __init__(self, reason: str, message: str) -> None:
+    def __init__(self, reason: str, message: str, limits: dict[str, object] | None = None) -> None:
         super().__init__(message)
         self.reason = reason
+        self.limits = limits
+        """The physics limits under which a plan exists (``algrasp.planning.limits``), if searched."""
 
 
 class ConfigError(AlgraspError):

@@ -99,3 +99,11 @@ HULL_TURN_RAD = 1e-7
 """The hull's edge normals must turn a full circle to within this (a sanity check)."""
 TIME_ROUNDING_S = 1e-12
 """Simulated times (seconds) this close are the same instant (a control knot, a step)."""
+
+UNCERTAINTY_FLOOR_RAD = 0.0017453292519943296  # 0.1°
+"""No robust plan claims less than this (radians): the resolution at which the Drake
+simulation reproduces rest orientations (its median error on exact polygons with matched
+physics was 0.1°), so a claim below it could not be checked."""
+MAX_UNCERTAINTY_RAD = 0.08726646259971647  # 5°
+"""A robust plan whose part may end more than this from its final orientation (radians)
+does not orient the part: it is refused with the limits under which a plan exists."""

@@ -8,7 +8,7 @@ Pure: no I/O; ``to_dict`` gives the JSON object of ``algrasp analyze --json``.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -18,6 +18,7 @@ from algrasp.geometry.functions import SupportPairFunction, analyse, wrap
 from algrasp.geometry.part import Part, load_part
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES, SYMMETRY_TOL_RAD, Tolerances
 from algrasp.planning.deadband import DEFAULT_PHYSICS, DeadBand, Physics, dead_band
+from algrasp.planning.placement import off_centre_squeeze
 from algrasp.planning.documents import AnalysisDocument, FunctionDocument, SetTransferDocument, TransferDocument
 from algrasp.planning.setvalued import SetTransfer, set_transfer
 from algrasp.planning.transfer import TransferFunction, from_runs
@@ -34,23 +35,13 @@ class Model:
 
     @staticmethod
     def from_options(options: Mapping[str, Any], legacy_exact: bool = False) -> Model:
-        """From request options ``{"exact": bool, "physics": {...}}``. Records written
-        before the robust model have neither key: ``legacy_exact`` reads them as exact."""
+        """From request options ``{"exact": bool, "physics": {...}}`` (ranges as numbers or
+        ``[lo, hi]``: :meth:`Physics.from_mapping`). Records written before the robust
+        model have neither key: ``legacy_exact`` reads them as exact."""
         exact = options.get("exact", legacy_exact)
         if not isinstance(exact, bool):
             raise ConfigError("exact", f"expected true or false, got {exact!r}")
-        raw = options.get("physics") or {}
-        if not isinstance(raw, Mapping):
-            raise ConfigError("physics", "expected an object")
-        known = {f.name for f in fields(Physics)}
-        unknown = sorted(set(raw) - known)
-        if unknown:
-            raise ConfigError(f"physics.{unknown[0]}", f"unknown key (known: {', '.join(sorted(known))})")
-        for k, v in raw.items():
-            if not (v is None and k == "shape_tolerance") and (isinstance(v, bool) or not isinstance(v, (int, float))):
-                raise ConfigError(f"physics.{k}", f"expected a number, got {v!r}")
-        values: dict[str, Any] = {k: (None if v is None else float(v)) for k, v in raw.items()}
-        return Model(exact, Physics(**values))
+        return Model(exact, Physics.from_mapping(options.get("physics") or {}))
 
     @staticmethod
     def from_record(options: Mapping[str, Any]) -> Model:
@@ -61,7 +52,7 @@ class Model:
 
     def to_options(self) -> dict[str, Any]:
         """What a run record keeps (only physics that differ from the defaults)."""
-        diff = {k: v for k, v in self.physics.to_dict().items() if v != getattr(DEFAULT_PHYSICS, k)}
+        diff = self.physics.differences()
         return {"exact": self.exact, **({"physics": diff} if diff else {})}
 
 
@@ -163,20 +154,26 @@ def analyse_document(doc: Mapping[str, Any], model: Model = ROBUST, tol: Toleran
 
 def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, physics: Physics,
                     tol: Tolerances) -> RobustAnalysis:
-    """Dead band and set-valued squeeze, push and push-grasp functions."""
+    """Dead band and set-valued squeeze, push and push-grasp functions over the physics
+    ranges; with ``placement="any"`` the squeeze starts with a partial push by either jaw
+    (push-grasps are unaffected: the pushing jaw meets the part first by design)."""
     band = dead_band(part, physics, tol)
+    stall = (band.stall_lo, band.stall_hi)
     reasons: dict[str, str] = {}
     funcs: dict[str, SetTransfer | None] = {}
     # d has two contacts: its slope and value errors are twice one jaw's.
-    for name, f, sigma, eps in (("squeeze", d, band.sigma_d, 2.0 * band.value_tol), ("push", r, band.sigma_r, band.value_tol)):
+    for name, f, sigma, eps, mu in (("squeeze", d, band.sigma_d, 2.0 * band.value_tol, band.jaw_friction),
+                                    ("push", r, band.sigma_r, band.value_tol_r, 0.0)):
         try:
-            funcs[name] = set_transfer(f, band.stall, sigma, eps, tol.angle_rad)
+            funcs[name] = set_transfer(f, stall, sigma, eps, tol.angle_rad, mu)
         except NotOrientableError as e:
             funcs[name], reasons[name] = None, str(e)
     sq, pu = funcs["squeeze"], funcs["push"]
-    if sq is not None and pu is not None:
-        funcs["push_grasp"] = sq.compose_after(pu, tol.angle_rad)
-    else:
-        funcs["push_grasp"] = None
+    funcs["push_grasp"] = None if sq is None or pu is None else sq.compose_after(pu, tol.angle_rad)
+    if funcs["push_grasp"] is None:
         reasons["push_grasp"] = reasons.get("push", reasons.get("squeeze", ""))
+    if physics.placement == "any" and sq is not None:
+        funcs["squeeze"] = None if pu is None else off_centre_squeeze(sq, pu, tol.angle_rad)
+        if pu is None:
+            reasons["squeeze"] = f"off-centre placement starts a squeeze with a push, and {reasons['push']}"
     return RobustAnalysis(physics, band, funcs["squeeze"], funcs["push"], funcs["push_grasp"], reasons)

@@ -1,71 +1,39 @@
-"""The dead band of a real gripper and a real part (conventions §7): κ = s + σ.
+"""The dead band of a real cell and a real part (docs/conventions.md §7, §8).
 
 * **Stall threshold s** (part units per radian). A squeeze with grip force F turns the
-  part with the couple F·d′(θ); the support surface resists with at most m_max = μ m g r̄
+  part with the couple F·d′(θ); the support surface resists with at most m_max = μ_s m g r̄
   (the uniform-pressure Coulomb limit surface the simulation uses, r̄ the mean distance of
   the region from the centre of mass). So the part stalls where |d′| ≤ s_d = m_max / F.
-  Likewise s_r = m_max / F for a push (the lower jaw presses with the same servo force).
-* **Slope error σ** of the drawing against the real part (:mod:`algrasp.geometry.recognise`):
-  0 for exact curves, measured for arc approximations and tessellations; the diameter has
-  two contacts (2σ), the radius one (σ).
+  Likewise s_r for a push (the lower jaw presses with the same servo force). Over the
+  physics ranges s is a range [s_lo, s_hi]: least support friction and mass and most
+  force, and the opposite; r̄ moves by at most the centre-of-mass tolerance ε_c.
+* **Jaw friction** μ_j adds the couple of two contacts d apart: a squeezed part can rest
+  where |d′| ≤ μ_j·d + s_d. A push keeps its sense of rotation (the pusher decides it).
+* **Slope error σ** of the drawing against the real part (:mod:`algrasp.geometry.recognise`),
+  never below the manufacturing profile tolerance: the diameter has two contacts (2σ), the
+  radius one (σ) plus ε_c (moving c by δ moves r and r′ by at most |δ|).
 
-:class:`Physics` holds the gripper and part parameters; the simulation's defaults
-(``algrasp.sim.config``) are taken from :data:`DEFAULT_PHYSICS`, so the planner and the
-simulator model one gripper. Pure: no I/O.
+Pure: no I/O.
 """
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 
-from algrasp.errors import ConfigError
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.part import Part
 from algrasp.geometry.recognise import drawing_error
 from algrasp.geometry.segments import loop_polyline
 from algrasp.geometry.tolerances import Tolerances
+from algrasp.geometry.units import meters_per_unit
+from algrasp.planning.physics import COM_TOLERANCE_REL, DEFAULT_PHYSICS, Physics, iso_2768_f_mm
+
+__all__ = ["DEFAULT_PHYSICS", "DeadBand", "Physics", "dead_band", "mean_radius"]
 
 _MEAN_RADIUS_TURN_RAD = 0.02
 """Polyline turn for r̄ (only r̄ uses it: ~1e-4 relative)."""
-
-
-@dataclass(frozen=True)
-class Physics:
-    """Gripper and part parameters of the dead band (SI units).
-
-    ``shape_tolerance`` is σ per jaw in part units per radian; None derives it from the
-    drawing (:func:`algrasp.geometry.recognise.drawing_error`).
-    """
-
-    support_friction: float = 0.3
-    part_mass_kg: float = 0.02
-    grip_force_n: float = 2.0
-    gravity_m_s2: float = 9.81
-    shape_tolerance: float | None = None
-
-    def __post_init__(self) -> None:
-        for f in fields(self):
-            v = getattr(self, f.name)
-            if v is None and f.name == "shape_tolerance":
-                continue
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and 0.0 <= v <= 1e6):
-                raise ConfigError(f"physics.{f.name}", f"must be a finite number in [0, 1e6], got {v!r}")
-        if self.grip_force_n <= 0.0:
-            raise ConfigError("physics.grip_force_n", "must be positive")
-
-    @property
-    def stall_ratio(self) -> float:
-        """μ m g / F (dimensionless): s = ratio · r̄."""
-        return self.support_friction * self.part_mass_kg * self.gravity_m_s2 / self.grip_force_n
-
-    def to_dict(self) -> dict[str, float | None]:
-        return {f.name: getattr(self, f.name) for f in fields(self)}
-
-
-DEFAULT_PHYSICS = Physics()
 
 
 @dataclass(frozen=True)
@@ -73,32 +41,43 @@ class DeadBand:
     """Thresholds on the slope of d and r (part units per radian) for one part.
 
     Attributes:
-        stall: s, the same for d and r (m_max / F in part units).
-        sigma_d, sigma_r: σ for d (two contacts) and r (one).
+        stall_lo, stall_hi: s over the ranges (the same for d and r).
+        jaw_friction: μ_j,max: the squeeze may rest where |d′| ≤ μ_j·d + s_hi + σ_d.
+        sigma_d, sigma_r: σ for d (two contacts) and r (one, plus the centre-of-mass disk).
         value_tol: how far values may differ and still be equal (symmetry), part units.
-        mean_radius: r̄ (part units).
+        value_tol_r: the same for r (plus ε_c).
+        mean_radius: r̄ (part units); com_tolerance: ε_c (part units).
+        profile_floor: the manufacturing floor of σ (part units per radian).
         sources: what the drawing error was derived from.
     """
 
-    stall: float
+    stall_lo: float
+    stall_hi: float
+    jaw_friction: float
     sigma_d: float
     sigma_r: float
     value_tol: float
+    value_tol_r: float
     mean_radius: float
+    com_tolerance: float
+    profile_floor: float
     sources: tuple[str, ...] = ()
 
     @property
     def kappa_d(self) -> float:
-        return self.stall + self.sigma_d
+        """Widest slope that may stall a squeeze, without the jaw term μ_j·d."""
+        return self.stall_hi + self.sigma_d
 
     @property
     def kappa_r(self) -> float:
-        return self.stall + self.sigma_r
+        return self.stall_hi + self.sigma_r
 
     def to_dict(self) -> dict[str, object]:
-        return {"stall_per_rad": self.stall, "sigma_d_per_rad": self.sigma_d, "sigma_r_per_rad": self.sigma_r,
+        return {"stall_per_rad": [self.stall_lo, self.stall_hi], "jaw_friction_max": self.jaw_friction,
+                "sigma_d_per_rad": self.sigma_d, "sigma_r_per_rad": self.sigma_r,
                 "kappa_d_per_rad": self.kappa_d, "kappa_r_per_rad": self.kappa_r,
-                "mean_radius": self.mean_radius, "value_tolerance": self.value_tol,
+                "mean_radius": self.mean_radius, "com_tolerance": self.com_tolerance,
+                "profile_floor_per_rad": self.profile_floor, "value_tolerance": self.value_tol,
                 "shape_sources": list(self.sources)}
 
 
@@ -124,12 +103,37 @@ def _distance_integral(pts: FloatArray) -> float:
     return float(np.sum(rho * cross * w) / 3.0)
 
 
+def profile_floor(part: Part, physics: Physics) -> float:
+    """The manufacturing floor of σ (part units per radian): the given profile tolerance,
+    or ISO 2768-1 class f for the part's size."""
+    if physics.profile_tolerance is not None:
+        return physics.profile_tolerance
+    mm_per_unit = 1e3 * meters_per_unit(part.units)
+    return iso_2768_f_mm(nominal_size(part) * mm_per_unit) / mm_per_unit
+
+
+_NOMINAL_DIRECTIONS = 90
+"""Directions sampled for the largest width (2° apart: within 0.06 % of the true maximum)."""
+
+
+def nominal_size(part: Part) -> float:
+    """The part's largest width (part units): the nominal size tolerance tables use."""
+    psi = np.linspace(0.0, np.pi, _NOMINAL_DIRECTIONS, endpoint=False)
+    both = part.hull.support_points(np.concatenate([psi, psi + np.pi]))
+    chord = both[:_NOMINAL_DIRECTIONS] - both[_NOMINAL_DIRECTIONS:]
+    return float(np.max(chord[:, 0] * np.cos(psi) + chord[:, 1] * np.sin(psi)))
+
+
 def dead_band(part: Part, physics: Physics, tol: Tolerances) -> DeadBand:
-    """The part's dead band under ``physics``. O(n) plus a 120² grid for r̄."""
+    """The part's dead band under the physics ranges. O(n)."""
     rbar = mean_radius(part)
     err = drawing_error(part.boundary, tol)
-    sigma = err.slope if physics.shape_tolerance is None else physics.shape_tolerance
-    value = max(err.value, tol.symmetry_value_rel * part.size)
-    if physics.shape_tolerance is not None:
-        value = max(value, 0.05 * physics.shape_tolerance)  # ~3° of slope error as position
-    return DeadBand(physics.stall_ratio * rbar, 2.0 * sigma, sigma, value, rbar, (*part.recognised, *err.sources))
+    floor = profile_floor(part, physics)
+    sigma = max(err.slope, floor) if physics.shape_tolerance is None else max(physics.shape_tolerance, floor)
+    eps_c = COM_TOLERANCE_REL * part.size if physics.com_tolerance is None else physics.com_tolerance
+    # A profile tolerance t moves each contact point by at most t: d, r and their slopes
+    # by at most t (per radian for the slopes); a measured σ bounds position at ~3° of turn.
+    value = max(err.value, tol.symmetry_value_rel * part.size, 0.05 * sigma, floor)
+    lo, hi = physics.stall_ratio
+    return DeadBand(lo * max(rbar - eps_c, 0.0), hi * (rbar + eps_c), physics.jaw_friction[1], 2.0 * sigma,
+                    sigma + eps_c, value, value + eps_c, rbar, eps_c, floor, (*part.recognised, *err.sources))

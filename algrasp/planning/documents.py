@@ -53,6 +53,7 @@ class PlanDocument:
     dead_band: Mapping[str, Any] | None = None
     timings_s: Mapping[str, float] = field(default_factory=dict)
     execution: Mapping[str, Any] = field(default_factory=dict)
+    limits: Mapping[str, Any] | None = None
 
     @staticmethod
     def from_plan(plan: Any) -> PlanDocument:
@@ -65,7 +66,7 @@ class PlanDocument:
         return PlanDocument(plan.action, float(plan.symmetry_period), intervals, steps,
                             tuple(float(f) for f in plan.final_orientations), float(plan.final_uncertainty),
                             "exact" if plan.bounds is None else "robust", bool(plan.verified), plan.robust,
-                            dict(plan.timings_s))
+                            dict(plan.timings_s), limits=plan.limits)
 
     def to_json(self) -> dict[str, Any]:
         """The JSON document (degrees), key order as conventions §6."""
@@ -79,6 +80,7 @@ class PlanDocument:
             "final_uncertainty_deg": to_deg(self.final_uncertainty),
             "model": self.model,
             **({} if self.dead_band is None else {"dead_band": dict(self.dead_band)}),
+            **({} if self.limits is None else {"limits": dict(self.limits)}),
             "verified": self.verified,
             "timings_s": dict(self.timings_s),
         }
@@ -92,7 +94,7 @@ class PlanDocument:
         steps_raw = _get(doc, "steps", list, field_name)
         steps = tuple(_step(s, f"{field_name}.steps[{i}]") for i, s in enumerate(steps_raw))
         known = {"action", "symmetry_period_deg", "intervals_deg", "steps", "final_orientations_deg",
-                 "final_uncertainty_deg", "model", "dead_band", "verified", "timings_s"}
+                 "final_uncertainty_deg", "model", "dead_band", "limits", "verified", "timings_s"}
         return PlanDocument(
             action=_get(doc, "action", str, field_name),
             symmetry_period=to_rad(_number(doc.get("symmetry_period_deg"), f"{field_name}.symmetry_period_deg")),
@@ -108,6 +110,7 @@ class PlanDocument:
             dead_band=doc.get("dead_band"),
             timings_s=dict(doc.get("timings_s") or {}),
             execution={k: v for k, v in doc.items() if k not in known},
+            limits=doc["limits"] if isinstance(doc.get("limits"), Mapping) else None,
         )
 
 

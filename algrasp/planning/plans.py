@@ -20,7 +20,7 @@ from algrasp.errors import ConfigError, NotOrientableError
 from algrasp.geometry.angles import shortest_turn, to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import wrap
-from algrasp.geometry.tolerances import PROBE_RAD, ROUNDING, SYMMETRY_TOL_RAD
+from algrasp.geometry.tolerances import MAX_UNCERTAINTY_RAD, PROBE_RAD, ROUNDING, SYMMETRY_TOL_RAD, UNCERTAINTY_FLOOR_RAD
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.planner import GUARD_RAD, algorithm_a_prime, images, set_a_prime
 from algrasp.planning.setvalued import SetTransfer
@@ -57,6 +57,9 @@ class Plan:
     part is guaranteed to end (conventions §7); 0 in the exact model."""
     robust: dict[str, object] | None = None
     """Physics and dead band used (JSON-ready), None in the exact model."""
+    limits: dict[str, object] | None = None
+    """How far the physics ranges may reach with a plan still existing
+    (:func:`algrasp.planning.limits.limits`), when searched."""
 
     def run(self, phi: FloatArray) -> FloatArray:
         """World orientations after executing the plan from ``phi`` (radians), per the
@@ -248,11 +251,39 @@ def _clusters(sorted_angles: FloatArray) -> FloatArray:
     return out
 
 
-def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -> Plan:
-    """The shortest verified plan of ``action`` for the analysed part.
+LimitsWanted = Literal["none", "headline", "all"]
 
-    Raises NotOrientableError (constant width, no step, margin too large).
+
+def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0, limits: LimitsWanted = "none") -> Plan:
+    """The shortest verified plan of ``action`` for the analysed part, with the physics
+    limits asked for (robust model: ``headline`` is the largest jaw friction).
+
+    Raises NotOrientableError (constant width, no step, margin too large, too uncertain);
+    in the robust model a refusal carries every limit (``limits``) and says them.
     """
+    if action not in ("squeeze", "push_grasp"):
+        raise ConfigError("action", f"expected squeeze or push_grasp, got {action!r}")
+    if analysis.robust is None:
+        return plan_once(analysis, action, min_margin_deg)
+    from algrasp.planning import limits as lim
+
+    try:
+        plan = plan_once(analysis, action, min_margin_deg)
+    except NotOrientableError as e:
+        found = lim.limits(analysis, action, plan_once, margin_deg=min_margin_deg)
+        if action == "squeeze":
+            found["push_grasp_orients"] = lim.plan_exists(analysis, analysis.robust.physics, "push_grasp", plan_once,
+                                                          min_margin_deg)
+        other = "; a push-grasp plan exists under these ranges" if found.get("push_grasp_orients") else ""
+        raise NotOrientableError(e.reason, f"{e.message}. Under the given ranges: {found['advice']}{other}", found) from None
+    if limits == "none":
+        return plan
+    return replace(plan, limits=lim.limits(analysis, action, plan_once, lim.HEADLINE if limits == "headline" else
+                                           tuple(lim.SEARCHES), min_margin_deg))
+
+
+def plan_once(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -> Plan:
+    """:func:`make_plan` without limits: one planning attempt."""
     if not (np.isfinite(min_margin_deg) and 0.0 <= min_margin_deg < 180.0):
         raise ConfigError("min_margin_deg", f"must be in [0, 180), got {min_margin_deg}")
     band = None if analysis.robust is None else analysis.robust.band
@@ -299,7 +330,7 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
     arcs = S.circle_images()
     circle = arcs[0]
     try:
-        intervals = set_a_prime(S.lower, S.upper, T, circle[1] - circle[0], margin)
+        intervals = set_a_prime(S.lower, S.upper, T, circle[1] - circle[0], margin, 2.0 * MAX_UNCERTAINTY_RAD)
     except NotOrientableError as e:
         if e.reason != "margin_too_large" or margin > 0.0:
             raise
@@ -313,7 +344,10 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
     k = int(round(2 * np.pi / T))
     finals = sorted(wrap(0.5 * (lo + hi) + i * T, 2 * np.pi, ROUNDING) for i in range(k))
     t1 = time.perf_counter()
-    uncertainty = 0.5 * (hi - lo) + GUARD_RAD + _edge_tilt(analysis, 0.5 * (lo + hi))
+    uncertainty = max(0.5 * (hi - lo) + GUARD_RAD + _edge_tilt(analysis, 0.5 * (lo + hi)), UNCERTAINTY_FLOOR_RAD)
+    if uncertainty > MAX_UNCERTAINTY_RAD:
+        raise NotOrientableError("uncertain", f"the part ends within ±{np.degrees(uncertainty):.3g}° at best, more "
+                                 f"than the ±{np.degrees(MAX_UNCERTAINTY_RAD):g}° a plan may claim")
     plan = Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), False, {}, S,
                 uncertainty, {**analysis.robust.physics.to_dict(), **analysis.robust.band.to_dict()})
     ok = verify_set(plan, circle if first is None else first)

@@ -3,8 +3,10 @@
 For f = d (squeeze) or r (push) and the dead band (s, σ), each orientation θ is
 classified by the drawn slope g = f′(θ) (part units per radian):
 
-* rest is possible where |g| ≤ s + σ, certain where |g| ≤ s − σ;
-* downhill motion (direction −sign g) is possible where |g| > s − σ; uphill too where
+* rest is possible where |g| ≤ μ_j·f + s_hi + σ (μ_j the largest jaw friction of a
+  squeeze, 0 for a push), certain where |g| ≤ s_lo − σ (conventions §8: the weakest
+  holding cell of the ranges);
+* downhill motion (direction −sign g) is possible where |g| > s_lo − σ; uphill too where
   moreover |g| ≤ σ (the real slope may have either sign).
 
 A part starting at θ rests somewhere in ``[lower(θ), upper(θ)]``: ``upper`` is the end of
@@ -210,14 +212,20 @@ def _samples(f: SupportPairFunction, x: FloatArray, kink: np.ndarray, T: float) 
     return np.stack([g[:n], g_end], axis=1), np.stack([v[:n], v_end], axis=1)
 
 
-def _permissions(g: FloatArray, stall: float, sigma: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(right, left, rest) possible, each OR-ed over the last two axes (samples, copies)."""
+def _permissions(g: FloatArray, v: FloatArray, stall: tuple[float, float], sigma: float,
+                 jaw_friction: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(right, left, rest) possible, each OR-ed over the last two axes (samples, copies).
+
+    Motion is possible only where the weakest holding cell lets go (least stall, no jaw
+    friction): |g| > s_lo − σ; rest wherever the strongest cell may hold:
+    |g| ≤ μ_j·f + s_hi + σ (``v`` holds f, so the jaw term is the friction couple of two
+    contacts f apart; 0 for a push)."""
     a = np.abs(g)
-    movable = a > stall - sigma
+    movable = a > stall[0] - sigma
     either = a <= sigma
     right = movable & ((g < 0.0) | either)
     left = movable & ((g > 0.0) | either)
-    rest = a <= stall + sigma
+    rest = a <= jaw_friction * np.abs(v) + stall[1] + sigma
     axes = tuple(range(1, g.ndim))
     return np.asarray(right.any(axis=axes)), np.asarray(left.any(axis=axes)), np.asarray(rest.any(axis=axes))
 
@@ -323,15 +331,18 @@ def _rest_zones(nodes: FloatArray, T: float, rest: np.ndarray, P: float) -> tupl
     return tuple(zip(a.tolist(), b.tolist()))
 
 
-def set_transfer(f: SupportPairFunction, stall: float, sigma: float, value_tol: float, tol_rad: float) -> SetTransfer:
-    """F_κ of d or r (see module docs). Raises NotOrientableError when the part may turn
+def set_transfer(f: SupportPairFunction, stall: tuple[float, float], sigma: float, value_tol: float, tol_rad: float,
+                 jaw_friction: float = 0.0) -> SetTransfer:
+    """F_κ of d or r (see module docs) over a stall range ``(s_lo, s_hi)`` and, for a
+    squeeze, the largest jaw friction. Raises NotOrientableError when the part may turn
     without end. O((c + b)·K·log) for c grid cells, b breakpoints, K symmetric copies."""
     P = f.period
     T = tolerant_symmetry(f, value_tol)
     x, kink = _nodes(f, T)
     g, v = _samples(f, x, kink, T)
-    right, left, rest = _permissions(g, stall, sigma)
-    br, bl = barriers(x, T, v[:, 0, :].T, v.max(axis=1).T, stall, value_tol)
+    right, left, rest = _permissions(g, v, stall, sigma, jaw_friction)
+    # The energy bound holds for the weakest stall: every cell lowers f at least that fast.
+    br, bl = barriers(x, T, v[:, 0, :].T, v.max(axis=1).T, stall[0], value_tol)
     cells = _Cells(x, T, right, left, rest, br, bl)
     lower, upper = _bounds(cells, tol_rad)
     zones = _rest_zones(x, T, rest, T)

@@ -28,7 +28,7 @@ from typing import Any
 
 from algrasp.geometry.tolerances import TIME_ROUNDING_S
 from algrasp.geometry.units import UNIT_TO_M, meters_per_unit  # noqa: F401 - re-exported for the adapter
-from algrasp.planning.deadband import DEFAULT_PHYSICS, Physics
+from algrasp.planning.physics import DEFAULT_PHYSICS, Physics
 
 MIN_THICKNESS_M = 1e-3
 """Jaws, gripper slab and extruded part are at least this thick: Drake needs volume."""
@@ -44,9 +44,16 @@ class SimConfig:
     """Physical and numerical parameters (SI units)."""
 
     # Shared with the planner's dead band (algrasp.planning.deadband): plan and simulation model one gripper.
-    part_mass_kg: float = DEFAULT_PHYSICS.part_mass_kg
-    support_friction: float = DEFAULT_PHYSICS.support_friction
-    gravity_m_s2: float = DEFAULT_PHYSICS.gravity_m_s2
+    # One cell of the planner's physics ranges (algrasp.planning.physics): the nominal one
+    # by default; validation draws others from the plan's ranges (``cell_config``).
+    part_mass_kg: float = 0.02
+    support_friction: float = 0.3
+    gravity_m_s2: float = DEFAULT_PHYSICS.gravity_m_s2[0]
+    jaw_friction: float = 0.0
+    """Coulomb μ of the jaw–part contact pair (both jaws). The part's and the jaws'
+    collision geometries both carry it, so Drake's combined μ = 2μμ/(μ + μ) is exactly it."""
+    com_offset_m: tuple[float, float] = (0.0, 0.0)
+    """Where the true centre of mass sits relative to the drawn one, in the part frame (m)."""
     stiction_speed_m_s: float = 5e-3
     jaw_speed_m_s: float = 0.01
     open_speed_m_s: float = 0.1
@@ -55,7 +62,7 @@ class SimConfig:
     every part of ``bench_validate.py`` (the pie's random placement: 63 % of 100 samples
     both ways) and 15 % more simulated time (pie, 36 samples: 70.4 s against 60.2 s)."""
     rotate_speed_rad_s: float = 6.0
-    jaw_force_n: float = DEFAULT_PHYSICS.grip_force_n
+    jaw_force_n: float = 2.0
     jaw_stiffness_n_m: float = 2000.0
     jaw_damping_n_s_m: float = 40.0
     hold_s: float = 0.1
@@ -117,12 +124,18 @@ def similar_config(cfg: SimConfig, reach_m: float) -> SimConfig:
                    record_hz=cfg.record_hz / k, similarity_reach_m=0.0)
 
 
-def sim_config(physics: Physics, base: SimConfig = DEFAULT_SIM) -> SimConfig:
-    """``base`` with the part and gripper physics of the planner's dead band."""
+def sim_config(physics: Physics, base: SimConfig = DEFAULT_SIM, com_offset_m: tuple[float, float] = (0.0, 0.0)) -> SimConfig:
+    """``base`` with one cell of the physics: ``physics`` must hold one value per range
+    (:meth:`~algrasp.planning.physics.Physics.corners`, ``nominal``); a range is taken at
+    its middle."""
     from dataclasses import replace
 
-    return replace(base, part_mass_kg=physics.part_mass_kg, support_friction=physics.support_friction,
-                   gravity_m_s2=physics.gravity_m_s2, jaw_force_n=physics.grip_force_n)
+    def mid(span: tuple[float, float]) -> float:
+        return 0.5 * (span[0] + span[1])
+
+    return replace(base, part_mass_kg=mid(physics.part_mass_kg), support_friction=mid(physics.support_friction),
+                   gravity_m_s2=mid(physics.gravity_m_s2), jaw_force_n=mid(physics.grip_force_n),
+                   jaw_friction=mid(physics.jaw_friction), com_offset_m=com_offset_m)
 
 
 @dataclass(frozen=True)

@@ -30,6 +30,7 @@ from pydrake.multibody.tree import (
     PlanarJoint,
     PrismaticJoint,
     RevoluteJoint,
+    RotationalInertia,
     SpatialInertia,
     UnitInertia,
 )
@@ -56,10 +57,39 @@ class _RigidPlaneNote(logging.Filter):
 logging.getLogger("drake").addFilter(_RigidPlaneNote())
 
 
+def jaw_contact_friction(mu: float) -> CoulombFriction:
+    """One geometry's friction for a jaw–part pair of Coulomb μ (static = dynamic).
+
+    Both geometries of the pair carry it, so Drake's combination 2μ₁μ₂/(μ₁ + μ₂) gives
+    exactly μ; μ = 0 is returned as the exact frictionless pair (no 0/0 to rely on)."""
+    if mu < 0.0 or not math.isfinite(mu):
+        raise ValueError(f"jaw friction must be a finite μ ≥ 0, got {mu!r}")
+    return FRICTIONLESS if mu == 0.0 else CoulombFriction(mu, mu)
+
+
 def _contact_material(props: ProximityProperties, cfg: SimConfig) -> None:
-    """Frictionless, with half the dissipation time scale: SAP adds the two geometries'."""
-    AddContactMaterial(None, None, FRICTIONLESS, props)
+    """Jaw friction ``cfg.jaw_friction``, with half the dissipation time scale: SAP adds
+    the two geometries'."""
+    AddContactMaterial(None, None, jaw_contact_friction(cfg.jaw_friction), props)
     props.AddProperty("material", "relaxation_time", cfg.relaxation_time_s / 2)
+
+
+def part_inertia(cfg: SimConfig, polar_per_area_m2: float, thick_m: float) -> SpatialInertia:
+    """The part's spatial inertia about its body origin Bo, the drawn centre of mass.
+
+    The region's second moments about Bo (``polar_per_area_m2``, m², and the slab's
+    ``thick_m``, m) are those of the drawing whatever the true centre of mass; the true
+    one sits at ``cfg.com_offset_m`` (m) from Bo, so by the parallel-axis theorem the
+    central inertia is the drawn one less m·(|δ|²·1 − δδᵀ). Mass ``cfg.part_mass_kg``."""
+    m, (dx, dy) = cfg.part_mass_kg, cfg.com_offset_m
+    izz = polar_per_area_m2
+    if dx * dx + dy * dy >= izz:
+        raise ValueError(f"centre-of-mass offset ({dx:g}, {dy:g}) m is too far for the part's polar moment "
+                         f"({izz:.3g} m² per unit mass): no mass distribution has it")
+    ixx = izz / 2 + thick_m * thick_m / 12
+    I_Bo = RotationalInertia(m * ixx, m * ixx, m * izz)
+    p_BoBcm = np.array([dx, dy, 0.0])
+    return SpatialInertia.MakeFromCentralInertia(m, p_BoBcm, I_Bo.ShiftToCenterOfMass(m, p_BoBcm))
 
 
 class _Controller(LeafSystem):
@@ -159,10 +189,7 @@ class PlanarGripperSim:
     def _add_bodies(self, plant: Any) -> None:
         cfg, g = self.cfg, self.geom
         thick = max(0.2 * g.reach_m, MIN_THICKNESS_M)
-        m = cfg.part_mass_kg
-        izz = g.polar_per_area_m2
-        ixx = izz / 2 + thick * thick / 12
-        part = plant.AddRigidBody("part", SpatialInertia(m, np.zeros(3), UnitInertia(ixx, ixx, izz)))
+        part = plant.AddRigidBody("part", part_inertia(cfg, g.polar_per_area_m2, thick))
         pts = np.vstack([np.column_stack([g.outline_m, np.full(len(g.outline_m), z)]) for z in (-thick / 2, thick / 2)])
         props = ProximityProperties()
         AddCompliantHydroelasticProperties(g.reach_m, cfg.hydroelastic_modulus_pa, props)

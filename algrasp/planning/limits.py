@@ -1,0 +1,144 @@
+"""Limits that answer the engineer's question (docs/conventions.md §8): for one part and
+action, how far each physical range may reach with a plan still existing.
+
+Each limit is found by bisection on one range end (or the profile tolerance) with the
+others as given: the largest jaw friction, the smallest and largest support friction and
+part mass, the largest profile tolerance. Each probe is one robust analysis on the part's
+exact functions (computed once) and one plan, so a search costs about
+``BISECTIONS`` × (analysis + plan); all six about 50 of them. Pure: no I/O.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from typing import Any
+
+from algrasp.errors import NotOrientableError
+from algrasp.planning.analysis import Analysis, robust_analysis
+from algrasp.planning.deadband import profile_floor
+from algrasp.planning.physics import Physics
+
+BISECTIONS = 8
+"""Halvings per search (in log scale): a limit to about 2 % of its value."""
+
+
+@dataclass(frozen=True)
+class Search:
+    """One limit: ``key`` of Physics, which end (0 lo, 1 hi, None for a scalar), and the
+    hard end of the search (the value least likely to allow a plan)."""
+
+    name: str
+    key: str
+    end: int | None
+    hard: Callable[[Physics, Analysis], float]
+    easy: Callable[[Physics, Analysis], float]
+
+
+SEARCHES: dict[str, Search] = {s.name: s for s in (
+    Search("jaw_friction_max", "jaw_friction", 1, lambda p, a: 1.0, lambda p, a: 0.0),
+    Search("support_friction_min", "support_friction", 0, lambda p, a: 0.0, lambda p, a: p.support_friction[1]),
+    Search("support_friction_max", "support_friction", 1, lambda p, a: 1.5, lambda p, a: p.support_friction[0]),
+    Search("part_mass_kg_min", "part_mass_kg", 0, lambda p, a: 0.0, lambda p, a: p.part_mass_kg[1]),
+    Search("part_mass_kg_max", "part_mass_kg", 1, lambda p, a: 10.0 * max(p.part_mass_kg[1], 1e-3),
+           lambda p, a: p.part_mass_kg[0]),
+    Search("profile_tolerance_max", "profile_tolerance", None,
+           lambda p, a: 20.0 * profile_floor(a.part, replace(p, profile_tolerance=None)), lambda p, a: 0.0),
+)}
+HEADLINE = ("jaw_friction_max",)
+"""The limit reported with every plan; the rest on request and with every refusal."""
+
+
+def _with(physics: Physics, s: Search, v: float) -> Physics:
+    if s.end is None:
+        return replace(physics, **{s.key: v})
+    lo, hi = getattr(physics, s.key)
+    span = (v, max(v, hi)) if s.end == 0 else (min(lo, v), v)
+    return physics.with_range(s.key, span)
+
+
+def _current(physics: Physics, s: Search, analysis: Analysis) -> float:
+    if s.end is None:
+        v = physics.profile_tolerance
+        return profile_floor(analysis.part, physics) if v is None else v
+    return float(getattr(physics, s.key)[s.end])
+
+
+Planner = Callable[[Analysis, Any, float], Any]
+"""One planning attempt (``algrasp.planning.plans.plan_once``): passed in, so this module
+does not import the planner that reports its limits."""
+
+
+def plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float) -> bool:
+    """Whether a robust plan of ``action`` exists for the part under ``physics``."""
+    try:
+        robust = robust_analysis(analysis.part, analysis.diameter, analysis.radius, physics, analysis.tol)
+        planner(replace(analysis, robust=robust), action, margin_deg)
+    except NotOrientableError:
+        return False
+    return True
+
+
+def search_limit(analysis: Analysis, physics: Physics, action: str, s: Search, planner: Planner,
+                 margin_deg: float = 0.0) -> dict[str, Any]:
+    """``{"value": v, "bounded": bool}``: the last value toward the hard end at which a
+    plan exists (``bounded`` False when even the hard end allows one); value None when
+    not even the easy end does."""
+    def ok(v: float) -> bool:
+        return plan_exists(analysis, _with(physics, s, v), action, planner, margin_deg)
+
+    cur, hard = _current(physics, s, analysis), s.hard(physics, analysis)
+    good, bad = (cur, hard) if ok(cur) else (s.easy(physics, analysis), cur)
+    if good == bad or (good != cur and not ok(good)):
+        return {"value": None, "bounded": True}
+    if bad == hard and ok(hard):
+        return {"value": hard, "bounded": False}
+    # Bisect in u = log(v + v0): small limits (a profile tolerance of microns) resolve as
+    # well as large ones; v0 keeps 0 reachable.
+    v0 = 1e-3 * abs(hard - s.easy(physics, analysis)) or 1e-9
+    ug, ub = math.log(good + v0), math.log(bad + v0)
+    for _ in range(BISECTIONS):
+        mid = 0.5 * (ug + ub)
+        ug, ub = (mid, ub) if ok(math.exp(mid) - v0) else (ug, mid)
+    return {"value": max(math.exp(ug) - v0, 0.0), "bounded": True}
+
+
+def limits(analysis: Analysis, action: str, planner: Planner, names: tuple[str, ...] = tuple(SEARCHES),
+           margin_deg: float = 0.0) -> dict[str, Any]:
+    """The named limits for ``action`` under the analysis's physics (robust model only),
+    with a sentence for the engineer under ``"advice"``."""
+    assert analysis.robust is not None
+    physics = analysis.robust.physics
+    out: dict[str, Any] = {n: search_limit(analysis, physics, action, SEARCHES[n], planner, margin_deg) for n in names}
+    if physics.placement == "any" and action == "squeeze" and all(out[n]["value"] is None for n in names):
+        out["placement_centred"] = plan_exists(analysis, replace(physics, placement="centred"), action, planner, margin_deg)
+    out["advice"] = advice(action, out, analysis.part.units)
+    return out
+
+
+WORDS = {"jaw_friction_max": ("jaw μ", "≤", ""), "support_friction_min": ("support μ", "≥", ""),
+         "support_friction_max": ("support μ", "≤", ""), "part_mass_kg_min": ("part mass", "≥", " kg"),
+         "part_mass_kg_max": ("part mass", "≤", " kg"), "profile_tolerance_max": ("profile tolerance", "≤", " {units}")}
+
+
+def advice(action: str, found: dict[str, Any], units: str) -> str:
+    """The limits in words, e.g. "orientable by squeeze with jaw μ ≤ 0.08 (mount PTFE pads
+    or a linear bearing above that)"."""
+    what = "squeeze" if action == "squeeze" else "push-grasp"
+    within, blocked = [], []
+    for name, (label, rel, unit) in WORDS.items():
+        got = found.get(name)
+        if not isinstance(got, dict):
+            continue
+        if got["value"] is None:
+            blocked.append(label)
+        elif got["bounded"]:
+            tail = " (mount PTFE pads or a linear bearing above that)" if name == "jaw_friction_max" else ""
+            within.append(f"{label} {rel} {got['value']:.3g}{unit.format(units=units)}{tail}")
+    out = [f"orientable by {what} with {', '.join(within)}"] if within else []
+    if blocked:
+        out.append(f"no {' or '.join(dict.fromkeys(blocked))} alone makes it orientable by {what} with the other ranges as given")
+    if found.get("placement_centred"):
+        out.append(f"orientable by {what} with centred placement (both jaws touching together)")
+    return "; ".join(out) if out else f"orientable by {what} over the whole searched span"

@@ -1,0 +1,196 @@
+"""The cell's physics as ranges (docs/conventions.md §8): the one options type.
+
+A real cell is known only to within ranges, and a plan must hold for every cell in them.
+:class:`Physics` holds each parameter as a closed range ``(lo, hi)`` (one value is
+``(v, v)``), checks every bound in one place (:data:`PARAMETERS`), and is what the CLI
+flags, the HTTP ``physics`` object, the Python API, batch jobs and run records are built
+from. Pure: no I/O.
+
+Defaults describe a real cell (sources in :data:`PARAMETERS`):
+
+>>> p = Physics()
+>>> p.jaw_friction, p.placement
+((0.0, 0.1), 'any')
+>>> Physics.from_mapping({"jaw_friction": [0, 0.2], "part_mass_kg": 0.01}).part_mass_kg
+(0.01, 0.01)
+>>> round(Physics.from_mapping({"support_friction": 0.3}).stall_ratio[0], 4)  # μ m g / F, least
+0.0123
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, fields, replace
+from typing import Any, Literal, NamedTuple
+
+from algrasp.errors import ConfigError
+
+Span = tuple[float, float]
+Placement = Literal["centred", "any"]
+PLACEMENTS: tuple[str, ...] = ("centred", "any")
+
+
+class Parameter(NamedTuple):
+    """One physical parameter: bounds any value must lie in, unit, and why its default."""
+
+    lo: float
+    hi: float
+    unit: str
+    help: str
+    source: str
+    lo_open: bool = False
+
+
+PARAMETERS: dict[str, Parameter] = {
+    "support_friction": Parameter(0.0, 10.0, "", "Coulomb friction μ_s between part and support",
+                                  "dry machined metal or plastic on a steel or anodised table, 0.2–0.45 "
+                                  "(handbook static/kinetic coefficients; greased steel is 0.1–0.16)"),
+    "jaw_friction": Parameter(0.0, 10.0, "", "Coulomb friction μ_j between part and jaws (both jaws, pushing too)",
+                              "PTFE-faced jaws against metal, 0.04–0.1 (0 with a linear bearing, as in the paper); "
+                              "bare aluminium or steel jaws are 0.2–0.4: give those with --jaw-friction"),
+    "part_mass_kg": Parameter(0.0, 1000.0, "kg", "part mass",
+                              "a small sheet-metal or moulded part, 10–50 g"),
+    "grip_force_n": Parameter(0.0, 1e5, "N", "grip (and push) force of the jaw servo",
+                              "a 2 N setting of a small electric gripper, ±20 % force accuracy", lo_open=True),
+    "gravity_m_s2": Parameter(0.0, 100.0, "m/s²", "gravity", "standard gravity"),
+}
+"""Range parameters, their bounds and the sources of their defaults."""
+
+DEFAULT_RANGES: dict[str, Span] = {
+    "support_friction": (0.2, 0.45), "jaw_friction": (0.0, 0.1), "part_mass_kg": (0.01, 0.05),
+    "grip_force_n": (1.6, 2.4), "gravity_m_s2": (9.81, 9.81),
+}
+COM_TOLERANCE_REL = 0.01
+"""Default radius of the centre-of-mass disk, relative to the part's size: density
+varies by about 1 % across cut sheet or moulded stock."""
+SCALARS = ("com_tolerance", "shape_tolerance", "profile_tolerance")
+"""Non-negative lengths in part units (or per radian); None derives them from the part."""
+
+# ISO 2768-1 class f ("fine"), permissible deviation of linear sizes (mm) by nominal size:
+# a laser- or water-jet-cut part is at least this far from its drawing.
+ISO_2768_F_MM: tuple[tuple[float, float], ...] = ((6.0, 0.05), (30.0, 0.1), (120.0, 0.15), (400.0, 0.2),
+                                                  (1000.0, 0.3), (2000.0, 0.5), (math.inf, 1.0))
+
+
+def iso_2768_f_mm(size_mm: float) -> float:
+    """The class-f deviation (mm) for a part of nominal size ``size_mm`` (mm).
+
+    >>> iso_2768_f_mm(5.0), iso_2768_f_mm(50.0)
+    (0.05, 0.15)
+    """
+    return next(t for top, t in ISO_2768_F_MM if size_mm <= top)
+
+
+def _span(name: str, value: Any) -> Span:
+    """A number or a pair [lo, hi] as a checked range (field ``physics.name`` in errors)."""
+    where = f"physics.{name}"
+    if isinstance(value, (list, tuple)):
+        if len(value) not in (1, 2):
+            raise ConfigError(where, f"expected a number or [lo, hi], got {len(value)} values")
+        lo, hi = (value[0], value[-1])
+    else:
+        lo = hi = value
+    p = PARAMETERS[name]
+    for v in (lo, hi):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise ConfigError(where, f"expected finite numbers, got {v!r}")
+        if not (p.lo <= v <= p.hi) or (p.lo_open and v <= p.lo):
+            raise ConfigError(where, f"must be in {'(' if p.lo_open else '['}{p.lo:g}, {p.hi:g}], got {v!r}")
+    if lo > hi:
+        raise ConfigError(where, f"range [{lo}, {hi}] has lo > hi")
+    return float(lo), float(hi)
+
+
+def _length(name: str, value: Any) -> float | None:
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and 0 <= value <= 1e6):
+        raise ConfigError(f"physics.{name}", f"must be a finite number in [0, 1e6] (part units), got {value!r}")
+    return float(value)
+
+
+@dataclass(frozen=True)
+class Physics:
+    """The cell's physics: each range field is ``(lo, hi)`` in SI units (numbers are
+    accepted and become ``(v, v)``); lengths are in the part's units.
+
+    Attributes:
+        com_tolerance: radius of the centre-of-mass disk (part units); None: 1 % of size.
+        shape_tolerance: σ, slope error per jaw (part units per radian); None: the
+            drawing's own error, never below the manufacturing profile tolerance.
+        profile_tolerance: the manufacturing floor of σ (part units, taken per radian);
+            None: ISO 2768-1 class f for the part's size.
+        placement: ``centred`` (both jaws touch together) or ``any`` offset.
+    """
+
+    support_friction: Span = DEFAULT_RANGES["support_friction"]
+    jaw_friction: Span = DEFAULT_RANGES["jaw_friction"]
+    part_mass_kg: Span = DEFAULT_RANGES["part_mass_kg"]
+    grip_force_n: Span = DEFAULT_RANGES["grip_force_n"]
+    gravity_m_s2: Span = DEFAULT_RANGES["gravity_m_s2"]
+    com_tolerance: float | None = None
+    shape_tolerance: float | None = None
+    profile_tolerance: float | None = None
+    placement: Placement = "any"
+
+    def __post_init__(self) -> None:
+        for name in PARAMETERS:
+            object.__setattr__(self, name, _span(name, getattr(self, name)))
+        for name in SCALARS:
+            object.__setattr__(self, name, _length(name, getattr(self, name)))
+        if self.placement not in PLACEMENTS:
+            raise ConfigError("physics.placement", f"expected one of {', '.join(PLACEMENTS)}, got {self.placement!r}")
+
+    @staticmethod
+    def from_mapping(raw: Any) -> Physics:
+        """From a JSON-like object (HTTP ``physics``, records, batch options); unknown keys
+        and bad values are refused naming ``physics.<key>``. ``random`` is read as ``any``."""
+        if raw is None:
+            return Physics()
+        if not isinstance(raw, Mapping):
+            raise ConfigError("physics", "expected an object")
+        known = {f.name for f in fields(Physics)}
+        unknown = sorted(set(raw) - known)
+        if unknown:
+            raise ConfigError(f"physics.{unknown[0]}", f"unknown key (known: {', '.join(sorted(known))})")
+        values = dict(raw)
+        if values.get("placement") == "random":
+            values["placement"] = "any"
+        if "placement" in values and not isinstance(values["placement"], str):
+            raise ConfigError("physics.placement", f"expected one of {', '.join(PLACEMENTS)}")
+        return Physics(**values)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: ranges as ``[lo, hi]``."""
+        return {f.name: list(v) if isinstance(v := getattr(self, f.name), tuple) else v for f in fields(self)}
+
+    def differences(self) -> dict[str, Any]:
+        """The fields that differ from the defaults (what a run record keeps)."""
+        base = Physics().to_dict()
+        return {k: v for k, v in self.to_dict().items() if v != base[k]}
+
+    @property
+    def stall_ratio(self) -> Span:
+        """μ_s m g / F (dimensionless), least and most over the ranges: s = ratio · r̄."""
+        (ml, mh), (ql, qh), (fl, fh), (gl, gh) = self.support_friction, self.part_mass_kg, self.grip_force_n, \
+            self.gravity_m_s2
+        return ml * ql * gl / fh, mh * qh * gh / fl
+
+    @property
+    def exact_cell(self) -> bool:
+        """One value of every range (a single cell)."""
+        return all(getattr(self, n)[0] == getattr(self, n)[1] for n in PARAMETERS)
+
+    def with_range(self, name: str, span: Span) -> Physics:
+        return replace(self, **{name: span})
+
+    def corners(self) -> Iterator[Physics]:
+        """Every corner of the box of ranges (one cell each), degenerate axes once."""
+        axes = [sorted(set(getattr(self, n))) for n in PARAMETERS]
+        for values in itertools.product(*axes):
+            yield replace(self, **{n: (v, v) for n, v in zip(PARAMETERS, values)})
+
+
+DEFAULT_PHYSICS = Physics()
