@@ -135,21 +135,18 @@ def _request(args: argparse.Namespace) -> Any:
     from algrasp.pipeline import PlanRequest
 
     profile = _gripper_profile(args.gripper).to_dict() if getattr(args, "gripper", None) else None
-    extra = {k: getattr(args, k) for k in ("samples", "seed", "placement", "tolerance_deg", "push_scale") if hasattr(args, k)}
+    extra = {k: getattr(args, k) for k in ("samples", "seed", "tolerance_deg", "push_scale", "sim_physics") if hasattr(args, k)}
     model = model_from_args(args)
     return PlanRequest(args.action.replace("-", "_"), args.min_margin_deg, args.optimise, profile, **extra,
-                       exact=model.exact, physics=model.physics.to_dict())
+                       exact=model.exact, physics=model.physics.to_dict(), limits="all" if args.limits else "headline")
 
 
 def model_from_args(args: argparse.Namespace) -> Model:
-    """``--exact`` or the robust model with the ``--friction``/``--grip-force-n``/
-    ``--part-mass-kg``/``--shape-tolerance`` physics."""
-    keys = {"friction": "support_friction", "grip_force_n": "grip_force_n", "part_mass_kg": "part_mass_kg",
-            "shape_tolerance": "shape_tolerance"}
-    physics = {v: getattr(args, k) for k, v in keys.items() if getattr(args, k, None) is not None}
+    """``--exact`` or the robust model over the cell's physics (``--cell``, the range flags)."""
+    from algrasp.cli_physics import physics_from_args
     from algrasp.planning.analysis import Model
 
-    return Model.from_options({"exact": bool(getattr(args, "exact", False)), "physics": physics})
+    return Model(bool(getattr(args, "exact", False)), physics_from_args(args))
 
 
 def _options(args: argparse.Namespace) -> dict[str, Any]:
@@ -331,8 +328,10 @@ def build_parser() -> argparse.ArgumentParser:
     _plan_arguments(p)
     p.add_argument("--samples", type=int, default=36)
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--placement", choices=["centred", "random"], default="centred",
-                   help="centred: both jaws touch together (paper's Assumption 7); random: offset between the jaws")
+    p.add_argument("--sim-physics", default="nominal", metavar="nominal|corners|random|KEY=VALUE,...",
+                   help="which cells of the plan's physics ranges to simulate: the middle of every range (default), "
+                        "every corner, uniform draws in the box, or one cell of explicit values, e.g. "
+                        "support_friction=0.05,jaw_friction=0.2,part_mass_kg=0.005,com_offset=0.5,0")
     p.add_argument("--tolerance-deg", type=float, default=1.0, help="agreement tolerance on the final orientation")
     p.add_argument("--workers", type=int, default=2, help="simulation worker processes")
     _optimise_options(p)
@@ -365,18 +364,19 @@ def _plan_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--action", choices=["squeeze", "push-grasp"], default="squeeze")
     p.add_argument("--min-margin-deg", type=_non_negative, default=0.0, metavar="M",
                    help="every transition must tolerate M degrees of gripper error")
+    p.add_argument("--limits", action="store_true",
+                   help="search every physics limit (support friction, mass, profile tolerance; jaw friction always)")
     model_options(p)
 
 
 def model_options(p: argparse.ArgumentParser) -> None:
-    """The model: robust by default (conventions §7), ``--exact`` for the paper's."""
-    g = p.add_argument_group("model (default: robust — dead band from support friction and shape tolerance)")
+    """The model: robust over the cell's physics ranges by default (conventions §8),
+    ``--exact`` for the paper's."""
+    from algrasp.cli_physics import add_physics_options
+
+    g = p.add_argument_group("model (default: robust — set-valued over the cell's physics ranges)")
     g.add_argument("--exact", action="store_true", help="the paper's exact frictionless model (no dead band)")
-    g.add_argument("--friction", type=float, metavar="MU", help="support friction coefficient μ (default 0.3)")
-    g.add_argument("--grip-force-n", type=float, metavar="F", help="grip (and push) force in N (default 2)")
-    g.add_argument("--part-mass-kg", type=float, metavar="M", help="part mass in kg (default 0.02)")
-    g.add_argument("--shape-tolerance", type=float, metavar="SIGMA",
-                   help="slope error σ of the drawing, part units per radian (default: from the drawing)")
+    add_physics_options(g)
 
 
 def _cad_options(p: argparse.ArgumentParser) -> None:

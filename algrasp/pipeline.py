@@ -13,7 +13,7 @@ from typing import Any, Literal
 
 from algrasp.errors import ConfigError
 from algrasp.planning.analysis import Analysis, Model, analyse_document
-from algrasp.planning.plans import Plan, make_plan
+from algrasp.planning.plans import LimitsWanted, Plan, make_plan
 
 Action = Literal["squeeze", "push_grasp"]
 
@@ -30,10 +30,14 @@ class PlanRequest:
     push_scale: float = 1.0
     samples: int = 0
     seed: int = 0
-    placement: Literal["centred", "random"] = "centred"
+    placement: Literal["centred", "random"] | None = None
+    """Simulated placement; None follows the physics (``any`` → random offsets)."""
     tolerance_deg: float = 1.0
     exact: bool = False
     physics: dict[str, Any] | None = None
+    limits: LimitsWanted = "headline"
+    sim_physics: str = "nominal"
+    """Which cells of the ranges validation simulates (:func:`algrasp.sim.cells.sim_cells`)."""
 
     def __post_init__(self) -> None:
         """The one place a request's options are checked (CLI, HTTP, batch and API build
@@ -48,6 +52,18 @@ class PlanRequest:
             raise ConfigError("push_scale", f"must be in (0, 10], got {self.push_scale}")
         if self.samples < 0:
             raise ConfigError("samples", f"must be ≥ 0, got {self.samples}")
+        if self.limits not in ("none", "headline", "all"):
+            raise ConfigError("limits", f"expected none, headline or all, got {self.limits!r}")
+        self.model  # the physics are checked here, before any work
+        from algrasp.planning.cells import parse_cells
+
+        parse_cells(self.sim_physics)
+
+    @property
+    def sim_placement(self) -> Literal["centred", "random"]:
+        if self.placement is not None:
+            return self.placement
+        return "random" if not self.exact and self.model.physics.placement == "any" else "centred"
 
     @property
     def model(self) -> Model:
@@ -60,8 +76,8 @@ class PlanRequest:
         if self.gripper_profile is not None:
             out["gripper_profile"] = self.gripper_profile
         if self.samples:
-            out.update(samples=self.samples, seed=self.seed, placement=self.placement, tolerance_deg=self.tolerance_deg,
-                       push_scale=self.push_scale)
+            out.update(samples=self.samples, seed=self.seed, placement=self.sim_placement, tolerance_deg=self.tolerance_deg,
+                       push_scale=self.push_scale, sim_physics=self.sim_physics)
         return out
 
 
@@ -90,7 +106,8 @@ def plan_part(doc: dict[str, Any], req: PlanRequest, rec: Any, sim_workers: int 
     analysis = analysis if analysis is not None else analyse_document(doc, req.model)
     rec.analysis(analysis.to_dict())
     t1 = time.perf_counter()
-    plan = plan if plan is not None else make_plan(analysis, req.action, req.min_margin_deg)
+    plan = plan if plan is not None else make_plan(analysis, req.action, req.min_margin_deg,
+                                                   "none" if req.model.exact else req.limits)
     plan.timings_s.setdefault("analysis", t1 - t0)
     out = PlanOutcome(analysis, plan)
     if req.optimise:
@@ -116,14 +133,22 @@ def _optimise(analysis: Analysis, plan: Plan, req: PlanRequest) -> Any:
 def _validate(out: PlanOutcome, req: PlanRequest, sim_workers: int, record_sim: bool) -> Any:
     try:
         from algrasp.sim.config import execution_config, execution_schedule, sim_config
-        from algrasp.sim.validate import validate_plan
     except ImportError:  # pragma: no cover - drake is an optional extra
         raise ConfigError("validate", "validation needs Drake: pip install 'algrasp[sim]'") from None
+    from algrasp.planning.cells import parse_cells, sim_cells
+    from algrasp.sim.validate import validate_cells
+
     ex = out.execution
     base = sim_config(req.model.physics)
     sim = {"cfg": base} if ex is None else {"sim_schedule": execution_schedule(ex), "cfg": execution_config(ex, base)}
-    return validate_plan(out.analysis, out.plan, req.samples, req.seed, req.placement, req.tolerance_deg,
-                         workers=sim_workers, record=record_sim, **sim)
+    band = out.analysis.robust.band if out.analysis.robust is not None else None
+    cells = sim_cells(parse_cells(req.sim_physics), req.model.physics, 0.0 if band is None else band.com_tolerance,
+                      req.samples, req.seed)
+    if req.sim_physics == "random":  # one sample in each of ``samples`` random cells
+        return validate_cells(out.analysis, out.plan, cells, 1, req.seed, req.sim_placement, req.tolerance_deg,
+                              workers=sim_workers, record=record_sim, **sim)
+    return validate_cells(out.analysis, out.plan, cells, req.samples, req.seed, req.sim_placement, req.tolerance_deg,
+                          workers=sim_workers, record=record_sim, **sim)
 
 
 def _record_validation(rec: Any, out: PlanOutcome) -> None:

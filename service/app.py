@@ -46,7 +46,7 @@ def _limits(svc: ServiceState, body: PlanBody) -> None:
     check_samples(svc.settings, body.validate_, "validate.samples")
     from algrasp.pipeline import PlanRequest
 
-    PlanRequest(**body.request())  # the request's own checks, before any work is queued
+    PlanRequest(**body.request(svc.settings.cell_physics))  # the request's own checks, before any work is queued
 
 
 def build_state(settings: Settings, metrics: Metrics) -> ServiceState:
@@ -154,7 +154,7 @@ async def analyses(request: Request, part: PartJson,
     key = canonical_hash(["analysis", VERSION, part, exact, samples])
 
     async def compute() -> Any:
-        options = {"exact": exact, "samples": samples}
+        options = {"exact": exact, "samples": samples, "physics": svc.settings.cell_physics.to_dict()}
         return await run_task(svc, "fast", who(request), analysis_task, part, str(svc.settings.log_dir), options,
                               timeout_s=svc.settings.analysis_time_limit_s, stage="analysis", run_id=new_run_id())
 
@@ -175,7 +175,7 @@ async def plans(request: Request, body: PlanBody) -> Response:
     limit = svc.settings.plan_time_limit_s + (svc.settings.validation_time_limit_s if body.validate_ else 0.0)
 
     async def compute() -> Any:
-        return await run_task(svc, "fast" if _cheap(body) else "slow", who(request), plan_task, body.part, body.request(),
+        return await run_task(svc, "fast" if _cheap(body) else "slow", who(request), plan_task, body.part, body.request(svc.settings.cell_physics),
                               str(svc.settings.log_dir), svc.settings.sim_workers, timeout_s=limit, stage="plan",
                               run_id=new_run_id())
 

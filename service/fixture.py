@@ -32,10 +32,11 @@ class DesignOptions:
     min_margin_deg: float = 0.0
     samples: int = 0
     seed: int = 0
-    placement: Literal["centred", "random"] = "centred"
+    placement: Literal["centred", "random"] | None = None
     gripper_profile: dict[str, Any] | None = None
     exact: bool = False
     physics: dict[str, Any] | None = None
+    sim_physics: str = "nominal"
 
     @property
     def model(self) -> Model:
@@ -59,7 +60,7 @@ def choose_plan(analysis: Analysis, min_margin_deg: float) -> tuple[Plan | None,
     compared: dict[str, Any] = {}
     for action in ACTIONS:
         try:
-            plans[action] = make_plan(analysis, action, min_margin_deg)  # type: ignore[arg-type]
+            plans[action] = make_plan(analysis, action, min_margin_deg, "headline")  # type: ignore[arg-type]
             p, m = plans[action], _min_margin(plans[action])
             compared[action] = {"steps": len(p.steps), "final_orientations": len(p.final_orientations),
                                 "min_margin_deg": None if m is None else to_deg(m)}
@@ -88,7 +89,8 @@ def design_part(doc: dict[str, Any], opts: DesignOptions, rec: Any, analysis: An
         out["reasons"] = {a: c["error"]["message"] for a, c in compared.items()}
         return out
     req = PlanRequest(best.action, opts.min_margin_deg, True, opts.gripper_profile, samples=opts.samples, seed=opts.seed,
-                      placement=opts.placement, exact=opts.exact, physics=opts.physics)
+                      placement=opts.placement, exact=opts.exact, physics=opts.physics, sim_physics=opts.sim_physics,
+                      limits="none")  # the chosen plan already carries its limits
     res = plan_part(doc, req, rec, sim_workers=sim_workers, analysis=analysis, plan=best)  # analysed and planned once
     out["action"] = best.action
     # The sampled trajectories (100 Hz: most of a plan's bytes) stay in the run record;
@@ -98,6 +100,10 @@ def design_part(doc: dict[str, Any], opts: DesignOptions, rec: Any, analysis: An
     out["validation"] = None if v is None else {"samples": len(v.samples), "agreement": v.agreement,
                                                 "agreement_clear": v.agreement_clear, "push_agreement": v.push_agreement}
     out["gripper"] = _requirements(analysis, res.plan_doc)
+    limits = res.plan_doc.get("limits") or {}
+    jaw = limits.get("jaw_friction_max") or {}
+    out["gripper"]["jaw_friction_max"] = jaw.get("value") if jaw.get("bounded", True) else None
+    out["limits"] = limits
     return out
 
 
@@ -134,8 +140,20 @@ def catalogue_spec(results: list[dict[str, Any]]) -> dict[str, Any]:
         "max_cycle_time_s": max(cycles, default=None),
         "mean_cycle_time_s": sum(cycles) / len(cycles) if cycles else None,
         "actions": {a: sum(r["result"]["action"] == a for r in ok) for a in ACTIONS},
+        **_jaw_friction(ok),
         "not_oriented": failed,
     }
+
+
+def _jaw_friction(ok: list[dict[str, Any]]) -> dict[str, Any]:
+    """The largest jaw friction every oriented part's plan tolerates, and what it means
+    for the jaws (``jaw_friction_max`` None: no part is limited by jaw friction up to 1)."""
+    values = [g["jaw_friction_max"] for r in ok if (g := r["result"]["gripper"]).get("jaw_friction_max") is not None]
+    if not values:
+        return {"jaw_friction_max": None, "jaw_advice": "no oriented part is limited by jaw friction up to μ 1"}
+    worst = min(values)
+    return {"jaw_friction_max": worst,
+            "jaw_advice": f"every oriented part holds with jaw μ ≤ {worst:.3g}; mount PTFE pads or a linear bearing above that"}
 
 
 def _why(r: dict[str, Any]) -> str:

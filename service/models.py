@@ -8,7 +8,11 @@ from __future__ import annotations
 from typing import Annotated, Any, Literal
 
 from fastapi import Query
-from pydantic import BaseModel, ConfigDict, Field, WithJsonSchema
+from pydantic import BaseModel, ConfigDict, Field, WithJsonSchema, field_validator, model_validator
+
+from algrasp.errors import ConfigError
+from algrasp.planning.cells import parse_cells
+from algrasp.planning.physics import DEFAULT_PHYSICS, DEFAULT_RANGES, PARAMETERS, Physics
 
 from service.contract import PART_REF
 
@@ -27,33 +31,78 @@ class _Strict(BaseModel):
 class ValidateOptions(_Strict):
     """Drake validation of the plan (``samples`` also bounded by ``ALGRASP_MAX_SAMPLES``)."""
 
-    samples: int = Field(36, ge=1, description="initial orientations simulated")
-    placement: Literal["centred", "random"] = Field("centred", description="centred: both jaws touch together")
+    samples: int = Field(36, ge=1, description="initial orientations simulated (per cell)")
+    placement: Literal["centred", "random"] | None = Field(
+        None, description="centred: both jaws touch together; random: offset between the jaws (default: as the "
+                          "physics' placement says)")
     seed: int = Field(0, ge=0, le=2**32 - 1)
     tolerance_deg: float = Field(1.0, gt=0.0, le=180.0, description="agreement tolerance on the final orientation")
+    sim_physics: str = Field("nominal", max_length=400,
+                             description="cells of the physics ranges to simulate: nominal, corners, random, or "
+                                         "KEY=VALUE,... (e.g. support_friction=0.05,jaw_friction=0.2,com_offset=0.5,0)")
+
+    @field_validator("sim_physics")
+    @classmethod
+    def _cells(cls, v: str) -> str:
+        try:
+            parse_cells(v)
+        except ConfigError as e:
+            raise ValueError(e.message) from None
+        return v
+
+
+Range = float | Annotated[list[float], Field(min_length=1, max_length=2)]
+
+
+def _range_field(key: str) -> Any:
+    p = PARAMETERS[key]
+    lo, hi = DEFAULT_RANGES[key]
+    return Field(None, description=f"{p.help}{' (' + p.unit + ')' if p.unit else ''}: one value or [lo, hi] "
+                                   f"(default [{lo:g}, {hi:g}]: {p.source})")
 
 
 class PhysicsBody(_Strict):
-    """The gripper and part physics of the dead band (conventions §7; defaults shared with
-    the Drake simulation)."""
+    """The cell's physics as ranges (conventions §8), each key over the service's cell
+    (``ALGRASP_CELL``, default the real-cell defaults); checked by the core's one options
+    type (:class:`algrasp.planning.physics.Physics`)."""
 
-    support_friction: float = Field(0.3, ge=0.0, le=10.0, description="μ between part and support")
-    part_mass_kg: float = Field(0.02, ge=0.0, le=1000.0)
-    grip_force_n: float = Field(2.0, gt=0.0, le=1e5)
-    gravity_m_s2: float = Field(9.81, ge=0.0, le=100.0)
+    support_friction: Range | None = _range_field("support_friction")
+    jaw_friction: Range | None = _range_field("jaw_friction")
+    part_mass_kg: Range | None = _range_field("part_mass_kg")
+    grip_force_n: Range | None = _range_field("grip_force_n")
+    gravity_m_s2: Range | None = _range_field("gravity_m_s2")
+    com_tolerance: float | None = Field(None, ge=0.0, le=1e6, description="radius of the centre-of-mass disk, part "
+                                        "units (default 1 % of the part's size)")
     shape_tolerance: float | None = Field(None, ge=0.0, le=1e6,
                                           description="σ: slope error of the drawing, part units per radian "
-                                                      "(default: derived from the drawing)")
+                                                      "(default: derived from the drawing, never below the profile tolerance)")
+    profile_tolerance: float | None = Field(None, ge=0.0, le=1e6, description="manufacturing profile tolerance, part "
+                                            "units (default ISO 2768-1 class f for the part's size)")
+    placement: Literal["centred", "any"] | None = Field(None, description="centred: both jaws touch together; any: "
+                                                        "any offset between the jaws (default any)")
+
+    @model_validator(mode="after")
+    def _physics(self) -> PhysicsBody:
+        try:
+            Physics.from_mapping(self.given())
+        except ConfigError as e:
+            raise ValueError(e.message) from None
+        return self
+
+    def given(self) -> dict[str, Any]:
+        return self.model_dump(exclude_none=True)
 
 
 class ModelOptions(_Strict):
     """Which model: robust (default) or the paper's exact frictionless one."""
 
     exact: bool = Field(False, description="the paper's exact frictionless model (no dead band)")
-    physics: PhysicsBody | None = Field(None, description="dead-band physics (robust model)")
+    physics: PhysicsBody | None = Field(None, description="the cell's physics ranges (robust model)")
+    limits: bool = Field(False, description="search every physics limit (the largest jaw friction is always given)")
 
-    def model_options(self) -> dict[str, Any]:
-        return {"exact": self.exact, "physics": None if self.physics is None else self.physics.model_dump()}
+    def model_options(self, cell: Physics = DEFAULT_PHYSICS) -> dict[str, Any]:
+        """The exact flag and the whole physics: the request's keys over the service's cell."""
+        return {"exact": self.exact, "physics": cell.merged(None if self.physics is None else self.physics.given()).to_dict()}
 
 
 class PlanBody(ModelOptions):
@@ -66,10 +115,11 @@ class PlanBody(ModelOptions):
     gripper: dict[str, Any] | None = Field(None, description="gripper profile (SI keys of optimisation/profiles/default.yaml)")
     validate_: ValidateOptions | None = Field(None, alias="validate", description="simulate the plan in Drake")
 
-    def request(self) -> dict[str, Any]:
-        """Keyword arguments of :class:`algrasp.pipeline.PlanRequest`."""
+    def request(self, cell: Physics = DEFAULT_PHYSICS) -> dict[str, Any]:
+        """Keyword arguments of :class:`algrasp.pipeline.PlanRequest` (physics over ``cell``)."""
         out: dict[str, Any] = {"action": self.action, "min_margin_deg": self.min_margin_deg, "optimise": self.optimise,
-                               "gripper_profile": self.gripper, **self.model_options()}
+                               "gripper_profile": self.gripper, **self.model_options(cell),
+                               "limits": "all" if self.limits else "headline"}
         if self.validate_ is not None:
             out.update(self.validate_.model_dump())
         return out
@@ -82,13 +132,13 @@ class JobOptions(ModelOptions):
     validate_: ValidateOptions | None = Field(None, alias="validate")
     gripper: dict[str, Any] | None = None
 
-    def design(self) -> dict[str, Any]:
-        """Keyword arguments of :class:`service.fixture.DesignOptions`."""
+    def design(self, cell: Physics = DEFAULT_PHYSICS) -> dict[str, Any]:
+        """Keyword arguments of :class:`service.fixture.DesignOptions` (physics over ``cell``)."""
         out: dict[str, Any] = {"min_margin_deg": self.min_margin_deg, "gripper_profile": self.gripper,
-                               **self.model_options()}
+                               **self.model_options(cell)}
         if self.validate_ is not None:
             v = self.validate_
-            out.update(samples=v.samples, seed=v.seed, placement=v.placement)
+            out.update(samples=v.samples, seed=v.seed, placement=v.placement, sim_physics=v.sim_physics)
         return out
 
 

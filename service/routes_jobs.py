@@ -80,7 +80,7 @@ async def create_job(request: Request) -> JSONResponse:
         from optimisation.profile import profile_from_dict
 
         profile_from_dict(opts.gripper, "options.gripper")
-    job_id = await asyncio.to_thread(svc.store.create_job, opts.design(), entries)
+    job_id = await asyncio.to_thread(svc.store.create_job, opts.design(svc.settings.cell_physics), entries)
     svc.runner.start(job_id)
     return JSONResponse({"id": job_id, "state": "queued", "total": len(entries), "links": _links(job_id)},
                         status_code=202, headers={"Location": f"/v1/jobs/{job_id}"})

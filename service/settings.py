@@ -14,6 +14,7 @@ from pydantic import Field, field_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
 from algrasp.errors import ConfigError
+from algrasp.planning.physics import Physics, cell_from_text
 
 _AGE_UNITS = {"": 1.0, "s": 1.0, "m": 60.0, "h": 3600.0, "d": 86400.0}
 _BYTE_UNITS = {"": 1.0, "b": 1.0, "k": 1e3, "m": 1e6, "g": 1e9, "t": 1e12}
@@ -40,6 +41,9 @@ def parse_quantity(text: str, units: dict[str, float], name: str) -> float:
 class Settings(BaseSettings):
     """Attributes (environment variable = ``ALGRASP_`` + upper-case name):
         log_dir: run records (MCAP) directory.
+        cell: the cell's physics every request refines: ``default`` (a real cell's ranges),
+            ``ideal`` (frictionless jaws, μ_s 0.3, 20 g, centred, exact parts) or a JSON
+            object of physics keys (conventions §8).
         database_url: SQLAlchemy URL of the job/run store (default SQLite in ``log_dir``).
         api_keys: comma-separated bearer keys; empty and no ``api_keys_file``: no auth.
         api_keys_file: a file with one key per line (``#`` comments allowed).
@@ -71,6 +75,7 @@ class Settings(BaseSettings):
     model_config = SettingsConfigDict(env_prefix="ALGRASP_", extra="ignore")
 
     log_dir: Path = Path("logs")
+    cell: str = "default"
     database_url: str = ""
     api_keys: str = Field(default="", repr=False)
     api_keys_file: Path | None = None
@@ -98,6 +103,16 @@ class Settings(BaseSettings):
     def _age(cls, v: str) -> str:
         parse_quantity(v, _AGE_UNITS, "record_max_age")
         return v
+
+    @field_validator("cell")
+    @classmethod
+    def _cell(cls, v: str) -> str:
+        cell_from_text(v, "ALGRASP_CELL")
+        return v
+
+    @property
+    def cell_physics(self) -> Physics:
+        return cell_from_text(self.cell, "ALGRASP_CELL")
 
     @field_validator("record_max_bytes")
     @classmethod

@@ -18,6 +18,7 @@ from algrasp.geometry.functions import SupportPairFunction, analyse, wrap
 from algrasp.geometry.part import Part, load_part
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES, SYMMETRY_TOL_RAD, Tolerances
 from algrasp.planning.deadband import DEFAULT_PHYSICS, DeadBand, Physics, dead_band
+from algrasp.planning.physics import IDEAL_CELL
 from algrasp.planning.placement import off_centre_squeeze
 from algrasp.planning.documents import AnalysisDocument, FunctionDocument, SetTransferDocument, TransferDocument
 from algrasp.planning.setvalued import SetTransfer, set_transfer
@@ -34,30 +35,35 @@ class Model:
     physics: Physics = field(default_factory=lambda: DEFAULT_PHYSICS)
 
     @staticmethod
-    def from_options(options: Mapping[str, Any], legacy_exact: bool = False) -> Model:
-        """From request options ``{"exact": bool, "physics": {...}}`` (ranges as numbers or
-        ``[lo, hi]``: :meth:`Physics.from_mapping`). Records written before the robust
-        model have neither key: ``legacy_exact`` reads them as exact."""
+    def from_options(options: Mapping[str, Any], legacy_exact: bool = False, cell: Physics = DEFAULT_PHYSICS) -> Model:
+        """From request options ``{"exact": bool, "physics": {...}}`` over the ``cell``'s
+        physics (ranges as numbers or ``[lo, hi]``: :meth:`Physics.merged`). Records
+        written before the robust model have neither key: ``legacy_exact`` reads them as exact."""
         exact = options.get("exact", legacy_exact)
         if not isinstance(exact, bool):
             raise ConfigError("exact", f"expected true or false, got {exact!r}")
-        return Model(exact, Physics.from_mapping(options.get("physics") or {}))
+        return Model(exact, cell.merged(options.get("physics") or {}))
 
     @staticmethod
     def from_record(options: Mapping[str, Any]) -> Model:
-        """The model of a recorded request (a batch design run keeps it under "design";
-        records from before the robust model are exact)."""
+        """The model of a recorded request (a batch design run keeps it under "design").
+        Records from before the robust model are exact; records from before physics
+        ranges (their physics has no ``placement``) were made in the ideal cell."""
         design = options.get("design")
-        return Model.from_options(design if isinstance(design, Mapping) else options, legacy_exact=True)
+        opts = design if isinstance(design, Mapping) else options
+        physics = opts.get("physics")
+        legacy = not (isinstance(physics, Mapping) and "placement" in physics)
+        return Model.from_options(opts, legacy_exact=True, cell=IDEAL_CELL if legacy else DEFAULT_PHYSICS)
 
     def to_options(self) -> dict[str, Any]:
-        """What a run record keeps (only physics that differ from the defaults)."""
-        diff = self.physics.differences()
-        return {"exact": self.exact, **({"physics": diff} if diff else {})}
+        """What a run record keeps: the whole physics (the defaults may change)."""
+        return {"exact": self.exact, **({} if self.exact else {"physics": self.physics.to_dict()})}
 
 
 ROBUST = Model()
 EXACT = Model(exact=True)
+IDEAL = Model(physics=IDEAL_CELL)
+"""The robust model in the ideal cell (:data:`~algrasp.planning.physics.IDEAL_CELL`)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -162,10 +168,11 @@ def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, 
     reasons: dict[str, str] = {}
     funcs: dict[str, SetTransfer | None] = {}
     # d has two contacts: its slope and value errors are twice one jaw's.
-    for name, f, sigma, eps, mu in (("squeeze", d, band.sigma_d, 2.0 * band.value_tol, band.jaw_friction),
-                                    ("push", r, band.sigma_r, band.value_tol_r, 0.0)):
+    for name, f, sigma, eps, err, mu in (
+            ("squeeze", d, band.sigma_d, 2.0 * band.value_tol, 2.0 * band.value_err, band.jaw_friction),
+            ("push", r, band.sigma_r, band.value_tol_r, band.value_err + band.com_tolerance, 0.0)):
         try:
-            funcs[name] = set_transfer(f, stall, sigma, eps, tol.angle_rad, mu)
+            funcs[name] = set_transfer(f, stall, sigma, eps, tol.angle_rad, mu, err)
         except NotOrientableError as e:
             funcs[name], reasons[name] = None, str(e)
     sq, pu = funcs["squeeze"], funcs["push"]

@@ -45,7 +45,9 @@ class DeadBand:
         jaw_friction: μ_j,max: the squeeze may rest where |d′| ≤ μ_j·d + s_hi + σ_d.
         sigma_d, sigma_r: σ for d (two contacts) and r (one, plus the centre-of-mass disk).
         value_tol: how far values may differ and still be equal (symmetry), part units.
-        value_tol_r: the same for r (plus ε_c).
+        value_tol_r: the same for r.
+        value_err: how far the real d or r may be from the drawn one (part units): the
+            drawing's error or the profile tolerance, the larger (r adds ε_c).
         mean_radius: r̄ (part units); com_tolerance: ε_c (part units).
         profile_floor: the manufacturing floor of σ (part units per radian).
         sources: what the drawing error was derived from.
@@ -61,6 +63,7 @@ class DeadBand:
     mean_radius: float
     com_tolerance: float
     profile_floor: float
+    value_err: float
     sources: tuple[str, ...] = ()
 
     @property
@@ -131,9 +134,11 @@ def dead_band(part: Part, physics: Physics, tol: Tolerances) -> DeadBand:
     floor = profile_floor(part, physics)
     sigma = max(err.slope, floor) if physics.shape_tolerance is None else max(physics.shape_tolerance, floor)
     eps_c = COM_TOLERANCE_REL * part.size if physics.com_tolerance is None else physics.com_tolerance
-    # A profile tolerance t moves each contact point by at most t: d, r and their slopes
-    # by at most t (per radian for the slopes); a measured σ bounds position at ~3° of turn.
-    value = max(err.value, tol.symmetry_value_rel * part.size, 0.05 * sigma, floor)
+    # Symmetry is judged on the drawing (its own error; a measured σ bounds position at ~3°
+    # of turn); a profile tolerance t moves each contact point of the real part by at most
+    # t, so d and r (and their slopes, per radian) by at most t: the barriers' value error.
+    drawn = sigma if physics.shape_tolerance is not None else err.slope
+    value = max(err.value, tol.symmetry_value_rel * part.size, 0.05 * drawn)
     lo, hi = physics.stall_ratio
     return DeadBand(lo * max(rbar - eps_c, 0.0), hi * (rbar + eps_c), physics.jaw_friction[1], 2.0 * sigma,
-                    sigma + eps_c, value, value + eps_c, rbar, eps_c, floor, (*part.recognised, *err.sources))
+                    sigma + eps_c, value, value, rbar, eps_c, floor, max(value, floor), (*part.recognised, *err.sources))

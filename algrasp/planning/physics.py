@@ -162,6 +162,15 @@ class Physics:
             raise ConfigError("physics.placement", f"expected one of {', '.join(PLACEMENTS)}")
         return Physics(**values)
 
+    def merged(self, overrides: Any) -> Physics:
+        """This physics with the keys of ``overrides`` (a request's ``physics`` object)
+        replaced, checked like :meth:`from_mapping`."""
+        if not overrides:
+            return self
+        if not isinstance(overrides, Mapping):
+            raise ConfigError("physics", "expected an object")
+        return Physics.from_mapping({**self.to_dict(), **overrides})
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: ranges as ``[lo, hi]``."""
         return {f.name: list(v) if isinstance(v := getattr(self, f.name), tuple) else v for f in fields(self)}
@@ -194,3 +203,31 @@ class Physics:
 
 
 DEFAULT_PHYSICS = Physics()
+IDEAL_CELL = Physics(support_friction=0.3, jaw_friction=0.0, part_mass_kg=0.02, grip_force_n=2.0, com_tolerance=0.0,
+                     profile_tolerance=0.0, placement="centred")
+"""The one ideal cell earlier plans assumed: frictionless jaws, support μ exactly 0.3,
+20 g, 2 N, the part exactly as drawn (σ only from the drawing's own error), uniform
+density and jaws centred on the part (conventions §7 alone)."""
+PRESETS: dict[str, Physics] = {"default": DEFAULT_PHYSICS, "ideal": IDEAL_CELL}
+"""Named cells: what ``--cell NAME`` and ``ALGRASP_CELL=NAME`` select."""
+
+
+def cell_from_text(text: str, where: str = "cell") -> Physics:
+    """A cell's physics from a preset name (``default``, ``ideal``) or a JSON object of
+    physics keys over the defaults (what ``--cell`` and ``ALGRASP_CELL`` hold).
+
+    >>> cell_from_text('{"jaw_friction": [0, 0.3]}').jaw_friction
+    (0.0, 0.3)
+    """
+    import json
+
+    name = text.strip()
+    if name in PRESETS:
+        return PRESETS[name]
+    try:
+        raw = json.loads(name)
+    except ValueError:
+        raise ConfigError(where, f"expected {' or '.join(PRESETS)} or a JSON object of physics keys, got {text[:60]!r}") from None
+    if not isinstance(raw, dict):
+        raise ConfigError(where, "expected a JSON object of physics keys")
+    return DEFAULT_PHYSICS.merged(raw)

@@ -332,9 +332,11 @@ def _rest_zones(nodes: FloatArray, T: float, rest: np.ndarray, P: float) -> tupl
 
 
 def set_transfer(f: SupportPairFunction, stall: tuple[float, float], sigma: float, value_tol: float, tol_rad: float,
-                 jaw_friction: float = 0.0) -> SetTransfer:
+                 jaw_friction: float = 0.0, value_err: float | None = None) -> SetTransfer:
     """F_κ of d or r (see module docs) over a stall range ``(s_lo, s_hi)`` and, for a
-    squeeze, the largest jaw friction. Raises NotOrientableError when the part may turn
+    squeeze, the largest jaw friction. ``value_tol`` judges the drawing's symmetry;
+    ``value_err`` (default the same) bounds how far the real f is from the drawn one
+    (the barriers: the manufacturing profile tolerance counts here). Raises NotOrientableError when the part may turn
     without end. O((c + b)·K·log) for c grid cells, b breakpoints, K symmetric copies."""
     P = f.period
     T = tolerant_symmetry(f, value_tol)
@@ -342,7 +344,7 @@ def set_transfer(f: SupportPairFunction, stall: tuple[float, float], sigma: floa
     g, v = _samples(f, x, kink, T)
     right, left, rest = _permissions(g, v, stall, sigma, jaw_friction)
     # The energy bound holds for the weakest stall: every cell lowers f at least that fast.
-    br, bl = barriers(x, T, v[:, 0, :].T, v.max(axis=1).T, stall[0], value_tol)
+    br, bl = barriers(x, T, v[:, 0, :].T, v.max(axis=1).T, stall[0], value_tol if value_err is None else value_err)
     cells = _Cells(x, T, right, left, rest, br, bl)
     lower, upper = _bounds(cells, tol_rad)
     zones = _rest_zones(x, T, rest, T)

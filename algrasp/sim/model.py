@@ -138,16 +138,31 @@ class _Controller(LeafSystem):
         return extent_midpoint(self._outline, x[pq], x[pq + 1], x[pq + 2], n)
 
     def _forces(self, context: Any, out: BasicVector) -> None:
-        v = np.asarray(self.get_input_port(0).Eval(context))[self._nq:]
+        x = np.asarray(self.get_input_port(0).Eval(context))
+        q, v = x[:self._nq], x[self._nq:]
         tau = np.zeros(len(v))
-        _, pv = self._idx["part"]
-        vx, vy, w = v[pv], v[pv + 1], v[pv + 2]
+        pq, pv = self._idx["part"]
+        tau[pv:pv + 3] = self.support_wrench(float(q[pq + 2]), v[pv:pv + 3])
+        out.SetFromVector(tau)
+
+    def support_wrench(self, theta: float, v_Bo: FloatArray) -> tuple[float, float, float]:
+        """Support friction as generalized forces of the part's planar joint (N, N, N·m),
+        at orientation θ (rad) and joint velocities (vx, vy of Bo in m/s, ω in rad/s).
+
+        The limit surface is about the true centre of mass (``com_offset_m`` from Bo, the
+        drawn one): its velocity v = v_Bo + ω × r, and the wrench (f, m) there moves to
+        Bo as (f, m + r × f)."""
+        c, s = math.cos(theta), math.sin(theta)
+        dx, dy = self._cfg.com_offset_m
+        rx, ry = c * dx - s * dy, s * dx + c * dy  # Bo → true centre of mass, world frame
+        w = float(v_Bo[2])
+        vx, vy = float(v_Bo[0]) - w * ry, float(v_Bo[1]) + w * rx
         # (f, m) = −(f_max² v, m_max² ω)/λ: the twist is normal to the ellipsoid; λ is
         # regularised below the stiction speed (explicit force: keeps the step stable).
         lam = math.sqrt(self._f**2 * (vx * vx + vy * vy) + self._m**2 * w * w
                         + (self._f * self._cfg.stiction_speed_m_s) ** 2)
-        tau[pv:pv + 3] = [-self._f**2 * vx / lam, -self._f**2 * vy / lam, -self._m**2 * w / lam]
-        out.SetFromVector(tau)
+        fx, fy, m = -self._f**2 * vx / lam, -self._f**2 * vy / lam, -self._m**2 * w / lam
+        return fx, fy, m + rx * fy - ry * fx
 
     def _desired(self, context: Any, out: BasicVector) -> None:
         x = np.asarray(self.get_input_port(0).Eval(context))

@@ -59,13 +59,16 @@ class Validation:
     push_agreement: float | None = None  # first push within tolerance, clear samples only
     optimised: bool = False
     trajectories: tuple[list[tuple[float, ...]], ...] = ()  # per sample (t, x, y, φ, α, q_L, q_H), SI; if recorded
+    cells: tuple[dict[str, Any], ...] = ()
+    """Per simulated cell of the physics ranges: its values, samples and agreement."""
 
     def to_dict(self, plan_doc: dict[str, Any]) -> dict[str, Any]:
         return {"plan": plan_doc, "samples": [asdict(s) for s in self.samples],
                 "agreement": self.agreement, "agreement_clear": self.agreement_clear,
                 "push_agreement": self.push_agreement, "optimised": self.optimised,
                 "tolerance_deg": self.tolerance_deg, "placement": self.placement,
-                "sim_seconds": self.sim_seconds, "wall_seconds": self.wall_seconds, "model": self.model}
+                "sim_seconds": self.sim_seconds, "wall_seconds": self.wall_seconds, "model": self.model,
+                "cells": [dict(c) for c in self.cells]}
 
     @staticmethod
     def from_dict(doc: dict[str, Any]) -> tuple[Validation, dict[str, Any]]:
@@ -78,7 +81,8 @@ class Validation:
             samples = tuple(Sample(**s) for s in doc["samples"])
             v = Validation(samples, float(doc["agreement"]), float(doc["agreement_clear"]), float(doc["tolerance_deg"]),
                            doc["placement"], float(doc["sim_seconds"]), float(doc["wall_seconds"]), dict(doc["model"]),
-                           doc.get("push_agreement"), bool(doc.get("optimised", False)))
+                           doc.get("push_agreement"), bool(doc.get("optimised", False)),
+                           cells=tuple(dict(c) for c in doc.get("cells") or () if isinstance(c, dict)))
         except KeyError as exc:
             raise PartDocumentError(f"validation.{exc.args[0]}", "missing") from None
         except (TypeError, ValueError) as exc:
@@ -254,3 +258,33 @@ def _part_symmetry(analysis: Analysis) -> float:
 
 def _angle_err_deg(a: float, b: float) -> float:
     return abs((to_deg(a - b) + 180.0) % 360.0 - 180.0)
+
+
+def validate_cells(analysis: Analysis, plan: Plan, cells: list[Any], samples: int, seed: int, placement: Placement,
+                   tolerance_deg: float, cfg: SimConfig, workers: int = 2, sim_schedule: SimSchedule | None = None,
+                   record: bool = False) -> Validation:
+    """:func:`validate_plan` in each cell (:class:`algrasp.planning.cells.Cell`), ``samples``
+    per cell (seeds differ per cell), merged: agreement over all samples, and per cell."""
+    from algrasp.geometry.units import meters_per_unit
+    from algrasp.sim.config import sim_config
+
+    m = meters_per_unit(analysis.part.units)
+    runs = [validate_plan(analysis, plan, samples, seed + i, placement, tolerance_deg,
+                          sim_config(c.physics, cfg, (m * c.com_offset[0], m * c.com_offset[1])), workers, sim_schedule, record)
+            for i, c in enumerate(cells)]
+    out = [s for v in runs for s in v.samples]
+    clear = [s for s in out if not s.near_unstable]
+    pushes = [s.push_agrees for s in clear if s.push_agrees is not None]
+    per_cell = tuple({**c.to_dict(), "samples": len(v.samples), "agreement": v.agreement,
+                      "worst_error_deg": _worst(v, plan)} for c, v in zip(cells, runs))
+    return Validation(tuple(out), sum(s.agrees for s in out) / len(out),
+                      sum(s.agrees for s in clear) / len(clear) if clear else float("nan"), tolerance_deg, placement,
+                      sum(v.sim_seconds for v in runs), sum(v.wall_seconds for v in runs), runs[0].model,
+                      sum(pushes) / len(pushes) if pushes else None, sim_schedule is not None,
+                      tuple(t for v in runs for t in v.trajectories), per_cell)
+
+
+def _worst(v: Validation, plan: Plan) -> float:
+    """Largest distance (degrees) of a simulated end from the nearest claimed orientation."""
+    return max(min(_angle_err_deg(to_rad(s.simulated_deg), f) for f in plan.final_orientations) if plan.bounds is not None
+               else _angle_err_deg(to_rad(s.simulated_deg), to_rad(s.predicted_deg)) for s in v.samples)

@@ -41,16 +41,20 @@ class ExactPart:
 
 
 class Flow:
-    """Quasi-static descent on f with stall threshold s, tabulated on a grid over 2π."""
+    """Quasi-static descent on f with stall threshold s, tabulated on a grid over 2π.
 
-    def __init__(self, f, stall: float) -> None:
+    With jaw friction μ (a squeeze: two contacts f apart) the part also rests where
+    |f′| ≤ μ·f + s: the friction couple μ·F·f against the squeeze couple F·f′."""
+
+    def __init__(self, f, stall: float, jaw_friction: float = 0.0) -> None:
         n = int(round(360.0 / GRID_DEG))
         self.theta = np.arange(n) * (2 * np.pi / n)
         h = 1e-6
         g = (f(self.theta + h) - f(self.theta - h)) / (2 * h)
         self.n = n
-        right = g < -stall  # moves to larger θ
-        left = g > stall
+        hold = stall + jaw_friction * f(self.theta)
+        right = g < -hold  # moves to larger θ
+        left = g > hold
         idx = np.arange(n)
         # first index ≥ i (cyclic) that does not move right; last index ≤ i that does not move left
         stop_r = np.nonzero(~right)[0]
@@ -70,9 +74,14 @@ class Flow:
         return k * 2 * np.pi + self.dest[i] * self.step
 
 
-def run_plan(part: ExactPart, stall: float, plan_doc: dict, starts: np.ndarray) -> np.ndarray:
-    """Final world orientations (radians) after executing a plan document's steps."""
-    squeeze = Flow(part.diameter, stall)
+def run_plan(part: ExactPart, stall: float | list[float], plan_doc: dict, starts: np.ndarray,
+             jaw_friction: float = 0.0) -> np.ndarray:
+    """Final world orientations (radians) after executing a plan document's steps in one
+    cell (``stall`` a number, or a one-value range [s, s])."""
+    if isinstance(stall, list):
+        assert stall[0] == stall[1], "one cell at a time"
+        stall = stall[0]
+    squeeze = Flow(part.diameter, stall, jaw_friction)
     push = Flow(part.radius, stall) if plan_doc["action"] == "push_grasp" else None
     phi = np.asarray(starts, dtype=float)
     for step in plan_doc["steps"]:

@@ -10,7 +10,7 @@ import numpy as np
 import shapely
 
 from algrasp.io.cad import import_bytes, import_file
-from algrasp.planning.analysis import EXACT, ROBUST, analyse_document
+from algrasp.planning.analysis import EXACT, IDEAL, ROBUST, analyse_document
 from algrasp.planning.plans import make_plan
 from tests.algrasp.meshes import extrude_stl
 
@@ -36,7 +36,7 @@ def test_tessellated_gear_stl_gets_18_degrees_and_no_facet_plan() -> None:
     # The exact model sees the float32 facets: no symmetry, and margins of micro-degrees.
     assert exact["symmetry_period_deg"] == 180.0
     assert min(s["margin_deg"] for s in exact["steps"][1:]) < 1e-3
-    robust = make_plan(analyse_document(doc, ROBUST), "squeeze").to_dict()
+    robust = make_plan(analyse_document(doc, IDEAL), "squeeze").to_dict()
     assert robust["symmetry_period_deg"] == 18.0
     assert len(robust["final_orientations_deg"]) == 20
     margins = [s["margin_deg"] for s in robust["steps"][1:]]

@@ -15,7 +15,7 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from algrasp.geometry.arcforms import document, fig11_outline, pie_outline
-from algrasp.planning.analysis import EXACT, ROBUST, Model, analyse_document
+from algrasp.planning.analysis import EXACT, IDEAL, Model, analyse_document
 from algrasp.planning.deadband import DEFAULT_PHYSICS, Physics
 from algrasp.planning.plans import make_plan
 from tests.algrasp.brute import ExactPart, fig11, pie, run_plan, worst_miss_deg
@@ -134,11 +134,11 @@ def test_default_plans_hold_on_the_exact_part(name: str, outline: list, exact: E
     doc = document(outline, form)
     if action == "push_grasp":
         doc["center_of_mass"] = list(exact.com)  # the exact part's centre of mass
-    plan = make_plan(analyse_document(doc, ROBUST), action).to_dict()  # type: ignore[arg-type]
+    plan = make_plan(analyse_document(doc, IDEAL), action).to_dict()  # type: ignore[arg-type]
     stall = plan["dead_band"]["stall_per_rad"]
     finals = run_plan(exact, stall, plan, STARTS)
     assert worst_miss_deg(finals, plan) <= plan["final_uncertainty_deg"] + GRID_SLACK_DEG
-    reference = make_plan(analyse_document(document(outline, "arc"), ROBUST), action).to_dict()  # type: ignore[arg-type]
+    reference = make_plan(analyse_document(document(outline, "arc"), IDEAL), action).to_dict()  # type: ignore[arg-type]
     assert len(plan["steps"]) <= len(reference["steps"]) + 2  # close to the exact drawing's plan
 
 
@@ -147,7 +147,7 @@ def test_exact_plans_fail_on_the_real_part_where_robust_ones_hold() -> None:
     the 2.7 µm ripples of the cubic approximation and misses on the exact part."""
     doc = document(fig11_outline(), "cubic")
     exact_plan = make_plan(analyse_document(doc, EXACT), "squeeze").to_dict()
-    robust_plan = make_plan(analyse_document(doc, ROBUST), "squeeze").to_dict()
+    robust_plan = make_plan(analyse_document(doc, IDEAL), "squeeze").to_dict()
     stall = robust_plan["dead_band"]["stall_per_rad"]
     assert worst_miss_deg(run_plan(fig11(), stall, exact_plan, STARTS), exact_plan) > 10.0
     assert worst_miss_deg(run_plan(fig11(), stall, robust_plan, STARTS), robust_plan) <= GRID_SLACK_DEG
@@ -156,7 +156,7 @@ def test_exact_plans_fail_on_the_real_part_where_robust_ones_hold() -> None:
 
 def test_dead_band_from_physics() -> None:
     """s = μ m g r̄ / F; σ = 0 for exact curves, > 0 for cubic arc approximations."""
-    d = analyse_document(document(pie_outline(), "arc"), ROBUST).to_dict()["robust"]["dead_band"]
+    d = analyse_document(document(pie_outline(), "arc"), IDEAL).to_dict()["robust"]["dead_band"]
     rbar = d["mean_radius"]
     # r̄ of a 40° sector of radius 5 about its centroid, by Monte Carlo (independent).
     rng = np.random.default_rng(3)
@@ -167,7 +167,7 @@ def test_dead_band_from_physics() -> None:
     assert rbar == pytest.approx(float(np.mean(np.hypot(*(p - p.mean(axis=0)).T))), rel=5e-3)
     assert d["stall_per_rad"] == pytest.approx(0.3 * 0.02 * 9.81 / 2.0 * rbar, rel=1e-12)
     assert d["sigma_d_per_rad"] == 0.0
-    cubic = analyse_document(document(fig11_outline(), "cubic"), ROBUST).to_dict()["robust"]["dead_band"]
+    cubic = analyse_document(document(fig11_outline(), "cubic"), IDEAL).to_dict()["robust"]["dead_band"]
     # ripple of the 4/3·tan(Δ/4) cubic: radial error 2.7e-4 R over its sweep, slope ~ 1e-3 R
     assert 0.005 < cubic["sigma_r_per_rad"] < 0.05 and cubic["sigma_d_per_rad"] == 2 * cubic["sigma_r_per_rad"]
 
@@ -187,7 +187,7 @@ def test_constant_width_part_is_refused_with_why() -> None:
     from algrasp.geometry import shapes
 
     with pytest.raises(NotOrientableError) as e:
-        make_plan(analyse_document(shapes.disk(), ROBUST), "squeeze")
+        make_plan(analyse_document(shapes.disk(), IDEAL), "squeeze")
     assert e.value.reason == "constant_width"
 
 
@@ -228,8 +228,8 @@ def test_robust_plans_are_invariant_under_rigid_motion(angle: float, dx: float, 
     poses) and
     changes neither the plan length nor the final uncertainty."""
     outline, _ = _generalized_polygon()  # no mirror symmetry: the plan is unique
-    base = make_plan(analyse_document(document(outline, form), ROBUST), "squeeze").to_dict()
-    moved = make_plan(analyse_document(document(_moved(outline, angle, (dx, dy)), form), ROBUST), "squeeze").to_dict()
+    base = make_plan(analyse_document(document(outline, form), IDEAL), "squeeze").to_dict()
+    moved = make_plan(analyse_document(document(_moved(outline, angle, (dx, dy)), form), IDEAL), "squeeze").to_dict()
     assert len(moved["steps"]) == len(base["steps"])
     assert moved["final_uncertainty_deg"] == pytest.approx(base["final_uncertainty_deg"], abs=0.06)
     # Where A′ has equally wide candidates the plan may pick another stable orientation:
