@@ -192,7 +192,7 @@ def print_plan(plan: Plan) -> None:
     from rich.table import Table
 
     d: dict[str, Any] = plan.to_dict()
-    table = Table(title=f"{len(plan.steps)}-step {d['action']} plan (execution order)")
+    table = Table(title=f"{len(plan.steps)}-step {d['action'].replace('_', '-')} plan (execution order)")
     for col in ("step", "gripper angle (deg)", "margin (deg)", "interval Θ (deg)"):
         table.add_column(col, justify="right")
     intervals = d["intervals_deg"][::-1]
@@ -204,6 +204,12 @@ def print_plan(plan: Plan) -> None:
     finals = ", ".join(f"{f:.4f}" for f in d["final_orientations_deg"])
     print(f"symmetry period {d['symmetry_period_deg']:.6g}°; final orientations (deg): {finals} "
           f"± {d['final_uncertainty_deg']:.4f} ({d['model']} model)")
+    if plan.bounds is not None and isinstance(d.get("dead_band"), dict):
+        from algrasp.cli_physics import describe
+
+        print(f"physics: {describe(d['dead_band'])}")
+    if plan.limits:
+        print(f"limits: {plan.limits['advice']}")
     times = ", ".join(f"{k} {1000 * v:.2f} ms" for k, v in d["timings_s"].items())
     print(f"verified: {d['verified']}; {times}")
 

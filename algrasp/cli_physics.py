@@ -49,10 +49,27 @@ def add_physics_options(g: Any) -> None:
                         "'random' is read as any); validation places it the same way")
 
 
+def env_cell() -> Physics:
+    """The cell $ALGRASP_CELL names (default: the real-cell defaults)."""
+    return cell_from_text(os.environ.get(CELL_ENV) or "default", CELL_ENV)
+
+
 def physics_from_args(args: argparse.Namespace) -> Physics:
     """The cell (``--cell`` or $ALGRASP_CELL) refined by the given flags."""
-    text = getattr(args, "cell", None) or os.environ.get(CELL_ENV) or "default"
-    cell = cell_from_text(text, "--cell" if getattr(args, "cell", None) else CELL_ENV)
+    given_cell = getattr(args, "cell", None)
+    cell = cell_from_text(given_cell, "--cell") if given_cell else env_cell()
     keys = [*_FLAGS, *_LENGTHS, "placement"]
     given = {k: getattr(args, f"physics_{k}") for k in keys if getattr(args, f"physics_{k}", None) is not None}
     return cell.merged(given)
+
+
+def describe(physics: dict[str, Any]) -> str:
+    """One line of a plan's physics (its ``dead_band`` object: ranges as [lo, hi])."""
+    def rng(key: str, unit: str = "") -> str:
+        lo, hi = physics[key]
+        return f"{lo:g}{unit}" if lo == hi else f"{lo:g}–{hi:g}{unit}"
+
+    com = physics.get("com_tolerance")
+    return (f"support μ {rng('support_friction')}, jaw μ {rng('jaw_friction')}, mass {rng('part_mass_kg', ' kg')}, "
+            f"force {rng('grip_force_n', ' N')}, centre of mass ± {com:.3g}, profile tolerance "
+            f"{physics.get('profile_floor_per_rad', 0.0):.3g}, placement {physics['placement']}")

@@ -54,7 +54,7 @@ class PlanRequest:
             raise ConfigError("samples", f"must be ≥ 0, got {self.samples}")
         if self.limits not in ("none", "headline", "all"):
             raise ConfigError("limits", f"expected none, headline or all, got {self.limits!r}")
-        self.model  # the physics are checked here, before any work
+        _ = self.model  # the physics are checked here, before any work
         from algrasp.planning.cells import parse_cells
 
         parse_cells(self.sim_physics)
@@ -72,7 +72,7 @@ class PlanRequest:
     def record_options(self) -> dict[str, Any]:
         """The options a run record keeps (what replay needs to recompute the run)."""
         out: dict[str, Any] = {"action": self.action, "min_margin_deg": self.min_margin_deg, "optimise": self.optimise,
-                               **self.model.to_options()}
+                               **self.model.to_options(), "limits": "none" if self.exact else self.limits}
         if self.gripper_profile is not None:
             out["gripper_profile"] = self.gripper_profile
         if self.samples:

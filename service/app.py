@@ -175,7 +175,8 @@ async def plans(request: Request, body: PlanBody) -> Response:
     limit = svc.settings.plan_time_limit_s + (svc.settings.validation_time_limit_s if body.validate_ else 0.0)
 
     async def compute() -> Any:
-        return await run_task(svc, "fast" if _cheap(body) else "slow", who(request), plan_task, body.part, body.request(svc.settings.cell_physics),
+        request_kw = body.request(svc.settings.cell_physics)
+        return await run_task(svc, "fast" if _cheap(body) else "slow", who(request), plan_task, body.part, request_kw,
                               str(svc.settings.log_dir), svc.settings.sim_workers, timeout_s=limit, stage="plan",
                               run_id=new_run_id())
 

@@ -13,7 +13,6 @@ from pydantic import BaseModel, ConfigDict, Field, WithJsonSchema, field_validat
 from algrasp.errors import ConfigError
 from algrasp.planning.cells import parse_cells
 from algrasp.planning.physics import DEFAULT_PHYSICS, DEFAULT_RANGES, PARAMETERS, Physics
-
 from service.contract import PART_REF
 
 PartJson = Annotated[dict[str, Any], WithJsonSchema(PART_REF)]

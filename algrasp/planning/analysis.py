@@ -18,9 +18,9 @@ from algrasp.geometry.functions import SupportPairFunction, analyse, wrap
 from algrasp.geometry.part import Part, load_part
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES, SYMMETRY_TOL_RAD, Tolerances
 from algrasp.planning.deadband import DEFAULT_PHYSICS, DeadBand, Physics, dead_band
+from algrasp.planning.documents import AnalysisDocument, FunctionDocument, SetTransferDocument, TransferDocument
 from algrasp.planning.physics import IDEAL_CELL
 from algrasp.planning.placement import off_centre_squeeze
-from algrasp.planning.documents import AnalysisDocument, FunctionDocument, SetTransferDocument, TransferDocument
 from algrasp.planning.setvalued import SetTransfer, set_transfer
 from algrasp.planning.transfer import TransferFunction, from_runs
 

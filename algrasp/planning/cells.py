@@ -15,7 +15,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -46,20 +46,25 @@ def parse_cells(text: str) -> str | dict[str, object]:
     if text in MODES:
         return text
     values: dict[str, object] = {}
-    last = None
+    offset: list[float] = []
+    last = ""
     for token in text.split(","):
         if "=" not in token:
-            if last != "com_offset" or not isinstance(values.get(last), list):
+            if last != "com_offset":
                 raise ConfigError(FIELD, f"expected {', '.join(MODES)} or KEY=VALUE,..., got {text[:80]!r}")
-            values[last].append(_number(token))  # type: ignore[union-attr]
+            offset.append(_number(token))
             continue
         key, _, value = token.partition("=")
         key = key.strip()
         if key not in (*PARAMETERS, "com_offset"):
             raise ConfigError(FIELD, f"unknown key {key!r} (known: {', '.join((*PARAMETERS, 'com_offset'))})")
-        values[key] = [_number(value)] if key == "com_offset" else _number(value)
+        if key == "com_offset":
+            offset.append(_number(value))
+            values[key] = offset
+        else:
+            values[key] = _number(value)
         last = key
-    if "com_offset" in values and len(values["com_offset"]) != 2:  # type: ignore[arg-type]
+    if "com_offset" in values and len(offset) != 2:
         raise ConfigError(FIELD, "com_offset needs two numbers: X,Y in part units")
     return values
 
@@ -75,7 +80,7 @@ def _number(text: str) -> float:
 
 
 def _nominal(physics: Physics) -> Physics:
-    return replace(physics, **{k: (0.5 * sum(getattr(physics, k)),) * 2 for k in PARAMETERS})
+    return physics.with_values(**{k: (0.5 * sum(getattr(physics, k)),) * 2 for k in PARAMETERS})
 
 
 def sim_cells(spec: str | dict[str, object], physics: Physics, com_radius: float, count: int, seed: int) -> list[Cell]:
@@ -99,11 +104,14 @@ def sim_cells(spec: str | dict[str, object], physics: Physics, com_radius: float
     cell = base.merged({k: [v, v] for k, v in given.items()})
     off = spec.get("com_offset", [0.0, 0.0])
     assert isinstance(off, list)
-    label = ", ".join([*(f"{k}={v:g}" for k, v in given.items()), *([f"com_offset=({off[0]:g}, {off[1]:g})"] if "com_offset" in spec else [])])
+    words = [f"{k}={v:g}" for k, v in given.items()]
+    if "com_offset" in spec:
+        words.append(f"com_offset=({off[0]:g}, {off[1]:g})")
+    label = ", ".join(words)
     return [Cell(cell, (float(off[0]), float(off[1])), label)]
 
 
 def _random_cell(physics: Physics, com_radius: float, rng: np.random.Generator, i: int) -> Cell:
     values = {k: (v := float(rng.uniform(*getattr(physics, k))), v) for k in PARAMETERS}
     r, a = com_radius * math.sqrt(float(rng.uniform())), float(rng.uniform(0.0, 2.0 * math.pi))
-    return Cell(replace(physics, **values), (r * math.cos(a), r * math.sin(a)), f"random {i + 1}")
+    return Cell(physics.with_values(**values), (r * math.cos(a), r * math.sin(a)), f"random {i + 1}")

@@ -46,13 +46,18 @@ SEARCHES: dict[str, Search] = {s.name: s for s in (
     Search("profile_tolerance_max", "profile_tolerance", None,
            lambda p, a: 20.0 * profile_floor(a.part, replace(p, profile_tolerance=None)), lambda p, a: 0.0),
 )}
+LOG_OFFSET_REL = 1e-3
+"""v0 of the log-scale bisection, relative to the searched span: limits below it resolve
+to about v0."""
+LOG_OFFSET_FLOOR = 1e-9
+"""v0 when the span is empty."""
 HEADLINE = ("jaw_friction_max",)
 """The limit reported with every plan; the rest on request and with every refusal."""
 
 
 def _with(physics: Physics, s: Search, v: float) -> Physics:
     if s.end is None:
-        return replace(physics, **{s.key: v})
+        return physics.with_values(**{s.key: v})
     lo, hi = getattr(physics, s.key)
     span = (v, max(v, hi)) if s.end == 0 else (min(lo, v), v)
     return physics.with_range(s.key, span)
@@ -96,7 +101,7 @@ def search_limit(analysis: Analysis, physics: Physics, action: str, s: Search, p
         return {"value": hard, "bounded": False}
     # Bisect in u = log(v + v0): small limits (a profile tolerance of microns) resolve as
     # well as large ones; v0 keeps 0 reachable.
-    v0 = 1e-3 * abs(hard - s.easy(physics, analysis)) or 1e-9
+    v0 = LOG_OFFSET_REL * abs(hard - s.easy(physics, analysis)) or LOG_OFFSET_FLOOR
     ug, ub = math.log(good + v0), math.log(bad + v0)
     for _ in range(BISECTIONS):
         mid = 0.5 * (ug + ub)

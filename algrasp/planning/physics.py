@@ -193,18 +193,22 @@ class Physics:
         return all(getattr(self, n)[0] == getattr(self, n)[1] for n in PARAMETERS)
 
     def with_range(self, name: str, span: Span) -> Physics:
-        return replace(self, **{name: span})
+        return self.with_values(**{name: span})
+
+    def with_values(self, **values: Any) -> Physics:
+        """A copy with the given fields replaced (checked again)."""
+        return replace(self, **values)
 
     def corners(self) -> Iterator[Physics]:
         """Every corner of the box of ranges (one cell each), degenerate axes once."""
         axes = [sorted(set(getattr(self, n))) for n in PARAMETERS]
         for values in itertools.product(*axes):
-            yield replace(self, **{n: (v, v) for n, v in zip(PARAMETERS, values)})
+            yield self.with_values(**{n: (v, v) for n, v in zip(PARAMETERS, values)})
 
 
 DEFAULT_PHYSICS = Physics()
-IDEAL_CELL = Physics(support_friction=0.3, jaw_friction=0.0, part_mass_kg=0.02, grip_force_n=2.0, com_tolerance=0.0,
-                     profile_tolerance=0.0, placement="centred")
+IDEAL_CELL = Physics(support_friction=(0.3, 0.3), jaw_friction=(0.0, 0.0), part_mass_kg=(0.02, 0.02),
+                     grip_force_n=(2.0, 2.0), com_tolerance=0.0, profile_tolerance=0.0, placement="centred")
 """The one ideal cell earlier plans assumed: frictionless jaws, support μ exactly 0.3,
 20 g, 2 N, the part exactly as drawn (σ only from the drawing's own error), uniform
 density and jaws centred on the part (conventions §7 alone)."""

@@ -17,7 +17,7 @@ from typing import Literal
 import numpy as np
 
 from algrasp.errors import ConfigError, NotOrientableError
-from algrasp.geometry.angles import shortest_turn, to_rad
+from algrasp.geometry.angles import shortest_turn, to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import wrap
 from algrasp.geometry.tolerances import MAX_UNCERTAINTY_RAD, PROBE_RAD, ROUNDING, SYMMETRY_TOL_RAD, UNCERTAINTY_FLOOR_RAD
@@ -287,7 +287,9 @@ def plan_once(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -
     if not (np.isfinite(min_margin_deg) and 0.0 <= min_margin_deg < 180.0):
         raise ConfigError("min_margin_deg", f"must be in [0, 180), got {min_margin_deg}")
     band = None if analysis.robust is None else analysis.robust.band
-    if band is not None and (band.kappa_d > 0.0 or band.kappa_r > 0.0):
+    robust = analysis.robust
+    if band is not None and robust is not None and (band.kappa_d > 0.0 or band.kappa_r > 0.0 or band.jaw_friction > 0.0
+                                                    or band.com_tolerance > 0.0 or robust.physics.placement == "any"):
         return _robust_plan(analysis, action, to_rad(min_margin_deg))
     # κ = 0 (no friction, exact drawing): the paper's exact model, conventions §7.
     F = transfer_for(analysis, action)
@@ -346,8 +348,8 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
     t1 = time.perf_counter()
     uncertainty = max(0.5 * (hi - lo) + GUARD_RAD + _edge_tilt(analysis, 0.5 * (lo + hi)), UNCERTAINTY_FLOOR_RAD)
     if uncertainty > MAX_UNCERTAINTY_RAD:
-        raise NotOrientableError("uncertain", f"the part ends within ±{np.degrees(uncertainty):.3g}° at best, more "
-                                 f"than the ±{np.degrees(MAX_UNCERTAINTY_RAD):g}° a plan may claim")
+        raise NotOrientableError("uncertain", f"the part ends within ±{to_deg(uncertainty):.3g}° at best, more "
+                                 f"than the ±{to_deg(MAX_UNCERTAINTY_RAD):g}° a plan may claim")
     plan = Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), False, {}, S,
                 uncertainty, {**analysis.robust.physics.to_dict(), **analysis.robust.band.to_dict()})
     ok = verify_set(plan, circle if first is None else first)

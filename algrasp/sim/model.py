@@ -161,6 +161,8 @@ class _Controller(LeafSystem):
         # regularised below the stiction speed (explicit force: keeps the step stable).
         lam = math.sqrt(self._f**2 * (vx * vx + vy * vy) + self._m**2 * w * w
                         + (self._f * self._cfg.stiction_speed_m_s) ** 2)
+        if lam == 0.0:  # no support friction (μ, m or g zero): nothing to divide
+            return 0.0, 0.0, 0.0
         fx, fy, m = -self._f**2 * vx / lam, -self._f**2 * vy / lam, -self._m**2 * w / lam
         return fx, fy, m + rx * fy - ry * fx
 

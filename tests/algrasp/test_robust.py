@@ -17,6 +17,7 @@ from hypothesis import strategies as st
 from algrasp.geometry.arcforms import document, fig11_outline, pie_outline
 from algrasp.planning.analysis import EXACT, IDEAL, Model, analyse_document
 from algrasp.planning.deadband import DEFAULT_PHYSICS, Physics
+from algrasp.planning.physics import IDEAL_CELL
 from algrasp.planning.plans import make_plan
 from tests.algrasp.brute import ExactPart, fig11, pie, run_plan, worst_miss_deg
 from tests.algrasp.helpers import wrapped_close
@@ -165,7 +166,7 @@ def test_dead_band_from_physics() -> None:
     inside = (np.hypot(*pts.T) <= 5) & (ang >= 70) & (ang <= 110)
     p = pts[inside]
     assert rbar == pytest.approx(float(np.mean(np.hypot(*(p - p.mean(axis=0)).T))), rel=5e-3)
-    assert d["stall_per_rad"] == pytest.approx(0.3 * 0.02 * 9.81 / 2.0 * rbar, rel=1e-12)
+    assert d["stall_per_rad"] == pytest.approx([0.3 * 0.02 * 9.81 / 2.0 * rbar] * 2, rel=1e-12)
     assert d["sigma_d_per_rad"] == 0.0
     cubic = analyse_document(document(fig11_outline(), "cubic"), IDEAL).to_dict()["robust"]["dead_band"]
     # ripple of the 4/3·tan(Δ/4) cubic: radial error 2.7e-4 R over its sweep, slope ~ 1e-3 R
@@ -242,7 +243,7 @@ def test_robust_plans_are_invariant_under_rigid_motion(angle: float, dx: float, 
 def test_zero_dead_band_is_the_exact_model() -> None:
     """κ = 0 (no support friction, σ = 0 on an exact drawing) gives today's exact plans."""
     doc = document(pie_outline(), "rational")
-    zero = Model(physics=Physics(support_friction=0.0, shape_tolerance=0.0))
+    zero = Model(physics=IDEAL_CELL.with_values(support_friction=(0.0, 0.0), shape_tolerance=0.0))
     for action in ("squeeze", "push_grasp"):
         a = make_plan(analyse_document(doc, zero), action).to_dict()  # type: ignore[arg-type]
         b = make_plan(analyse_document(doc, EXACT), action).to_dict()  # type: ignore[arg-type]

@@ -107,7 +107,10 @@ def _rebuild(request: dict[str, Any], options: dict[str, Any]) -> tuple[Any, Any
 
     analysis = analyse_document(request["part"], Model.from_record(options))
     action = options.get("action")
-    return analysis, None if not action else make_plan(analysis, action, options.get("min_margin_deg", 0.0))
+    limits = options.get("limits", "none") if analysis.robust is not None else "none"
+    if limits not in ("none", "headline", "all"):
+        limits = "none"
+    return analysis, None if not action else make_plan(analysis, action, options.get("min_margin_deg", 0.0), limits)
 
 
 def _replay(rec: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
