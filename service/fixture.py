@@ -90,7 +90,7 @@ def design_part(doc: dict[str, Any], opts: DesignOptions, rec: Any, analysis: An
         return out
     req = PlanRequest(best.action, opts.min_margin_deg, True, opts.gripper_profile, samples=opts.samples, seed=opts.seed,
                       placement=opts.placement, exact=opts.exact, physics=opts.physics, sim_physics=opts.sim_physics,
-                      limits="none")  # the chosen plan already carries its limits
+                      limits="headline")  # the chosen plan already carries these limits: not searched again
     res = plan_part(doc, req, rec, sim_workers=sim_workers, analysis=analysis, plan=best)  # analysed and planned once
     out["action"] = best.action
     # The sampled trajectories (100 Hz: most of a plan's bytes) stay in the run record;

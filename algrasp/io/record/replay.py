@@ -146,7 +146,9 @@ def plan_options(options: dict[str, Any], plan_doc: dict[str, Any]) -> dict[str,
     return {**options, "action": options.get("action") or plan_doc["action"],
             "min_margin_deg": options.get("min_margin_deg", design.get("min_margin_deg", 0.0)),
             "optimise": options.get("optimise", bool(design)),
-            "gripper_profile": options.get("gripper_profile", design.get("gripper_profile"))}
+            "gripper_profile": options.get("gripper_profile", design.get("gripper_profile")),
+            # a batch design plans both actions with the headline limit (the largest jaw friction)
+            "limits": options.get("limits", "headline" if "placement" in (design.get("physics") or {}) else "none")}
 
 
 def _optimised(analysis: Any, plan: Any, options: dict[str, Any], doc: dict[str, Any]) -> dict[str, Any]:
