@@ -368,7 +368,7 @@ def _edge_tilt(analysis: Analysis, theta: float) -> float:
     within ε of the part: an edge of length L lying flat on a jaw there can be tilted by
     up to 2ε/L in the real part (its end points move by ε). 0 when no edge is flat."""
     assert analysis.robust is not None
-    eps = analysis.robust.band.value_tol
+    eps = analysis.robust.band.value_err  # the drawing's error or the profile tolerance, the larger
     psi = np.pi / 2 - theta
     tilt = 0.0
     for (ax, ay), (bx, by) in analysis.part.hull.edges:

@@ -55,7 +55,7 @@ class Validation:
     placement: Placement
     sim_seconds: float
     wall_seconds: float
-    model: dict[str, float]
+    model: dict[str, Any]
     push_agreement: float | None = None  # first push within tolerance, clear samples only
     optimised: bool = False
     trajectories: tuple[list[tuple[float, ...]], ...] = ()  # per sample (t, x, y, φ, α, q_L, q_H), SI; if recorded
@@ -219,7 +219,7 @@ def validate_plan(analysis: Analysis, plan: Plan, samples: int = 36, seed: int =
     clear = [s for s in out if not s.near_unstable]
     pushes = [s.push_agrees for s in clear if s.push_agrees is not None]
     model = {"chord_error_m": geom.chord_error_m, "reach_m": geom.reach_m, "mean_radius_m": geom.mean_radius_m,
-             **{k: float(v) for k, v in asdict(cfg).items()}}
+             **{k: [float(x) for x in v] if isinstance(v, tuple) else float(v) for k, v in asdict(cfg).items()}}
     return Validation(tuple(out), sum(s.agrees for s in out) / len(out),
                       sum(s.agrees for s in clear) / len(clear) if clear else float("nan"),
                       tolerance_deg, placement, float(sum(r[2] for r in results)), wall, model,
