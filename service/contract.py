@@ -288,6 +288,10 @@ class GripperSpecOut(_Open):
     max_cycle_time_s: float | None
     mean_cycle_time_s: float | None
     actions: dict[str, int]
+    jaw_friction_max: float | None = None
+    """The largest jaw–part friction every oriented part's plan holds with (None: none is
+    limited up to μ 1)."""
+    jaw_advice: str = ""
     not_oriented: list[dict[str, Any]]
 
 

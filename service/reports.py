@@ -59,8 +59,10 @@ def report_markdown(results: list[dict[str, Any]], job: dict[str, Any]) -> str:
              f"({job['failed']} failed, {job['cancelled']} cancelled, {job['pending']} pending).", "",
              "## Gripper specification (covers every oriented part)", "",
              "| quantity | value |", "|---|---|"]
-    for key in ("jaw_opening_mm", "jaw_length_mm", "push_stroke_mm", "max_cycle_time_s", "mean_cycle_time_s"):
+    for key in ("jaw_opening_mm", "jaw_length_mm", "push_stroke_mm", "max_cycle_time_s", "mean_cycle_time_s",
+                "jaw_friction_max"):
         lines.append(f"| {key} | {_fmt(spec[key])} |")
+    lines.append(f"| jaw friction | {spec['jaw_advice']} |")
     lines.append(f"| plans | {', '.join(f'{a}: {n}' for a, n in spec['actions'].items())} |")
     lines += ["", "## Parts", "", "| " + " | ".join(COLUMNS) + " |", "|" + "---|" * len(COLUMNS)]
     lines += ["| " + " | ".join(_fmt(v).replace("|", "/") for v in _row(r).values()) + " |" for r in results]

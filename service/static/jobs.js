@@ -2,6 +2,7 @@
 // and the gripper specification (GET /v1/jobs/{id}/gripper), download the results zip.
 
 import { api, download } from "./api.js";
+import { physicsRequest } from "./physics.js";
 
 const POLL_MS = 700;
 
@@ -10,6 +11,8 @@ export async function startJob(state) {
   if (!file) throw new Error("choose a catalogue archive (zip or tar) first");
   const gripper = document.getElementById("job-gripper").value.trim();
   const options = { min_margin_deg: Number(document.getElementById("job-margin").value) };
+  const physics = physicsRequest();  // the Plan page's cell physics apply to the job too
+  if (physics) options.physics = physics;
   if (gripper) {
     try { options.gripper = JSON.parse(gripper); } catch { throw new Error("gripper profile: not valid JSON"); }
   }
@@ -80,6 +83,7 @@ function showSpec(spec) {
     ["push stroke (mm)", spec.push_stroke_mm?.toFixed(2)],
     ["max cycle time (s)", spec.max_cycle_time_s?.toFixed(2)],
     ["mean cycle time (s)", spec.mean_cycle_time_s?.toFixed(2)],
+    ["jaw friction limit", spec.jaw_advice ?? "—"],
     ["actions", Object.entries(spec.actions).map(([a, n]) => `${a}: ${n}`).join(", ")],
     ["not oriented", spec.not_oriented.map((f) => `${f.name} (${f.why})`).join("; ") || "none"],
   ].map(([k, v]) => {

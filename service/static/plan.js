@@ -5,6 +5,7 @@
 import { api } from "./api.js";
 import { isClaimed, mod, predict } from "./geom.js";
 import { drawScene, sceneExtent } from "./scene.js";
+import { describePhysics, limitsWanted, physicsRequest } from "./physics.js";
 import { linePlot } from "./svg.js";
 
 export function planRequest(state, extra = {}) {
@@ -17,6 +18,7 @@ export function planRequest(state, extra = {}) {
     part: state.part, action: document.getElementById("action").value,
     min_margin_deg: Number(document.getElementById("min-margin").value),
     exact: document.getElementById("model").value === "exact",
+    physics: physicsRequest(), limits: limitsWanted(),
     optimise: document.getElementById("optimise").checked || Boolean(profile), gripper: profile, ...extra,
   };
 }
@@ -49,6 +51,8 @@ export function showPlan(state) {
     `${finals} ± ${fmt(p.final_uncertainty_deg, 4)}°` + (p.cycle_time_s ? `; cycle time ${fmt(p.cycle_time_s)} s` : "") +
     `; run ${p.run_id}`;
   summary.dataset.steps = p.steps.length;
+  document.getElementById("plan-physics").textContent = p.dead_band ? `physics: ${describePhysics(p.dead_band)}` : "";
+  document.getElementById("plan-limits").textContent = p.limits ? `limits: ${p.limits.advice}` : "";
   const tbody = document.querySelector("#plan-steps tbody");
   tbody.replaceChildren(...p.steps.map((s, i) => {
     const tr = document.createElement("tr");

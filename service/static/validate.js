@@ -9,14 +9,15 @@ import { drawScene } from "./scene.js";
 
 export async function runValidation(state) {
   const samples = Number(document.getElementById("samples").value);
-  const placement = document.getElementById("placement").value;
+  const cells = document.getElementById("sim-physics").value;
+  const seed = Number(document.getElementById("val-seed").value) || 0;
   const progress = document.getElementById("validation-progress");
   const elapsed = document.getElementById("validation-elapsed");
   const t0 = performance.now();
   progress.hidden = false;
   const timer = setInterval(() => { elapsed.textContent = `simulating ${samples} samples… ${((performance.now() - t0) / 1000).toFixed(0)} s`; }, 250);
   try {
-    const body = planRequest(state, { validate: { samples, placement } });
+    const body = planRequest(state, { validate: { samples, seed, sim_physics: cells } });
     await ensureAnalysis(state, body.exact);
     state.plan = await api("/v1/plans", { json: body });
     state.playback = await api(`/v1/runs/${state.plan.run_id}/playback?points=400`);
@@ -33,7 +34,8 @@ export function showValidation(state) {
   document.getElementById("validation-out").hidden = false;
   document.getElementById("validation-summary").textContent = v
     ? `agreement ${(100 * v.agreement).toFixed(1)} % of ${v.samples.length} samples within ${v.tolerance_deg}° ` +
-      `(clear of unstable equilibria: ${(100 * v.agreement_clear).toFixed(1)} %); ${v.sim_seconds.toFixed(1)} s simulated in ${v.wall_seconds.toFixed(1)} s; run ${state.playback.run_id}`
+      `(clear of unstable equilibria: ${(100 * v.agreement_clear).toFixed(1)} %); ${v.sim_seconds.toFixed(1)} s simulated in ${v.wall_seconds.toFixed(1)} s; run ${state.playback.run_id}` +
+      (v.cells && v.cells.length > 1 ? "; per cell: " + v.cells.map((c) => `${c.label} ${(100 * c.agreement).toFixed(0)} %`).join("; ") : "")
     : "this run has no validation";
   const rows = (v ? v.samples : []).map((s, i) => {
     const tr = document.createElement("tr");

@@ -156,8 +156,8 @@ def test_refusal_names_the_limits_and_a_plan_at_the_limit_holds() -> None:
     """pie-20 (5 mm) cannot be oriented by push-grasp under the default ranges: the
     profile tolerance is too large. The refusal says the largest that works; a plan made
     with it holds by brute force on parts perturbed that much."""
-    from tests.algrasp.brute import pie
     from algrasp.geometry.arcforms import pie_outline
+    from tests.algrasp.brute import pie
 
     doc = document(pie_outline(), "arc")
     exact = pie()

@@ -11,7 +11,8 @@ import pytest
 
 pytest.importorskip("pydrake")
 
-from pydrake.multibody.plant import CalcContactFrictionFromSurfaceProperties  # noqa: E402
+from pydrake.geometry import SceneGraph  # noqa: E402
+from pydrake.multibody.plant import CalcContactFrictionFromSurfaceProperties, CoulombFriction  # noqa: E402
 
 from algrasp.geometry import shapes  # noqa: E402
 from algrasp.geometry.part import load_part  # noqa: E402
@@ -33,12 +34,15 @@ def _final_deg(sim: PlanarGripperSim, action: str, phi0_deg: float) -> float:
 
 def _pair_friction(sim: PlanarGripperSim) -> list[float]:
     """Drake's combined μ of each jaw–part pair, read back from the scene graph."""
-    inspector = sim.diagram.GetSubsystemByName("scene_graph").model_inspector()
-    plant = sim.plant
+    scene_graph = sim.diagram.GetSubsystemByName("scene_graph")
+    assert isinstance(scene_graph, SceneGraph)
+    inspector, plant = scene_graph.model_inspector(), sim.plant
 
-    def mu(body: str) -> object:
+    def mu(body: str) -> CoulombFriction:
         (gid,) = plant.GetCollisionGeometriesForBody(plant.GetBodyByName(body))
-        return inspector.GetProximityProperties(gid).GetProperty("material", "coulomb_friction")
+        friction = inspector.GetProximityProperties(gid).GetProperty("material", "coulomb_friction")
+        assert isinstance(friction, CoulombFriction)
+        return friction
 
     return [CalcContactFrictionFromSurfaceProperties(mu("part"), mu(jaw)).dynamic_friction()
             for jaw in ("jaw_lower", "jaw_higher")]
@@ -82,7 +86,7 @@ def test_centre_of_mass_offset_moves_the_push_boundary() -> None:
     central = M_BBo.Shift(M_BBo.get_com()).CalcRotationalInertia().get_moments()
     assert M_BBo.get_mass() == cfg.part_mass_kg
     assert central[2] == pytest.approx(cfg.part_mass_kg * ((0.01**2 + 0.01**2) / 12 - 2e-3**2), rel=1e-6)
-    for c, boundary in (((0.0, 0.0), -45.0), (offset, math.degrees(math.atan2(5.0, 3.0)) - 90.0)):
+    for boundary in (-45.0, math.degrees(math.atan2(5.0, 3.0)) - 90.0):
         assert abs(-38.0 - boundary) > 5.0  # well clear of the unstable orientation
     assert abs(_final_deg(sims[(0.0, 0.0)], "push_grasp", -38.0)) < 1.0
     assert abs(_final_deg(sims[offset], "push_grasp", -38.0) + 90.0) < 1.0
