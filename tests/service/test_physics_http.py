@@ -4,8 +4,8 @@ naming the field, a part the ranges cannot orient refused with its limits."""
 from __future__ import annotations
 
 import json
-from pathlib import Path
 from collections.abc import Iterator
+from pathlib import Path
 from typing import Any
 
 import pytest
