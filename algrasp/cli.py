@@ -367,7 +367,7 @@ def _plan_arguments(p: argparse.ArgumentParser) -> None:
     """The part and what to plan: shared by ``plan`` and ``validate``."""
     p.add_argument("part", metavar="PART.json")
     _cad_options(p)
-    p.add_argument("--action", choices=["squeeze", "push-grasp"], default="squeeze")
+    p.add_argument("--action", choices=["squeeze", "push-grasp", "push_grasp"], default="squeeze")
     p.add_argument("--min-margin-deg", type=_non_negative, default=0.0, metavar="M",
                    help="every transition must tolerate M degrees of gripper error")
     p.add_argument("--limits", action="store_true",
