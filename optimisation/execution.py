@@ -178,7 +178,8 @@ def optimise_execution(analysis: Analysis, plan: Plan, profile: GripperProfile =
     scale = meters_per_unit(analysis.part.units)
     pushes: list[PushResult | None] = [None] * len(plan.steps)
     if plan.action == "push_grasp":
-        model = push_model(analysis, mean_radius(analysis.part))
+        jaw = 0.0 if analysis.robust is None else analysis.robust.physics.jaw_friction[1]
+        model = push_model(analysis, mean_radius(analysis.part), jaw)
         pushes = list(push_distances(model, analysis, list(plan.intervals[::-1]), to_rad(profile.push_tolerance_deg),
                                      to_rad(profile.unstable_band_deg)))
     t1 = time.perf_counter()

@@ -74,6 +74,23 @@ class PushModel:
     lever: FloatArray  # q_x at theta, part units
     mean_radius: float  # c = r̄
     cover_radius: float  # a: largest distance from the centre of mass to the hull
+    height: FloatArray | None = None
+    """r(θ) at theta (part units) when the jaw has friction (None: frictionless)."""
+    jaw_friction: float = 0.0
+
+    def rate(self, q: FloatArray, r: FloatArray, c: FloatArray) -> FloatArray:
+        """|dθ/ds| with jaw friction μ (conventions §8; frictionless: |q|/(c² + q²)).
+
+        The contact sticks to the jaw while the force the sticking twist needs stays in
+        the friction cone, |q| r ≤ μ (c² + r²); then the contact moves with the jaw and
+        ω (c² + q² + r²) = |q|. Otherwise it slides and friction takes μ·r off the lever:
+        ω = (|q| − μ r) / (c² + |q| (|q| − μ r))."""
+        a = np.abs(q)
+        mu = self.jaw_friction
+        stick = a * r <= mu * (c * c + r * r)
+        lever = np.maximum(a - mu * r, 0.0)
+        slide = lever / (c * c + a * lever)
+        return np.where(stick, a / (c * c + a * a + r * r), slide)  # type: ignore[no-any-return]
 
     def path_distances(self, start: FloatArray, end: FloatArray, c: FloatArray) -> FloatArray:
         """Push distance to turn from each ``start`` to ``end`` (radians, lifted; shape
@@ -82,23 +99,32 @@ class PushModel:
         linear interpolant of q_x. O(B·PATH_STEPS), vectorised."""
         u = np.linspace(0.0, 1.0, 2 * PATH_STEPS + 1)
         theta = start[:, None] + (end - start)[:, None] * u[None, :]
-        q = np.interp(np.mod(theta, TWO_PI), self.theta, self.lever)
-        g = (c[:, None] ** 2 + q * q) / np.maximum(np.abs(q), MIN_LEVER_REL * self.cover_radius)
+        wrapped = np.mod(theta, TWO_PI)
+        q = np.interp(wrapped, self.theta, self.lever)
+        floor = MIN_LEVER_REL * self.cover_radius
+        if self.height is None:
+            g = (c[:, None] ** 2 + q * q) / np.maximum(np.abs(q), floor)
+        else:
+            r = np.interp(wrapped, self.theta, self.height)
+            g = 1.0 / np.maximum(self.rate(q, r, np.broadcast_to(c[:, None], q.shape)), floor / self.cover_radius ** 2)
         w = np.ones(2 * PATH_STEPS + 1)
         w[1:-1:2], w[2:-1:2] = 4.0, 2.0
         return np.abs((end - start) / (6 * PATH_STEPS) * (g @ w))  # type: ignore[no-any-return]
 
 
-def push_model(analysis: Analysis, mean_radius: float) -> PushModel:
+def push_model(analysis: Analysis, mean_radius: float, jaw_friction: float = 0.0) -> PushModel:
     """Tabulate q_x(θ) from the exact hull: the lowest point in the gripper frame of the
-    part at relative orientation θ is its support point in direction R(−θ)(0, −1)."""
+    part at relative orientation θ is its support point in direction R(−θ)(0, −1). With
+    jaw friction (the largest of the ranges) r(θ) too: pushes are long enough for a
+    contact that sticks."""
     part = analysis.part
     theta = np.linspace(0.0, TWO_PI, TABLE_POINTS + 1)
     pts = part.hull.support_points(-np.pi / 2 - theta) - np.asarray(part.center_of_mass)
     lever = np.sum(pts * unit(-theta), axis=-1)
     psi = np.linspace(0.0, TWO_PI, 4096, endpoint=False)
     cover = float(np.max(np.hypot(*(part.hull.support_points(psi) - np.asarray(part.center_of_mass)).T)))
-    return PushModel(theta, lever, mean_radius, cover)
+    height = None if jaw_friction <= 0.0 else np.abs(np.sum(pts * unit(np.pi / 2 - theta), axis=-1))
+    return PushModel(theta, lever, mean_radius, cover, height, jaw_friction)
 
 
 @dataclass(frozen=True)

@@ -80,7 +80,8 @@ def create_app(settings: Settings | None = None, warmup: dict[str, Any] | None =
         svc.runner.resume_all()
         sweeper = asyncio.create_task(retention_loop(svc.settings, svc.store))
         if warmup is not None:
-            plan = await run_task(svc, "slow", "warmup", plan_task, warmup, {"action": "push_grasp", "optimise": True},
+            plan = await run_task(svc, "slow", "warmup", plan_task, warmup,
+                                  {"action": "push_grasp", "optimise": True, "physics": settings.cell_physics.to_dict()},
                                   str(settings.log_dir), settings.sim_workers, timeout_s=settings.plan_time_limit_s,
                                   stage="plan")
             print(f"planned the example part {warmup.get('name')!r}: {len(plan['steps'])}-step push-grasp plan, "

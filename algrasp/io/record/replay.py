@@ -103,13 +103,12 @@ def _damaged(path: Path) -> Iterator[None]:
 def _rebuild(request: dict[str, Any], options: dict[str, Any]) -> tuple[Any, Any]:
     """Analysis and (when ``options`` name an action) plan of a recorded request."""
     from algrasp.planning.analysis import Model, analyse_document
-    from algrasp.planning.plans import make_plan
+    from algrasp.planning.plans import LimitsWanted, make_plan
 
     analysis = analyse_document(request["part"], Model.from_record(options))
     action = options.get("action")
-    limits = options.get("limits", "none") if analysis.robust is not None else "none"
-    if limits not in ("none", "headline", "all"):
-        limits = "none"
+    wanted = options.get("limits", "none") if analysis.robust is not None else "none"
+    limits: LimitsWanted = wanted if wanted in ("headline", "all") else "none"
     return analysis, None if not action else make_plan(analysis, action, options.get("min_margin_deg", 0.0), limits)
 
 
