@@ -108,7 +108,7 @@ def _rebuild(request: dict[str, Any], options: dict[str, Any]) -> tuple[Any, Any
     analysis = analyse_document(request["part"], Model.from_record(options))
     action = options.get("action")
     wanted = options.get("limits", "none") if analysis.robust is not None else "none"
-    limits: LimitsWanted = wanted if wanted in ("headline", "all") else "none"
+    limits: LimitsWanted = "headline" if wanted == "headline" else "all" if wanted == "all" else "none"
     return analysis, None if not action else make_plan(analysis, action, options.get("min_margin_deg", 0.0), limits)
 
 
