@@ -116,10 +116,29 @@ def limits(analysis: Analysis, action: str, planner: Planner, names: tuple[str, 
     assert analysis.robust is not None
     physics = analysis.robust.physics
     out: dict[str, Any] = {n: search_limit(analysis, physics, action, SEARCHES[n], planner, margin_deg) for n in names}
-    if physics.placement == "any" and action == "squeeze" and all(out[n]["value"] is None for n in names):
+    stuck = all(out[n]["value"] is None for n in names)
+    if physics.placement == "any" and action == "squeeze" and stuck:
         out["placement_centred"] = plan_exists(analysis, replace(physics, placement="centred"), action, planner, margin_deg)
+    if stuck and not out.get("placement_centred"):
+        out["ideal_cell"] = _in_ideal_cell(analysis, physics, action, planner, margin_deg)
     out["advice"] = advice(action, out, analysis.part.units)
     return out
+
+
+IDEAL_SEARCHES = ("jaw_friction_max", "profile_tolerance_max")
+
+
+def _in_ideal_cell(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float) -> dict[str, Any]:
+    """When no single range helps: whether the part is orientable in the ideal cell at the
+    middle of the ranges (centred, frictionless jaws, exact part, exact centre of mass),
+    and there how much jaw friction and profile tolerance it tolerates."""
+    mid = {k: (0.5 * sum(getattr(physics, k)),) * 2 for k in ("support_friction", "part_mass_kg", "grip_force_n")}
+    ideal = physics.with_values(**mid, jaw_friction=(0.0, 0.0), profile_tolerance=0.0, com_tolerance=0.0,
+                                placement="centred")
+    if not plan_exists(analysis, ideal, action, planner, margin_deg):
+        return {"orientable": False}
+    return {"orientable": True, **{n: search_limit(analysis, ideal, action, SEARCHES[n], planner, margin_deg)
+                                   for n in IDEAL_SEARCHES}}
 
 
 WORDS = {"jaw_friction_max": ("jaw μ", "≤", ""), "support_friction_min": ("support μ", "≥", ""),
@@ -146,4 +165,20 @@ def advice(action: str, found: dict[str, Any], units: str) -> str:
         out.append(f"no {' or '.join(dict.fromkeys(blocked))} alone makes it orientable by {what} with the other ranges as given")
     if found.get("placement_centred"):
         out.append(f"orientable by {what} with centred placement (both jaws touching together)")
+    ideal = found.get("ideal_cell")
+    if isinstance(ideal, dict):
+        out.append(_ideal_words(what, ideal, units))
     return "; ".join(out) if out else f"orientable by {what} over the whole searched span"
+
+
+def _ideal_words(what: str, ideal: dict[str, Any], units: str) -> str:
+    if not ideal.get("orientable"):
+        return f"not orientable by {what} even with centred placement, frictionless jaws and an exact part"
+    there = []
+    for name in IDEAL_SEARCHES:
+        got = ideal.get(name) or {}
+        if got.get("value") is not None and got.get("bounded"):
+            label, rel, unit = WORDS[name]
+            there.append(f"{label} {rel} {got['value']:.3g}{unit.format(units=units)}")
+    return (f"orientable by {what} with centred placement, an exact part and frictionless jaws"
+            + (f" (there: {', '.join(there)})" if there else ""))
