@@ -164,7 +164,8 @@ def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, 
     ranges; with ``placement="any"`` the squeeze starts with a partial push by either jaw
     (push-grasps are unaffected: the pushing jaw meets the part first by design)."""
     band = dead_band(part, physics, tol)
-    stall = (band.stall_lo, band.stall_hi)
+    # Creep: the weakest holding case holds nothing, so motion is possible wherever f slopes.
+    stall = (0.0 if physics.creep else band.stall_lo, band.stall_hi)
     reasons: dict[str, str] = {}
     funcs: dict[str, SetTransfer | None] = {}
     # d has two contacts: its slope and value errors are twice one jaw's.

@@ -134,12 +134,18 @@ class Physics:
     shape_tolerance: float | None = None
     profile_tolerance: float | None = None
     placement: Placement = "any"
+    creep: bool = True
+    """Whether a part may creep downhill where friction could hold it (vibration of a real
+    cell, the regularised friction of the simulation): then rest is never certain short of
+    a minimum, and a plan's uncertainty covers every dead zone down to its minimum."""
 
     def __post_init__(self) -> None:
         for name in PARAMETERS:
             object.__setattr__(self, name, _span(name, getattr(self, name)))
         for name in SCALARS:
             object.__setattr__(self, name, _length(name, getattr(self, name)))
+        if not isinstance(self.creep, bool):
+            raise ConfigError("physics.creep", f"expected true or false, got {self.creep!r}")
         if self.placement not in PLACEMENTS:
             raise ConfigError("physics.placement", f"expected one of {', '.join(PLACEMENTS)}, got {self.placement!r}")
 
@@ -208,10 +214,11 @@ class Physics:
 
 DEFAULT_PHYSICS = Physics()
 IDEAL_CELL = Physics(support_friction=(0.3, 0.3), jaw_friction=(0.0, 0.0), part_mass_kg=(0.02, 0.02),
-                     grip_force_n=(2.0, 2.0), com_tolerance=0.0, profile_tolerance=0.0, placement="centred")
+                     grip_force_n=(2.0, 2.0), com_tolerance=0.0, profile_tolerance=0.0, placement="centred", creep=False)
 """The one ideal cell earlier plans assumed: frictionless jaws, support μ exactly 0.3,
 20 g, 2 N, the part exactly as drawn (σ only from the drawing's own error), uniform
-density and jaws centred on the part (conventions §7 alone)."""
+density, jaws centred on the part and Coulomb friction that stalls without creeping
+(conventions §7 alone)."""
 PRESETS: dict[str, Physics] = {"default": DEFAULT_PHYSICS, "ideal": IDEAL_CELL}
 """Named cells: what ``--cell NAME`` and ``ALGRASP_CELL=NAME`` select."""
 

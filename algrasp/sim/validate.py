@@ -145,12 +145,14 @@ def _task(task: SimTask) -> tuple[float, list[float], float, list[tuple[float, .
     return simulate_one(task)
 
 
-def default_schedule(plan: Plan, geom: Geometry, cfg: SimConfig) -> SimSchedule:
+def default_schedule(plan: Plan, geom: Geometry, cfg: SimConfig, push_m: float = 0.0) -> SimSchedule:
     """The constant-speed profile used when no optimised execution is given: jaws open
-    to ``open_margin_factor``·reach, push ``push_distance_factor``·reach past the centre."""
+    to ``open_margin_factor``·reach, push ``push_distance_factor``·reach past the centre,
+    or ``push_m`` (m) if longer (the push law's worst case for the plan's slowest cell)."""
     W = cfg.open_margin_factor * geom.reach_m + OPEN_CLEARANCE_M
     angles = [s.gripper_angle for s in plan.steps]
-    phases = schedule(angles, plan.action, W, cfg.push_distance_factor * geom.reach_m, cfg, reach_m=geom.reach_m)
+    push = max(cfg.push_distance_factor * geom.reach_m, push_m)
+    phases = schedule(angles, plan.action, W, push, cfg, reach_m=geom.reach_m)
     return SimSchedule(tuple(phases), W)
 
 
@@ -197,7 +199,7 @@ def _near_unstable(plan: Plan, phi0: float) -> bool:
 def validate_plan(analysis: Analysis, plan: Plan, samples: int = 36, seed: int = 0,
                   placement: Placement = "centred", tolerance_deg: float = 1.0,
                   cfg: SimConfig = DEFAULT_SIM, workers: int = 2, sim_schedule: SimSchedule | None = None,
-                  record: bool = False) -> Validation:
+                  record: bool = False, push_m: float = 0.0) -> Validation:
     """Simulate the plan from ``samples`` seeded uniform initial orientations, with the
     given (optimised) schedule or the default constant-speed one; ``record`` keeps every
     simulated trajectory (at ``cfg.record_hz``)."""
@@ -206,7 +208,7 @@ def validate_plan(analysis: Analysis, plan: Plan, samples: int = 36, seed: int =
     geom = part_geometry(analysis.part, cfg)
     if sim_schedule is None:  # the default schedule's speeds are ours to scale; an execution's are not
         cfg = similar_config(cfg, geom.reach_m)
-    sch = sim_schedule or default_schedule(plan, geom, cfg)
+    sch = sim_schedule or default_schedule(plan, geom, cfg, push_m)
     offsets = rng.uniform(-0.5, 0.5, samples) * (sch.half_open_m - geom.reach_m) if placement == "random" \
         else np.zeros(samples)
     tasks = [SimTask(dict(analysis.part.source_document), cfg, sch, plan.steps[0].gripper_angle, float(p), float(o),
@@ -264,14 +266,17 @@ def validate_cells(analysis: Analysis, plan: Plan, cells: list[Any], samples: in
                    tolerance_deg: float, cfg: SimConfig, workers: int = 2, sim_schedule: SimSchedule | None = None,
                    record: bool = False) -> Validation:
     """:func:`validate_plan` in each cell (:class:`algrasp.planning.cells.Cell`), ``samples``
-    per cell (seeds differ per cell), merged: agreement over all samples, and per cell."""
+    per cell (seeds differ per cell), merged: agreement over all samples, and per cell.
+    Without an optimised schedule, push-grasps push as far as the push law needs for the
+    slowest cell of the plan's ranges (:func:`needed_push_m`)."""
     from algrasp.geometry.units import meters_per_unit
     from algrasp.sim.config import sim_config
 
     m = meters_per_unit(analysis.part.units)
+    push_m = needed_push_m(analysis, plan) if sim_schedule is None else 0.0
     runs = [validate_plan(analysis, plan, samples, seed + i, placement, tolerance_deg,
-                          sim_config(c.physics, cfg, (m * c.com_offset[0], m * c.com_offset[1])), workers, sim_schedule, record)
-            for i, c in enumerate(cells)]
+                          sim_config(c.physics, cfg, (m * c.com_offset[0], m * c.com_offset[1])), workers, sim_schedule, record,
+                          push_m) for i, c in enumerate(cells)]
     out = [s for v in runs for s in v.samples]
     clear = [s for s in out if not s.near_unstable]
     pushes = [s.push_agrees for s in clear if s.push_agrees is not None]
@@ -288,3 +293,28 @@ def _worst(v: Validation, plan: Plan) -> float:
     """Largest distance (degrees) of a simulated end from the nearest claimed orientation."""
     return max(min(_angle_err_deg(to_rad(s.simulated_deg), f) for f in plan.final_orientations) if plan.bounds is not None
                else _angle_err_deg(to_rad(s.simulated_deg), to_rad(s.predicted_deg)) for s in v.samples)
+
+
+PUSH_MARGIN = 1.2
+"""Default-schedule pushes are this much longer than the push law's worst case (the law
+is quasi-static; the simulated part also has inertia and a compliant contact)."""
+
+
+def needed_push_m(analysis: Analysis, plan: Plan) -> float:
+    """The longest push (m) the push law needs over the plan's steps, with the plan's
+    largest jaw friction (``optimisation.push``); 0 for squeezes or without the extra."""
+    if plan.action != "push_grasp":
+        return 0.0
+    try:
+        from optimisation.profile import DEFAULT_PROFILE
+        from optimisation.push import push_distances, push_model
+    except ImportError:  # pragma: no cover - the optimisation extra is optional
+        return 0.0
+    from algrasp.geometry.units import meters_per_unit
+    from algrasp.planning.deadband import mean_radius
+
+    jaw = 0.0 if analysis.robust is None else analysis.robust.physics.jaw_friction[1]
+    model = push_model(analysis, mean_radius(analysis.part), jaw)
+    found = push_distances(model, analysis, list(plan.intervals[::-1]), to_rad(DEFAULT_PROFILE.push_tolerance_deg),
+                           to_rad(DEFAULT_PROFILE.unstable_band_deg))
+    return PUSH_MARGIN * meters_per_unit(analysis.part.units) * max((r.distance for r in found), default=0.0)
