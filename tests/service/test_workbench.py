@@ -204,3 +204,20 @@ def test_runs_list_opens_a_run(page: Any, server: Server, pie: dict[str, Any]) -
     shot(page, "5-runs")
     page.click("#run-open")
     page.wait_for_selector("#page-plan:not([hidden]) #plan-summary[data-steps='3']")
+
+
+def test_physics_ranges_reach_the_plan_and_its_limits_show(page: Any) -> None:
+    """The Plan page's cell physics go into the request; the page shows them and the
+    jaw-friction limit the service returned."""
+    page.select_option("#example", "bracket")
+    page.wait_for_selector("#plot-d svg")
+    page.click("button[data-page=plan]")
+    page.fill("#phys-jaw_friction", "0,0.2")
+    page.select_option("#phys-placement", "centred")
+    with page.expect_request(lambda r: r.url.endswith("/v1/plans")) as req:
+        plan = plan_in_page(page, "squeeze", "robust")
+    assert req.value.post_data_json["physics"] == {"jaw_friction": [0, 0.2], "placement": "centred"}
+    assert plan["dead_band"]["jaw_friction"] == [0, 0.2]
+    assert "jaw μ 0–0.2" in page.inner_text("#plan-physics")
+    limit = plan["limits"]["jaw_friction_max"]["value"]
+    assert f"jaw μ ≤ {limit:.3g}" in page.inner_text("#plan-limits")
