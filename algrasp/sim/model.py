@@ -44,6 +44,17 @@ from algrasp.sim.config import BODY_GYRATION_M2, DEFAULT_SIM, MIN_THICKNESS_M, P
 from algrasp.sim.geometry import extent_midpoint, part_geometry
 
 FRICTIONLESS = CoulombFriction(0.0, 0.0)
+SOLVER_FALLBACKS: tuple[tuple[str, float], ...] = (("polygon", 1.0), ("triangle", 1.0), ("triangle", 0.5))
+"""Numerical variants of one model, tried in order when Drake's SAP solver fails on a run:
+(contact surface representation, time-step factor). With jaw friction SAP's Newton
+iteration sometimes fails to converge while every point of a patch sits on its friction
+cone's edge (a part creeping at the edge of its sticky band just after the jaw force
+reaches its cap): 6 of 64 lens squeezes at μ 0.4, 1 of 64 ellipse ones at μ 0.2. Any
+perturbation of the problem escapes the failure; no single model knob removed it. The
+triangle quadrature (several points per contact polygon) rescued 5 of those 6 at 1 ms,
+and all 6 at 0.5 ms, ending within 0.01° of where the other steps and quadratures put
+those parts. Polygons stay the default: triangles cost 1.4–1.9× the wall time on
+frictionless squeezes."""
 
 
 class _RigidPlaneNote(logging.Filter):
@@ -93,9 +104,10 @@ def part_inertia(cfg: SimConfig, polar_per_area_m2: float, thick_m: float) -> Sp
 
 
 class _Controller(LeafSystem):
-    """Support friction on the part (ellipsoidal limit surface) and the desired state of
-    the gripper and jaw actuators along the schedule (their PD loops run implicitly in
-    the plant's SAP solver, with the jaw force capped by the actuators' effort limit)."""
+    """Support friction on the part (ellipsoidal limit surface about its true centre of
+    mass, ``cfg.com_offset_m`` from the drawn one) and the desired state of the gripper and
+    jaw actuators along the schedule (their PD loops run implicitly in the plant's SAP
+    solver, with the jaw force capped by the actuators' effort limit)."""
 
     def __init__(self, nq: int, nv: int, idx: dict[str, tuple[int, int]], cfg: SimConfig,
                  f_max: float, m_max: float, outline: FloatArray) -> None:
@@ -172,17 +184,28 @@ class _Controller(LeafSystem):
         out.SetFromVector([g, lo, hi, 0.0, 0.0, 0.0])
 
 
+def plant_config(cfg: SimConfig, variant: int = 0) -> MultibodyPlantConfig:
+    """Discrete SAP, hydroelastic contact, at ``cfg.time_step_s`` (s) times the step
+    factor of :data:`SOLVER_FALLBACKS` ``[variant]``, with its surface representation."""
+    surface, step_factor = SOLVER_FALLBACKS[variant]
+    return MultibodyPlantConfig(time_step=cfg.time_step_s * step_factor, discrete_contact_approximation="sap",
+                                contact_model="hydroelastic_with_fallback", contact_surface_representation=surface)
+
+
 class PlanarGripperSim:
     """Diagram of part + gripper; reusable for many runs of plans with the same action."""
 
-    def __init__(self, part: Part, cfg: SimConfig = DEFAULT_SIM) -> None:
-        self.part, self.cfg = part, cfg
+    def __init__(self, part: Part, cfg: SimConfig = DEFAULT_SIM, variant: int = 0) -> None:
+        """``variant`` indexes :data:`SOLVER_FALLBACKS` (0: the model as configured; the
+        plant steps at ``cfg.time_step_s`` times the variant's factor)."""
+        self.part, self.cfg, self.variant = part, cfg, variant
         self.geom = part_geometry(part, cfg)
         self._jaw_geometry: list[Any] = []
+        self._fallback: PlanarGripperSim | None = None
+        self.fallback_runs = 0  # runs whose result came from a fallback variant
+        self.sim_seconds = 0.0  # simulated time of the last run (s)
         builder = DiagramBuilder()
-        mbp_cfg = MultibodyPlantConfig(time_step=cfg.time_step_s, discrete_contact_approximation="sap",
-                                       contact_model="hydroelastic_with_fallback")
-        plant, scene_graph = AddMultibodyPlant(mbp_cfg, builder)
+        plant, scene_graph = AddMultibodyPlant(plant_config(cfg, variant), builder)
         plant.mutable_gravity_field().set_gravity_vector([0.0, 0.0, 0.0])  # support friction is modelled
         self._add_bodies(plant)
         plant.Finalize()
@@ -249,7 +272,25 @@ class PlanarGripperSim:
         action up to ``offset_m`` along its closing axis. Returns the final φ (rad,
         unwrapped), φ at each checkpoint (schedule time), and, if asked, samples
         (t, x, y, φ, α, q_lower, q_higher). Simulated time runs ahead of schedule time
-        by the waits for the part to settle (:attr:`sim_seconds` after the run)."""
+        by the waits for the part to settle (:attr:`sim_seconds` after the run).
+
+        If Drake's solver fails, the run is repeated from the start on the next of
+        :data:`SOLVER_FALLBACKS` (built once, on first need); its simulator then holds
+        the final state. The last variant's failure is raised."""
+        try:
+            return self._run(phases, phi0, offset_m, alpha0, half_open_m, record, centring, checkpoints)
+        except RuntimeError:
+            if self.variant + 1 >= len(SOLVER_FALLBACKS):
+                raise
+        if self._fallback is None:
+            self._fallback = PlanarGripperSim(self.part, self.cfg, self.variant + 1)
+        result = self._fallback.run(phases, phi0, offset_m, alpha0, half_open_m, record, centring, checkpoints)
+        self.sim_seconds, self.fallback_runs = self._fallback.sim_seconds, self.fallback_runs + 1
+        return result
+
+    def _run(self, phases: list[Phase], phi0: float, offset_m: float, alpha0: float, half_open_m: float,
+             record: bool, centring: bool, checkpoints: tuple[float, ...]) -> tuple[float, list[float], list[tuple[float, ...]]]:
+        """One run on this variant's diagram (see :meth:`run`)."""
         self.controller.set_phases(phases)
         self.controller.centring = centring
         ctx = self.simulator.get_mutable_context()
