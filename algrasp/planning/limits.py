@@ -106,7 +106,8 @@ def search_limit(analysis: Analysis, physics: Physics, action: str, s: Search, p
     for _ in range(BISECTIONS):
         mid = 0.5 * (ug + ub)
         ug, ub = (mid, ub) if ok(math.exp(mid) - v0) else (ug, mid)
-    return {"value": max(math.exp(ug) - v0, 0.0), "bounded": True}
+    value = math.exp(ug) - v0
+    return {"value": value if value > v0 else 0.0, "bounded": True}  # below v0: only the search's own resolution
 
 
 def limits(analysis: Analysis, action: str, planner: Planner, names: tuple[str, ...] = tuple(SEARCHES),
