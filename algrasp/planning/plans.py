@@ -346,7 +346,7 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
     k = int(round(2 * np.pi / T))
     finals = sorted(wrap(0.5 * (lo + hi) + i * T, 2 * np.pi, ROUNDING) for i in range(k))
     t1 = time.perf_counter()
-    uncertainty = max(0.5 * (hi - lo) + GUARD_RAD + _edge_tilt(analysis, 0.5 * (lo + hi)), UNCERTAINTY_FLOOR_RAD)
+    uncertainty = max(0.5 * (hi - lo) + GUARD_RAD + _edge_tilt(analysis, lo, hi), UNCERTAINTY_FLOOR_RAD)
     if uncertainty > MAX_UNCERTAINTY_RAD:
         raise NotOrientableError("uncertain", f"the part ends within ±{to_deg(uncertainty):.3g}° at best, more "
                                  f"than the ±{to_deg(MAX_UNCERTAINTY_RAD):g}° a plan may claim")
@@ -363,19 +363,23 @@ EDGE_NORMAL_RAD = 1e-6
 """A hull edge whose normal is this close to the jaws' normal lies flat on a jaw."""
 
 
-def _edge_tilt(analysis: Analysis, theta: float) -> float:
-    """How far (radians) the final orientation may move because the drawing is only
-    within ε of the part: an edge of length L lying flat on a jaw there can be tilted by
-    up to 2ε/L in the real part (its end points move by ε). 0 when no edge is flat."""
+def _edge_tilt(analysis: Analysis, lo: float, hi: float) -> float:
+    """How far (radians) the final orientations may move because the drawing is only
+    within ε of the part: an edge of length L that can lie flat on a jaw anywhere in the
+    final interval [lo, hi] (relative, radians) can be tilted by up to 2ε/L in the real
+    part (its end points move by ε), and it may then come to rest that much beyond the
+    interval. 0 when no edge can lie flat there."""
     assert analysis.robust is not None
     eps = analysis.robust.band.value_err  # the drawing's error or the profile tolerance, the larger
-    psi = np.pi / 2 - theta
     tilt = 0.0
     for (ax, ay), (bx, by) in analysis.part.hull.edges:
-        normal = np.arctan2(-(bx - ax), by - ay)
-        off = (normal - psi) % np.pi
-        if min(off, np.pi - off) <= EDGE_NORMAL_RAD:
-            tilt = max(tilt, 2.0 * eps / float(np.hypot(bx - ax, by - ay)))
+        length = float(np.hypot(bx - ax, by - ay))
+        t = 2.0 * eps / length
+        # the edge is flat on a jaw at θ with π/2 − θ ≡ its normal (mod π)
+        flat = np.pi / 2 - np.arctan2(-(bx - ax), by - ay)
+        rel = (flat - lo + t + EDGE_NORMAL_RAD) % np.pi
+        if rel <= (hi - lo) + 2.0 * (t + EDGE_NORMAL_RAD):
+            tilt = max(tilt, t)
     return tilt
 
 

@@ -27,6 +27,17 @@ def _workers(pid: int) -> list[psutil.Process]:
     return [p for p in psutil.Process(pid).children(recursive=True) if "spawn_main" in " ".join(p.cmdline())]
 
 
+def _wait_busy(pid: int, before: dict[int, float], cpu_s: float = 0.3, limit_s: float = 60.0) -> None:
+    """Until some worker has used ``cpu_s`` more CPU than in ``before`` (an event, not a
+    wall-clock guess: a loaded machine only makes it later)."""
+    deadline = time.monotonic() + limit_s
+    while time.monotonic() < deadline:
+        if any(p.cpu_times().user - before.get(p.pid, 0.0) >= cpu_s for p in _workers(pid)):
+            return
+        time.sleep(0.02)
+    raise AssertionError("no worker started the request")
+
+
 def _plan(c: httpx.Client, name: str) -> httpx.Response:
     return c.post("/v1/plans", json={"part": {**SQUARE, "name": name}}, timeout=60)
 
@@ -37,9 +48,10 @@ def test_worker_killed_mid_request_is_503_then_the_service_goes_on(tmp_path: Pat
         with s.client() as c:
             assert _plan(c, "warm").status_code == 200
             out: dict[str, Any] = {}
-            slow = threading.Thread(target=lambda: out.update(r=c.post("/v1/analyses", json=bezier_blob(6000, 3))))
+            before = {p.pid: p.cpu_times().user for p in _workers(s.proc.pid)}
+            slow = threading.Thread(target=lambda: out.update(r=c.post("/v1/analyses", json=bezier_blob(12000, 3))))
             slow.start()
-            time.sleep(1.0)
+            _wait_busy(s.proc.pid, before)  # a worker is computing the request: kill it mid-request
             for p in _workers(s.proc.pid):
                 p.kill()
             slow.join(60)

@@ -54,11 +54,13 @@ def test_bad_ranges_are_422_naming_the_field(server: Server, physics: dict[str, 
     assert field in json.dumps(r.json())
 
 
-def test_unorientable_under_the_ranges_is_refused_with_limits(real: Server, pie: dict[str, Any]) -> None:
+def test_unorientable_under_the_ranges_is_refused_with_limits(real: Server) -> None:
+    """The bracket cannot be squeezed into an orientation lying anywhere between the jaws:
+    the refusal says centred placement or a push-grasp would do."""
     with real.client() as c:
-        r = c.post("/v1/plans", json={"part": pie, "action": "push_grasp"})
+        r = c.post("/v1/plans", json={"part": BRACKET, "action": "squeeze"})
     assert r.status_code == 422, r.text
     err = r.json()["error"]
     assert err["type"] == "not_orientable"
-    assert err["limits"]["profile_tolerance_max"]["value"] > 0.0
-    assert "profile tolerance ≤" in err["message"]
+    assert err["limits"]["placement_centred"] is True and err["limits"]["push_grasp_orients"] is True
+    assert "centred placement" in err["message"] and "push-grasp plan exists" in err["message"]

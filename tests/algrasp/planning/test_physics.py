@@ -152,28 +152,34 @@ def test_plans_hold_in_every_sampled_cell(name: str, make: object, action: str, 
         assert worst_miss_deg(finals, plan) <= plan["final_uncertainty_deg"] + GRID_SLACK_DEG, (stall, mu_j)
 
 
-def test_refusal_names_the_limits_and_a_plan_at_the_limit_holds() -> None:
-    """pie-20 (5 mm) cannot be oriented by push-grasp under the default ranges: the
-    profile tolerance is too large. The refusal says the largest that works; a plan made
-    with it holds by brute force on parts perturbed that much."""
-    from algrasp.geometry.arcforms import pie_outline
-    from tests.algrasp.brute import pie
+def _star_polygon(seed: int, n: int = 7, size: float = 20.0) -> np.ndarray:
+    """A star-shaped polygon of n vertices (sorted random angles, radii 0.5–1 of size/2)."""
+    rng = np.random.default_rng(seed)
+    a = np.sort(rng.uniform(0.0, 2 * math.pi, n))
+    r = rng.uniform(0.5, 1.0, n) * size / 2
+    return np.column_stack([r * np.cos(a), r * np.sin(a)]).round(4)
 
-    doc = document(pie_outline(), "arc")
-    exact = pie()
-    doc["center_of_mass"] = list(exact.com)
+
+def test_refusal_names_the_limits_and_a_plan_at_the_limit_holds() -> None:
+    """A 20 mm polygon cannot be squeezed into an orientation under the default ranges:
+    its profile tolerance is too large. The refusal says the largest that works; a plan
+    made with it holds by brute force on parts perturbed that much, pushed off-centre."""
+    pts = _star_polygon(8)
+    doc = {"name": "star-8", "units": "mm", "polygon": pts.tolist()}
+    a = analyse_document(doc, Model())
+    exact = ExactPart(pts, (), tuple(a.part.center_of_mass))  # type: ignore[arg-type]
     with pytest.raises(NotOrientableError) as err:
-        make_plan(analyse_document(doc, Model()), "push_grasp")
+        make_plan(a, "squeeze")
     limit = err.value.limits["profile_tolerance_max"]  # type: ignore[index]
     assert limit["bounded"] and limit["value"] > 0.0
-    assert "profile tolerance ≤" in err.value.message
+    assert "profile tolerance ≤" in err.value.message and "a push-grasp plan exists" in err.value.message
     at_limit = DEFAULT_PHYSICS.with_values(profile_tolerance=limit["value"])
-    plan = make_plan(analyse_document(doc, Model(physics=at_limit)), "push_grasp").to_dict()
+    plan = make_plan(analyse_document(doc, Model(physics=at_limit)), "squeeze").to_dict()
     band = plan["dead_band"]
     rng = np.random.default_rng(2)
     for stall, mu_j in _cells(at_limit, band["mean_radius"], band["com_tolerance"], 4, rng):
         real = _perturbed(exact, limit["value"], band["com_tolerance"], rng)
-        finals = _run_cell(real, plan, stall, mu_j, False, rng)
+        finals = _run_cell(real, plan, stall, mu_j, True, rng)
         assert worst_miss_deg(finals, plan) <= plan["final_uncertainty_deg"] + GRID_SLACK_DEG
 
 
