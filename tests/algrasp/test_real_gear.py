@@ -10,7 +10,7 @@ import numpy as np
 import shapely
 
 from algrasp.io.cad import import_bytes, import_file
-from algrasp.planning.analysis import EXACT, IDEAL, ROBUST, analyse_document
+from algrasp.planning.analysis import EXACT, IDEAL, analyse_document
 from algrasp.planning.plans import make_plan
 from tests.algrasp.meshes import extrude_stl
 
@@ -26,7 +26,7 @@ def _stl_doc() -> dict:
 
 
 def test_gear_drawing_has_the_tooth_period() -> None:
-    a = analyse_document(import_file(str(GEAR)), ROBUST).to_dict()
+    a = analyse_document(import_file(str(GEAR)), IDEAL).to_dict()
     assert a["robust"]["squeeze"]["symmetry_period_deg"] == 18.0
 
 

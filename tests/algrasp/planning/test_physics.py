@@ -133,8 +133,8 @@ def _cells(physics: Physics, rbar: float, eps_c: float, n: int, rng: np.random.G
 CASES = [
     ("gpolygon", _generalized_polygon, "push_grasp", DEFAULT_PHYSICS),
     ("lens", _lens, "squeeze", DEFAULT_PHYSICS),
-    ("gpolygon-jaw-0.3", _generalized_polygon, "squeeze",
-     DEFAULT_PHYSICS.with_values(jaw_friction=(0.0, 0.3), placement="centred")),
+    ("gpolygon-jaw-0.15", _generalized_polygon, "squeeze",
+     DEFAULT_PHYSICS.with_values(jaw_friction=(0.0, 0.15), placement="centred")),
 ]
 
 

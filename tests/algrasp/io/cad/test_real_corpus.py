@@ -93,11 +93,11 @@ def test_real_gears_have_the_tooth_period(path: Path) -> None:
     """An N-tooth gear repeats every 360°/N; the diameter function also every 180°, so
     the squeeze period is 360°/N for even N and 180°/N for odd N (issue 16: symmetry to
     tolerance, on tessellated drawings with up to 800 segments)."""
-    from algrasp.planning.analysis import ROBUST, analyse_document
+    from algrasp.planning.analysis import IDEAL, analyse_document
 
     n = int(path.stem.rsplit("-", 1)[-1])
     doc = import_bytes(path.name, path.read_bytes())
-    period = analyse_document(doc, ROBUST).to_dict()["robust"]["squeeze"]["symmetry_period_deg"]
+    period = analyse_document(doc, IDEAL).to_dict()["robust"]["squeeze"]["symmetry_period_deg"]
     assert period == pytest.approx(360.0 / n if n % 2 == 0 else 180.0 / n, abs=1e-9)
 
 
