@@ -296,6 +296,8 @@ def print_validation(v: Any) -> None:
           f"{100 * v.agreement_clear:.1f}% of those more than 2° from an unstable equilibrium")
     if v.push_agreement is not None:
         print(f"first push ends within {v.tolerance_deg:g}° of its fixed point: {100 * v.push_agreement:.1f}% (clear samples)")
+    for c in v.cells if len(v.cells) > 1 or (v.cells and v.cells[0]["label"] != "nominal") else ():
+        print(f"cell {c['label']}: {100 * c['agreement']:.0f}% of {c['samples']} (worst {c['worst_error_deg']:.2f}° off)")
     print(f"simulated {v.sim_seconds:.1f} s in {v.wall_seconds:.1f} s wall "
           f"({v.sim_seconds / v.wall_seconds:.2f}× real time); collision chord error "
           f"{1e6 * v.model['chord_error_m']:.2f} µm")
