@@ -169,11 +169,15 @@ def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, 
     reasons: dict[str, str] = {}
     funcs: dict[str, SetTransfer | None] = {}
     # d has two contacts: its slope and value errors are twice one jaw's.
-    for name, f, sigma, eps, err, mu in (
-            ("squeeze", d, band.sigma_d, 2.0 * band.value_tol, 2.0 * band.value_err, band.jaw_friction),
-            ("push", r, band.sigma_r, band.value_tol_r, band.value_err + band.com_tolerance, 0.0)):
+    # Shallow basins: the real part's f is within the profile tolerance per contact (and
+    # r within ε_c more), so a basin less than twice that deep may not be one.
+    for name, f, sigma, eps, err, mu, depth in (
+            ("squeeze", d, band.sigma_d, 2.0 * band.value_tol, 2.0 * band.value_err, band.jaw_friction,
+             4.0 * band.profile_floor),
+            ("push", r, band.sigma_r, band.value_tol_r, band.value_err + band.com_tolerance, 0.0,
+             2.0 * (band.profile_floor + band.com_tolerance))):
         try:
-            funcs[name] = set_transfer(f, stall, sigma, eps, tol.angle_rad, mu, err)
+            funcs[name] = set_transfer(f, stall, sigma, eps, tol.angle_rad, mu, err, depth)
         except NotOrientableError as e:
             funcs[name], reasons[name] = None, str(e)
     sq, pu = funcs["squeeze"], funcs["push"]

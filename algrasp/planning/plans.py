@@ -290,7 +290,7 @@ def plan_once(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -
     robust = analysis.robust
     if band is not None and robust is not None and (band.kappa_d > 0.0 or band.kappa_r > 0.0 or band.jaw_friction > 0.0
                                                     or band.com_tolerance > 0.0 or robust.physics.placement == "any"):
-        return _robust_plan(analysis, action, to_rad(min_margin_deg))
+        return _robust_plan_verified(analysis, action, to_rad(min_margin_deg))
     # κ = 0 (no friction, exact drawing): the paper's exact model, conventions §7.
     F = transfer_for(analysis, action)
     t0 = time.perf_counter()
@@ -320,6 +320,24 @@ def _set_for(analysis: Analysis, action: Action) -> SetTransfer:
                                  f"with the dead band every orientation may stay where it is: no {what} plan can orient "
                                  "the part (its diameter/radius slopes never beat the support friction and shape tolerance)")
     return S
+
+
+RETRY_MARGINS_RAD = (0.0, 0.008726646259971648, 0.03490658503988659)  # +0°, +0.5°, +2°
+"""Extra margins a robust plan is made with again when it does not verify: Algorithm A′
+places intervals from interval images, and a single orientation whose image is wide (a
+shallow basin that may go either way) can fall just outside; verification is the truth,
+so a plan is only returned once it verifies."""
+
+
+def _robust_plan_verified(analysis: Analysis, action: Action, margin: float) -> Plan:
+    """:func:`_robust_plan`, again with more margin while it does not verify."""
+    for extra in RETRY_MARGINS_RAD:
+        try:
+            return _robust_plan(analysis, action, margin + extra)
+        except NotOrientableError as e:
+            if e.reason != "verification_failed" or extra == RETRY_MARGINS_RAD[-1]:
+                raise
+    raise AssertionError("unreachable")
 
 
 def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:

@@ -230,6 +230,34 @@ def _permissions(g: FloatArray, v: FloatArray, stall: tuple[float, float], sigma
     return np.asarray(right.any(axis=axes)), np.asarray(left.any(axis=axes)), np.asarray(rest.any(axis=axes))
 
 
+def shallow_basins(values: FloatArray, depth: float) -> np.ndarray:
+    """Cells (cyclic sequence of f at cell starts) of a basin whose minimum lies less than
+    ``depth`` below the lower of its two bounding maxima, up to that rim: the real f
+    (within depth/2 of the drawn one) may have no minimum there. O(m).
+
+    >>> shallow_basins(np.array([5, 4, 3, 2.9, 2.95, 2, 1, 2, 3, 4.0]), 0.1).astype(int).tolist()
+    [0, 0, 0, 1, 1, 0, 0, 0, 0, 0]
+    """
+    m = len(values)
+    out = np.zeros(m, dtype=bool)
+    step = np.sign(np.diff(np.append(values, values[0])))
+    nz = np.nonzero(step)[0]
+    if depth <= 0.0 or len(nz) < 2:
+        return out
+    s = step[nz]
+    turn = s != np.roll(s, 1)  # the sign changes at nz[k]: an extremum at its start index
+    idx, kinds = nz[turn], s[turn]  # kinds +1: a minimum (f rises after it), −1: a maximum
+    if len(idx) < 2:
+        return out
+    for k in np.nonzero(kinds > 0)[0].tolist():
+        lo, hi = idx[k - 1], idx[(k + 1) % len(idx)]  # the maxima around minimum idx[k]
+        rim = min(values[lo], values[hi])
+        if rim - values[idx[k]] < depth:
+            span = np.arange(lo, hi + (m if hi < lo else 0) + 1) % m
+            out[span[values[span] <= rim]] = True  # the basin below its lower rim
+    return out
+
+
 def _run_edges(flags: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """For each cell i (cyclic, lifted indices): the first cell of the run of True flags
     containing it, and the first False cell after it. Vectorised over three copies."""
@@ -332,19 +360,25 @@ def _rest_zones(nodes: FloatArray, T: float, rest: np.ndarray, P: float) -> tupl
 
 
 def set_transfer(f: SupportPairFunction, stall: tuple[float, float], sigma: float, value_tol: float, tol_rad: float,
-                 jaw_friction: float = 0.0, value_err: float | None = None) -> SetTransfer:
+                 jaw_friction: float = 0.0, value_err: float | None = None, shallow: float = 0.0) -> SetTransfer:
     """F_κ of d or r (see module docs) over a stall range ``(s_lo, s_hi)`` and, for a
     squeeze, the largest jaw friction. ``value_tol`` judges the drawing's symmetry;
     ``value_err`` (default the same) bounds how far the real f is from the drawn one
-    (the barriers: the manufacturing profile tolerance counts here). Raises NotOrientableError when the part may turn
+    (the barriers: the manufacturing profile tolerance counts here); basins of f less
+    than ``shallow`` deep may be left either way (:func:`shallow_basins`). Raises NotOrientableError when the part may turn
     without end. O((c + b)·K·log) for c grid cells, b breakpoints, K symmetric copies."""
     P = f.period
     T = tolerant_symmetry(f, value_tol)
     x, kink = _nodes(f, T)
     g, v = _samples(f, x, kink, T)
     right, left, rest = _permissions(g, v, stall, sigma, jaw_friction)
+    err = value_tol if value_err is None else value_err
+    # A drawn minimum shallower than the manufacturing tolerance may be no minimum of the
+    # real part (nor of the simulation's compliant contact): its basin may go either way.
+    basin = shallow_basins(v[:, 0, :].T.ravel(), shallow).reshape(v.shape[2], -1).any(axis=0)
+    right, left = right | basin, left | basin
     # The energy bound holds for the weakest stall: every cell lowers f at least that fast.
-    br, bl = barriers(x, T, v[:, 0, :].T, v.max(axis=1).T, stall[0], value_tol if value_err is None else value_err)
+    br, bl = barriers(x, T, v[:, 0, :].T, v.max(axis=1).T, stall[0], err)
     cells = _Cells(x, T, right, left, rest, br, bl)
     lower, upper = _bounds(cells, tol_rad)
     zones = _rest_zones(x, T, rest, T)

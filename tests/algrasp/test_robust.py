@@ -178,7 +178,7 @@ def test_more_friction_never_shortens_the_guarantee() -> None:
     doc = document(fig11_outline(), "arc")
     zones = []
     for mu in (0.1, 0.3, 0.6):
-        r = analyse_document(doc, Model(physics=Physics(support_friction=mu))).to_dict()["robust"]
+        r = analyse_document(doc, Model(physics=IDEAL_CELL.with_values(support_friction=(mu, mu)))).to_dict()["robust"]
         zones.append(sum(b - a for a, b in r["squeeze"]["dead_zones_deg"]))
     assert zones[0] < zones[1] < zones[2]
 
