@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 
 from algrasp.geometry.arcforms import document, fig11_outline, pie_outline
 from algrasp.planning.analysis import EXACT, IDEAL, Model, analyse_document
-from algrasp.planning.deadband import DEFAULT_PHYSICS, Physics
+from algrasp.planning.deadband import DEFAULT_PHYSICS
 from algrasp.planning.physics import IDEAL_CELL
 from algrasp.planning.plans import make_plan
 from tests.algrasp.brute import ExactPart, fig11, pie, run_plan, worst_miss_deg
