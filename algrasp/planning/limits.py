@@ -147,6 +147,10 @@ WORDS = {"jaw_friction_max": ("jaw μ", "≤", ""), "support_friction_min": ("su
          "part_mass_kg_max": ("part mass", "≤", " kg"), "profile_tolerance_max": ("profile tolerance", "≤", " {units}")}
 
 
+ZERO_WORDS = {"jaw_friction_max": "frictionless jaws only (a linear bearing)",
+              "profile_tolerance_max": "an exact part only (no profile tolerance)"}
+
+
 def advice(action: str, found: dict[str, Any], units: str) -> str:
     """The limits in words, e.g. "orientable by squeeze with jaw μ ≤ 0.08 (mount PTFE pads
     or a linear bearing above that)"."""
@@ -158,6 +162,8 @@ def advice(action: str, found: dict[str, Any], units: str) -> str:
             continue
         if got["value"] is None:
             blocked.append(label)
+        elif got["bounded"] and got["value"] == 0.0 and name in ZERO_WORDS:
+            within.append(ZERO_WORDS[name])
         elif got["bounded"]:
             tail = " (mount PTFE pads or a linear bearing above that)" if name == "jaw_friction_max" else ""
             within.append(f"{label} {rel} {got['value']:.3g}{unit.format(units=units)}{tail}")
