@@ -50,4 +50,4 @@ def test_refusal_prints_the_limits(capsys: pytest.CaptureFixture[str]) -> None:
     code = main(["plan", str(ROOT / "algrasp" / "examples" / "pie-20.json"), "--no-record", "--cell", "default",
                  "--action", "push_grasp"])
     err = capsys.readouterr().err
-    assert code == 2 and "profile tolerance ≤" in err
+    assert code == 2 and "an exact part only (no profile tolerance)" in err
