@@ -10,10 +10,10 @@ import pytest
 from algrasp import api
 from algrasp.geometry import angles, arcforms, recognise, units
 from algrasp.io import jsonguard
-from algrasp.planning import documents, sampled
+from algrasp.planning import cells, documents, physics, sampled, setvalued
 from service import settings
 
-MODULES = [recognise, arcforms, angles, units, documents, sampled, api, jsonguard, settings]
+MODULES = [recognise, arcforms, angles, units, documents, sampled, api, jsonguard, settings, physics, cells, setvalued]
 
 
 @pytest.mark.parametrize("module", MODULES, ids=lambda m: m.__name__)
