@@ -96,6 +96,14 @@ class ConfigError(AlgraspError):
         self.problem = problem
 
 
+class AmbiguousRequestError(ConfigError):
+    """A request that can be read two ways — a header given twice — is refused, not
+    guessed at (``field``: the header): HTTP 400."""
+
+    kind = "ambiguous_request"
+    http_status = 400
+
+
 class RecordError(AlgraspError):
     """A run record is missing, damaged or holds no such content (``record``: its file name)."""
 

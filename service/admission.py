@@ -56,8 +56,14 @@ class Gate:
             return {p: self._pools[p] for p in self.capacity}
 
 
-def client_id(authorization: str | None, address: str | None) -> str:
-    """Who is asking: a hash of the bearer key (never the key itself), else the address."""
-    if authorization:
-        return "key:" + hashlib.sha256(authorization.encode("utf-8", "replace")).hexdigest()[:16]
+def client_id(key: str | None, address: str | None) -> str:
+    """Who is asking: a hash of the (checked, normalised) bearer key — never the key
+    itself —, else the address (no keys configured: a header cannot make a new client)."""
+    if key:
+        return key_owner(key)
     return f"addr:{address or 'unknown'}"
+
+
+def key_owner(key: str) -> str:
+    """The owner id of runs and jobs made with ``key`` (a hash: the key is never stored)."""
+    return "key:" + hashlib.sha256(key.encode("utf-8", "replace")).hexdigest()[:16]

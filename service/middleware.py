@@ -18,7 +18,7 @@ from prometheus_client import CollectorRegistry, Counter, Gauge, Histogram
 from sqlalchemy.exc import SQLAlchemyError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
-from algrasp.errors import AlgraspError, LimitExceededError, StorageError
+from algrasp.errors import AlgraspError, AmbiguousRequestError, LimitExceededError, StorageError
 from service.store import cause
 
 ASGIApp = Callable[[dict[str, Any], Callable[[], Awaitable[dict[str, Any]]], Callable[[dict[str, Any]], Awaitable[None]]],
@@ -63,6 +63,10 @@ def install_error_handlers(app: FastAPI) -> None:
         return error_response(500, {"type": "internal_error", "message": f"{type(exc).__name__}"})
 
 
+SINGLE_HEADERS = frozenset({b"content-type", b"content-length", b"transfer-encoding", b"authorization", b"host"})
+"""Headers a request may carry at most once (RFC 9110 §5.3: they are not lists)."""
+
+
 class RequestGuard:
     """Every request body is read whole before the app sees it: over ``max_bytes``
     (declared or streamed, chunked included) → 413; a JSON body must pass
@@ -77,6 +81,10 @@ class RequestGuard:
     async def __call__(self, scope: dict[str, Any], receive: Any, send: Any) -> None:
         if scope["type"] != "http":
             return await self.app(scope, receive, send)
+        names = [name.lower() for name, _ in scope.get("headers", [])]
+        repeated = sorted({n.decode("latin-1") for n in names if n in SINGLE_HEADERS and names.count(n) > 1})
+        if repeated:  # the guard and the framework must read the same value: refuse, don't pick one
+            return await _send_error(send, 400, AmbiguousRequestError(repeated[0], "given more than once: send it once"))
         headers = dict(scope.get("headers", []))
         declared = headers.get(b"content-length")
         if declared is not None and declared.isdigit() and int(declared) > self.max_bytes:
@@ -122,14 +130,20 @@ async def _send_error(send: Any, status: int, exc: AlgraspError) -> None:
     await send({"type": "http.response.body", "body": body})
 
 
+def bearer_key(authorization: str | None) -> str | None:
+    """The key of ``Authorization: Bearer KEY`` (scheme in any case, spaces around the
+    key ignored), or None. One parser for authentication and for the rate limit, so
+    ``Bearer  K`` and ``Bearer K`` are one client."""
+    scheme, _, key = (authorization or "").strip().partition(" ")
+    return key.strip() or None if scheme.lower() == "bearer" else None
+
+
 def check_key(authorization: str | None, keys: frozenset[str]) -> bool:
     """Whether ``Authorization: Bearer KEY`` names a configured key (constant-time)."""
     if not keys:
         return True
-    if not authorization or not authorization.startswith("Bearer "):
-        return False
-    given = authorization[len("Bearer "):].strip().encode()
-    return any(hmac.compare_digest(given, k.encode()) for k in keys)
+    given = bearer_key(authorization)
+    return given is not None and any(hmac.compare_digest(given.encode(), k.encode()) for k in keys)
 
 
 class Metrics:

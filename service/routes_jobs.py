@@ -18,7 +18,7 @@ from service.catalogue import Entry, read_archive
 from service.contract import CancelOut, GripperSpecOut, JobCreatedOut, JobOut, JobsOut, inline, ok
 from service.models import LIMIT, OFFSET, JobBody, JobOptions
 from service.reports import report_zip, results_jsonl
-from service.runtime import check_samples, run_task, who
+from service.runtime import check_samples, owner, run_task, sees, who
 
 router = APIRouter(prefix="/v1/jobs", tags=["jobs"])
 JOB_ID = r"^[0-9a-f]{32}$"
@@ -80,7 +80,8 @@ async def create_job(request: Request) -> JSONResponse:
         from optimisation.profile import profile_from_dict
 
         profile_from_dict(opts.gripper, "options.gripper")
-    job_id = await asyncio.to_thread(svc.store.create_job, opts.design(svc.settings.cell_physics), entries)
+    job_id = await asyncio.to_thread(svc.store.create_job, opts.design(svc.settings.cell_physics), entries, None,
+                                     owner(who(request)))
     svc.runner.start(job_id)
     return JSONResponse({"id": job_id, "state": "queued", "total": len(entries), "links": _links(job_id)},
                         status_code=202, headers={"Location": f"/v1/jobs/{job_id}"})
@@ -92,11 +93,13 @@ def _links(job_id: str) -> dict[str, str]:
 
 @router.get("", response_model=None, responses=ok(JobsOut))
 async def list_jobs(request: Request, limit: int = LIMIT, offset: int = OFFSET) -> dict[str, Any]:
-    return {"jobs": await asyncio.to_thread(_svc(request).store.jobs, limit, offset)}
+    return {"jobs": await asyncio.to_thread(_svc(request).store.jobs, limit, offset, sees(request))}
 
 
 async def _progress(request: Request, job_id: str) -> dict[str, Any]:
-    p = await asyncio.to_thread(_svc(request).store.progress, job_id)
+    """The job's progress; 404 for an unknown job and for another key's (no leak of which)."""
+    store, viewer = _svc(request).store, sees(request)
+    p = await asyncio.to_thread(lambda: store.progress(job_id) if store.owns_job(job_id, viewer) else None)
     if p is None:
         raise HTTPException(404, f"no job {job_id!r}")
     return p  # type: ignore[no-any-return]

@@ -7,13 +7,17 @@ a 422 naming the record."""
 from __future__ import annotations
 
 import asyncio
+import os
 import shutil
+import stat
 import uuid
+from collections.abc import Iterator
+from contextlib import suppress
 from pathlib import Path as FilePath
 from typing import Any
 
 from fastapi import APIRouter, HTTPException, Path, Query, Request
-from fastapi.responses import FileResponse, JSONResponse, PlainTextResponse, Response
+from fastapi.responses import JSONResponse, PlainTextResponse, Response, StreamingResponse
 from prometheus_client import CONTENT_TYPE_LATEST, generate_latest
 
 from algrasp.errors import AlgraspError
@@ -21,7 +25,7 @@ from service.catalogue import canonical_hash
 from service.contract import BINARY, HealthOut, PlaybackOut, ReadyOut, RunDetailOut, RunsOut, media, ok
 from service.executor import ping
 from service.models import LIMIT, OFFSET
-from service.runtime import AUTH, VERSION, ServiceState, index_run, run_task, state, who
+from service.runtime import AUTH, VERSION, ServiceState, index_run, run_task, sees, state, who
 from service.store import cause
 from service.work import figure_task
 
@@ -39,7 +43,7 @@ async def healthz(request: Request) -> dict[str, Any]:
     return {"status": "ok", "version": VERSION, "executor": svc.runner.executor.name, "auth_required": bool(svc.settings.keys)}
 
 
-@router.get("/v1/schemas/part", tags=["service"],
+@router.get("/v1/schemas/part", tags=["service"], dependencies=AUTH,
             responses=media("JSON Schema (draft 2020-12)", {"application/schema+json": {"type": "object"}}))
 async def part_schema_endpoint() -> JSONResponse:
     """The part document's JSON Schema (conventions §5), as in ``algrasp/schemas/part.schema.json``."""
@@ -94,8 +98,8 @@ def _records(log_dir: FilePath) -> str:
         probe.unlink()
         free = shutil.disk_usage(log_dir).free
     except OSError as exc:
-        return f"cannot write in {log_dir}: {exc.strerror or exc}"
-    return "ok" if free >= MIN_FREE_BYTES else f"only {free // 1_000_000} MB free in {log_dir}"
+        return f"cannot write in the record directory: {exc.strerror or type(exc).__name__}"
+    return "ok" if free >= MIN_FREE_BYTES else f"only {free // 1_000_000} MB free in the record directory"
 
 
 @router.get("/metrics", tags=["service"], dependencies=AUTH, response_class=PlainTextResponse)
@@ -111,7 +115,7 @@ async def metrics(request: Request) -> Response:
 
 @router.get("/v1/runs", tags=["runs"], dependencies=AUTH, response_model=None, responses=ok(RunsOut))
 async def runs(request: Request, limit: int = LIMIT, offset: int = OFFSET) -> dict[str, Any]:
-    total, rows = await asyncio.to_thread(state(request).store.runs, limit, offset)
+    total, rows = await asyncio.to_thread(state(request).store.runs, limit, offset, sees(request))
     return {"total": total, "limit": limit, "offset": offset, "runs": rows}
 
 
@@ -128,11 +132,24 @@ async def run(request: Request, run_id: str = Path(pattern=RUN_ID)) -> dict[str,
         return {**row, "record": None, "record_error": exc.message}
 
 
-@router.get("/v1/runs/{run_id}/record", tags=["runs"], dependencies=AUTH, response_class=FileResponse,
+@router.get("/v1/runs/{run_id}/record", tags=["runs"], dependencies=AUTH, response_class=StreamingResponse,
             responses=media("the MCAP record", {"application/octet-stream": BINARY}))
-async def record(request: Request, run_id: str = Path(pattern=RUN_ID)) -> FileResponse:
+async def record(request: Request, run_id: str = Path(pattern=RUN_ID)) -> StreamingResponse:
     _, path = _run_file(request, run_id)
-    return FileResponse(path, media_type="application/octet-stream", filename=path.name)
+    try:  # O_NOFOLLOW: a link put in the record directory is not followed (to /etc/passwd, say)
+        f = os.fdopen(os.open(path, os.O_RDONLY | os.O_NOFOLLOW), "rb")
+    except OSError:
+        raise HTTPException(404, f"no run {run_id!r}") from None
+    size = os.fstat(f.fileno()).st_size
+    return StreamingResponse(_chunks(f), media_type="application/octet-stream",
+                             headers={"Content-Disposition": f'attachment; filename="{path.name}"',
+                                      "Content-Length": str(size)})
+
+
+def _chunks(f: Any, size: int = 1 << 20) -> Iterator[bytes]:
+    with f:
+        while chunk := f.read(size):
+            yield chunk
 
 
 @router.get("/v1/runs/{run_id}/playback", tags=["runs"], dependencies=AUTH, response_model=None, responses=ok(PlaybackOut))
@@ -154,10 +171,21 @@ async def figure(request: Request, run_id: str = Path(pattern=RUN_ID)) -> Respon
     svc = state(request)
     _, path = _run_file(request, run_id)
     key = canonical_hash(["figure", VERSION, run_id, path.stat().st_mtime_ns])
-    if key not in svc.cache:
-        svc.cache[key] = await run_task(svc, "slow", who(request), figure_task, str(path),
-                                        timeout_s=svc.settings.plan_time_limit_s, stage="figure")
-    return Response(svc.cache[key], media_type="image/svg+xml")
+    svg = svc.cache.get(key)
+    if svg is None:
+        svg = await run_task(svc, "slow", who(request), figure_task, str(path),
+                             timeout_s=svc.settings.plan_time_limit_s, stage="figure")
+        with suppress(ValueError):  # larger than the whole cache (ALGRASP_CACHE_BYTES): answered, not kept
+            svc.cache[key] = svg
+    return Response(svg, media_type="image/svg+xml")
+
+
+def _regular(path: FilePath) -> bool:
+    """A regular file itself, not a link to one (lstat)."""
+    try:
+        return stat.S_ISREG(os.lstat(path).st_mode)
+    except OSError:
+        return False
 
 
 def _run_file(request: Request, run_id: str) -> tuple[dict[str, Any], FilePath]:
@@ -165,9 +193,9 @@ def _run_file(request: Request, run_id: str) -> tuple[dict[str, Any], FilePath]:
     (deleted by retention). ``run_id`` matched RUN_ID, so the path stays inside the log
     directory."""
     svc = state(request)
-    row = svc.store.run(run_id)
+    row = svc.store.run(run_id, sees(request))  # another key's run is "no run", as an unknown one
     path = svc.settings.log_dir / f"{run_id}.mcap"
-    if row is None or not path.is_file():
+    if row is None or not _regular(path):
         raise HTTPException(404, f"no run {run_id!r}")
     return row, path
 

@@ -17,7 +17,7 @@ from algrasp.io.record.recorder import discard_partial
 from service.admission import Gate, client_id
 from service.executor import Executor
 from service.jobs import JobRunner
-from service.middleware import Metrics, check_key
+from service.middleware import Metrics, bearer_key, check_key
 from service.settings import Settings
 from service.store import Store, cause
 
@@ -49,7 +49,24 @@ def require_key(request: Request, authorization: str | None = Header(None)) -> N
 
 
 def who(request: Request) -> str:
-    return client_id(request.headers.get("authorization"), request.client.host if request.client else None)
+    """The admission client: the key's owner id when keys are configured, else the address."""
+    key = bearer_key(request.headers.get("authorization")) if state(request).settings.keys else None
+    return client_id(key, request.client.host if request.client else None)
+
+
+def owner(client: str) -> str | None:
+    """The owner stored with a run or job made by ``client`` (None: authentication off)."""
+    return client if client.startswith("key:") else None
+
+
+def sees(request: Request) -> str | None:
+    """Whose runs and jobs the caller may read: its own (an owner id), or all (None) for an
+    admin key or when authentication is off."""
+    settings = state(request).settings
+    key = bearer_key(request.headers.get("authorization"))
+    if not settings.keys or (key is not None and settings.is_admin(key)):
+        return None
+    return owner(who(request)) or "key:none"
 
 
 async def run_task(svc: ServiceState, pool: str, client: str, fn: Any, *args: Any, timeout_s: float, stage: str,
@@ -70,7 +87,7 @@ async def run_task(svc: ServiceState, pool: str, client: str, fn: Any, *args: An
     if not isinstance(out, tuple):
         return out
     response, run, err = out
-    await index_run(svc, run)
+    await index_run(svc, {**run, "owner": owner(client)})
     if err is not None:
         raise err
     return response

@@ -7,6 +7,7 @@ environment or a key file outside the repository.
 
 from __future__ import annotations
 
+import hmac
 from functools import cached_property
 from pathlib import Path
 
@@ -47,6 +48,8 @@ class Settings(BaseSettings):
         database_url: SQLAlchemy URL of the job/run store (default SQLite in ``log_dir``).
         api_keys: comma-separated bearer keys; empty and no ``api_keys_file``: no auth.
         api_keys_file: a file with one key per line (``#`` comments allowed).
+        admin_keys: comma-separated bearer keys that may also read and cancel every
+            other key's runs and jobs (each key otherwise sees only its own).
         scheduler: Dask scheduler address (``tcp://host:8786``); empty: local process pool.
         workers: local worker processes for plans and batch parts.
         sim_workers: Drake worker processes per validation.
@@ -79,6 +82,7 @@ class Settings(BaseSettings):
     database_url: str = ""
     api_keys: str = Field(default="", repr=False)
     api_keys_file: Path | None = None
+    admin_keys: str = Field(default="", repr=False)
     scheduler: str = ""
     workers: int = Field(default=2, ge=1, le=64)
     sim_workers: int = Field(default=2, ge=1, le=64)
@@ -134,15 +138,33 @@ class Settings(BaseSettings):
 
     @cached_property
     def keys(self) -> frozenset[str]:
-        """The configured API keys (empty: authentication off)."""
-        keys = {k.strip() for k in self.api_keys.split(",") if k.strip()}
+        """The configured API keys, admin keys included (empty: authentication off).
+        Keys configured but none given (``","``, a file of comments only) is an error:
+        a typo must not turn authentication off."""
+        keys = _split(self.api_keys) | self.admin_keys_set
         if self.api_keys_file is not None:
             try:
                 lines = self.api_keys_file.read_text(encoding="utf-8").splitlines()
             except OSError as exc:
                 raise ConfigError("ALGRASP_API_KEYS_FILE", f"cannot read {self.api_keys_file}: {exc.strerror}") from None
             keys |= {ln.strip() for ln in lines if ln.strip() and not ln.lstrip().startswith("#")}
+        configured = self.api_keys.strip() or self.admin_keys.strip() or self.api_keys_file is not None
+        if configured and not keys:
+            raise ConfigError("ALGRASP_API_KEYS", "API keys are configured but none is given (an empty list or a key "
+                              "file of comments only): give a key, or unset the variables to turn authentication off")
         return frozenset(keys)
+
+    @cached_property
+    def admin_keys_set(self) -> frozenset[str]:
+        return _split(self.admin_keys)
+
+    def is_admin(self, key: str) -> bool:
+        """Whether ``key`` is an admin key (constant-time)."""
+        return any(hmac.compare_digest(key.encode(), k.encode()) for k in self.admin_keys_set)
+
+
+def _split(text: str) -> frozenset[str]:
+    return frozenset(k.strip() for k in text.split(",") if k.strip())
 
 
 def load_settings(**overrides: object) -> Settings:

@@ -35,6 +35,7 @@ class RunRow(Base):
     status: Mapped[str] = mapped_column(String(16))
     error: Mapped[dict[str, Any] | None] = mapped_column(JSON)
     job_id: Mapped[str | None] = mapped_column(String(32), index=True)
+    owner: Mapped[str | None] = mapped_column(String(40), index=True)
 
 
 class HealthRow(Base):
@@ -52,6 +53,7 @@ class JobRow(Base):
     options: Mapped[dict[str, Any]] = mapped_column(JSON)
     total: Mapped[int] = mapped_column(Integer)
     catalogue_hash: Mapped[str | None] = mapped_column(String(64), index=True)
+    owner: Mapped[str | None] = mapped_column(String(40), index=True)
 
 
 class PartRow(Base):
@@ -96,6 +98,7 @@ class Store:
         if sqlite:
             event.listen(self.engine, "connect", _sqlite_pragmas)
         Base.metadata.create_all(self.engine)
+        _add_missing_columns(self.engine)
         self._session = sessionmaker(self.engine, expire_on_commit=False)
 
     # ------------------------------------------------------------------ runs
@@ -116,27 +119,30 @@ class Store:
         with self._session.begin() as s:
             s.merge(HealthRow(id=1, checked_at=time.time()))
 
-    def runs(self, limit: int, offset: int) -> tuple[int, list[dict[str, Any]]]:
+    def runs(self, limit: int, offset: int, owner: str | None = None) -> tuple[int, list[dict[str, Any]]]:
+        """A page of runs, newest first (``owner``: only that owner's; None: all)."""
+        mine = [] if owner is None else [RunRow.owner == owner]
         with self._session() as s:
-            total = s.scalar(select(func.count()).select_from(RunRow)) or 0
-            rows = s.scalars(select(RunRow).order_by(RunRow.created_at.desc()).limit(limit).offset(offset)).all()
+            total = s.scalar(select(func.count()).select_from(RunRow).where(*mine)) or 0
+            rows = s.scalars(select(RunRow).where(*mine).order_by(RunRow.created_at.desc()).limit(limit).offset(offset)).all()
             return total, [_run_dict(r) for r in rows]
 
-    def run(self, run_id: str) -> dict[str, Any] | None:
+    def run(self, run_id: str, owner: str | None = None) -> dict[str, Any] | None:
+        """One run (None when unknown or, with ``owner``, someone else's)."""
         with self._session() as s:
             r = s.get(RunRow, run_id)
-            return None if r is None else _run_dict(r)
+            return None if r is None or (owner is not None and r.owner != owner) else _run_dict(r)
 
     # ------------------------------------------------------------------ jobs
     def create_job(self, options: dict[str, Any], parts: list[tuple[str, dict[str, Any], dict[str, Any] | None]],
-                   catalogue_hash: str | None = None) -> str:
+                   catalogue_hash: str | None = None, owner: str | None = None) -> str:
         """A queued job; a part given with an error (a file that could not be read) is
         stored as failed at once."""
         job_id = uuid.uuid4().hex
         now = time.time()
         with self._session.begin() as s:
             s.add(JobRow(id=job_id, created_at=now, updated_at=now, state="queued", options=options, total=len(parts),
-                         catalogue_hash=catalogue_hash))
+                         catalogue_hash=catalogue_hash, owner=owner))
             s.add_all(PartRow(job_id=job_id, idx=i, name=n[:256], document=d, status="failed" if e else "pending", attempts=0,
                               error=e, finished_at=now if e else None) for i, (n, d, e) in enumerate(parts))
         return job_id
@@ -149,6 +155,11 @@ class Store:
     def job(self, job_id: str) -> JobRow | None:
         with self._session() as s:
             return s.get(JobRow, job_id)
+
+    def owns_job(self, job_id: str, owner: str | None) -> bool:
+        """Whether the job exists and ``owner`` may see it (None: anyone)."""
+        job = self.job(job_id)
+        return job is not None and (owner is None or job.owner == owner)
 
     def set_state(self, job_id: str, state: str, only_if: tuple[str, ...] = UNFINISHED) -> bool:
         with self._session.begin() as s:
@@ -186,9 +197,10 @@ class Store:
             return
         now = time.time()
         with self._session.begin() as s:
+            owner = s.scalar(select(JobRow.owner).where(JobRow.id == job_id))
             for o in outcomes:
                 if o.run is not None:
-                    s.merge(_run_row(job_id, o.run))
+                    s.merge(_run_row(job_id, {**o.run, "owner": owner}))
                 s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx == o.idx, PartRow.status == "pending")
                           .values(status=o.status, result=o.result, error=o.error, run_id=o.run_id, finished_at=now))
 
@@ -226,9 +238,11 @@ class Store:
             parts = dict(s.execute(select(PartRow.status, func.count()).group_by(PartRow.status)).all())
         return {"jobs": {k: int(v) for k, v in jobs.items()}, "parts": {k: int(v) for k, v in parts.items()}}
 
-    def jobs(self, limit: int, offset: int) -> list[dict[str, Any]]:
+    def jobs(self, limit: int, offset: int, owner: str | None = None) -> list[dict[str, Any]]:
+        """A page of jobs, newest first (``owner``: only that owner's; None: all)."""
+        mine = [] if owner is None else [JobRow.owner == owner]
         with self._session() as s:
-            rows = s.scalars(select(JobRow).order_by(JobRow.created_at.desc()).limit(limit).offset(offset)).all()
+            rows = s.scalars(select(JobRow).where(*mine).order_by(JobRow.created_at.desc()).limit(limit).offset(offset)).all()
             return [{"id": j.id, "state": j.state, "total": j.total, "created_at": j.created_at} for j in rows]
 
     def results(self, job_id: str) -> list[dict[str, Any]]:
@@ -247,6 +261,18 @@ def _run_dict(r: RunRow) -> dict[str, Any]:
 def _run_row(job_id: str | None, run: dict[str, Any]) -> RunRow:
     """The index row of a recorded run (``job_id`` None: not part of a job)."""
     return RunRow(job_id=job_id, created_at=time.time(), **run)
+
+
+def _add_missing_columns(engine: Any) -> None:
+    """Columns added since a database was created (``owner``), added in place: a store
+    made by an older version opens, its rows owned by no key (admin keys see them)."""
+    from sqlalchemy import inspect, text
+
+    have = {t: {c["name"] for c in inspect(engine).get_columns(t)} for t in ("runs", "jobs")}
+    with engine.begin() as conn:
+        for table in ("runs", "jobs"):
+            if "owner" not in have[table]:
+                conn.execute(text(f"ALTER TABLE {table} ADD COLUMN owner VARCHAR(40)"))
 
 
 def _sqlite_pragmas(conn: Any, _record: Any) -> None:

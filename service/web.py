@@ -20,6 +20,7 @@ from fastapi.responses import FileResponse
 from fastapi.staticfiles import StaticFiles
 
 from service.contract import ERRORS, ExamplesOut, LayoutOut, ok
+from service.runtime import AUTH
 
 STATIC = Path(__file__).with_name("static")
 LAYOUT = STATIC / "foxglove-layout.json"
@@ -37,7 +38,7 @@ async def index() -> FileResponse:
     return FileResponse(STATIC / "index.html", media_type="text/html", headers={"Cache-Control": "no-cache"})
 
 
-@router.get("/v1/layouts/foxglove.json", tags=["runs"], response_model=None, responses=ok(LayoutOut))
+@router.get("/v1/layouts/foxglove.json", tags=["runs"], dependencies=AUTH, response_model=None, responses=ok(LayoutOut))
 async def foxglove_layout() -> dict[str, Any]:
     """A Foxglove layout for run records: the 3D scene (part and jaws), φ/α and jaw
     plots of ``/sim/state``, and the ``/plan``, ``/validation`` and ``/run`` messages.
@@ -51,7 +52,7 @@ def _examples() -> dict[str, dict[str, Any]]:
     return {p.stem: json.loads(p.read_text()) for p in sorted(EXAMPLES.glob("*.json"))}
 
 
-@router.get("/v1/examples", tags=["service"], response_model=None, responses=ok(ExamplesOut))
+@router.get("/v1/examples", tags=["service"], dependencies=AUTH, response_model=None, responses=ok(ExamplesOut))
 async def examples() -> dict[str, Any]:
     """The bundled example part documents, by name."""
     return {"examples": [{"name": k, "part": v} for k, v in _examples().items()]}

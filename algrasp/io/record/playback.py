@@ -13,7 +13,7 @@ from typing import Any
 
 from algrasp.errors import RecordError
 from algrasp.geometry.units import meters_per_unit
-from algrasp.io.record.replay import read_record
+from algrasp.io.record.replay import checked, read_record
 
 MAX_POINTS = 2000
 _LENGTHS = {"x_m": "x", "y_m": "y", "lower_jaw_m": "lower_jaw", "higher_jaw_m": "higher_jaw"}
@@ -53,7 +53,10 @@ def playback(path: Path, points: int = 400) -> dict[str, Any]:
     rec = read_record(path, {"/request", "/plan", "/validation", "/sim/state"})
     if "/request" not in rec:
         raise RecordError(path.name, f"RUN: {path.name} has no /request: nothing to play back")
-    request = rec["/request"][0]
+    request = checked(rec["/request"][0], "/request", path.name)
+    for topic in ("/plan", "/validation"):  # the states are checked as they are read
+        for message in rec.get(topic, [])[:1]:
+            checked(message, topic, path.name)
     try:
         units = str(request["part"].get("units", "mm")) if isinstance(request["part"], dict) else "mm"
         return {"run_id": request["run_id"], "part": request["part"], "options": request["options"],

@@ -87,8 +87,9 @@ def discard_partial(directory: Path, run_id: str) -> None:
 def _storage_error(directory: Path, err: OSError) -> Exception:
     from algrasp.errors import StorageError
 
-    return StorageError("records", f"cannot write run records in {directory}: {err.strerror or err} "
-                        "(disk full or read-only?)", 30.0)
+    # No path in the message: it reaches HTTP clients, who must not learn the server's layout.
+    return StorageError("records", f"cannot write run records in the record directory: "
+                        f"{err.strerror or type(err).__name__} (disk full or read-only?)", 30.0)
 
 
 class RunRecorder:

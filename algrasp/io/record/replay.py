@@ -6,7 +6,7 @@ complete chunk (``read_record(..., partial_ok=True)``).
 
 from __future__ import annotations
 
-import json
+import functools
 import math
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -14,9 +14,13 @@ from pathlib import Path
 from typing import Any
 
 from algrasp.errors import AlgraspError, PartDocumentError, RecordError
+from algrasp.io.jsonguard import JsonBounds, parse_json
 
 COMPARE_REL = 1e-9
 """Recomputed numbers within this relative difference (or this absolute) are equal."""
+RECORD_BOUNDS = JsonBounds(max_string_chars=1_000_000, max_nodes=20_000_000)
+"""A record message is read as strictly as a request (finite numbers, valid Unicode),
+with room for what the recorder writes (a part document of 100k vertices)."""
 IGNORED_KEYS = {"timings_s", "optimisation_timings_s"}
 """Wall-clock fields differ on every run by nature; they are not differences."""
 
@@ -37,7 +41,11 @@ def read_record(path: Path, topics: set[str] | None = None, partial_ok: bool = F
             messages = reader.iter_messages(topics=list(topics) if topics else None, log_time_order=not partial_ok)
             for _schema, channel, message in messages:
                 if channel.message_encoding == "json":
-                    out.setdefault(channel.topic, []).append(json.loads(message.data))
+                    # The request guard's parser: NaN, lone surrogates, 400-digit numbers
+                    # in a damaged record must not reach a JSON response or a plot.
+                    out.setdefault(channel.topic, []).append(parse_json(message.data, channel.topic, RECORD_BOUNDS))
+    except AlgraspError as exc:
+        raise RecordError(path.name, f"RUN: {path.name} is damaged: {exc.message}") from None
     except (McapError, EOFError, ValueError) as exc:
         if not partial_ok:
             raise RecordError(path.name, f"RUN: {path.name} is not a complete MCAP record ({str(exc)[:200]})") from None
@@ -47,20 +55,41 @@ def read_record(path: Path, topics: set[str] | None = None, partial_ok: bool = F
 
 
 def summary(path: Path) -> dict[str, Any]:
-    """The ``/run`` message of a record (its main figures)."""
+    """The ``/run`` message of a record (its main figures), checked against its schema
+    (a list, a string or a number where the summary should be is a damaged record)."""
     runs = read_record(path, {"/run"}).get("/run", [])
     if not runs:
         raise RecordError(path.name, f"RUN: {path.name} has no /run summary (unfinished run?)")
-    return {**runs[-1], "record_path": str(path)}
+    checked(runs[-1], "/run", path.name)
+    return dict(runs[-1])
+
+
+def checked(message: Any, topic: str, record: str) -> Any:
+    """``message`` if it matches the schema ``topic`` was recorded with, else RecordError."""
+    error = next(iter(_validator(topic).iter_errors(message)), None)
+    if error is not None:
+        where = "/".join(str(x) for x in error.absolute_path) or "(the message)"
+        raise RecordError(record, f"RUN: {record} is damaged: {topic} {where}: {error.message[:120]}")
+    return message
+
+
+@functools.cache
+def _validator(topic: str) -> Any:
+    from jsonschema import Draft202012Validator
+
+    from algrasp.io.record.schemas import TOPICS
+
+    return Draft202012Validator(TOPICS[topic])
 
 
 def list_runs(directory: Path) -> list[dict[str, Any]]:
-    """Summaries of every record in ``directory``, newest first; a damaged record is
-    listed as ``{"run_id", "status": "damaged", "error"}`` and the listing goes on."""
+    """Summaries (and ``record_path``) of every record in ``directory``, newest first; a
+    damaged record is listed as ``{"run_id", "status": "damaged", "error"}`` and the
+    listing goes on."""
     out = []
     for p in sorted(directory.glob("*.mcap"), reverse=True):
         try:
-            out.append(summary(p))
+            out.append({**summary(p), "record_path": str(p)})
         except AlgraspError as exc:
             out.append({"run_id": p.stem, "status": "damaged", "error": exc.message, "record_path": str(p)})
     return out
@@ -73,6 +102,10 @@ def replay(path: Path) -> dict[str, Any]:
     rec = read_record(path)
     if "/request" not in rec:
         raise RecordError(path.name, f"RUN: {path.name} has no /request: nothing to replay")
+    checked(rec["/request"][0], "/request", path.name)
+    for topic in ("/plan", "/run"):
+        for message in rec.get(topic, []):
+            checked(message, topic, path.name)
     with _damaged(path):
         return _replay(rec)
 
@@ -84,6 +117,8 @@ def recorded_plan(path: Path) -> tuple[Any, Any]:
     rec = read_record(path, {"/request", "/plan"})
     if "/plan" not in rec or "/request" not in rec:
         raise RecordError(path.name, f"RUN: {path.name} has no plan (an analysis, or a failed request)")
+    checked(rec["/request"][0], "/request", path.name)
+    checked(rec["/plan"][0], "/plan", path.name)
     with _damaged(path):
         request, plan_doc = rec["/request"][0], rec["/plan"][0]
         return _rebuild(request, plan_options(request["options"], plan_doc))

@@ -17,7 +17,7 @@ REQUEST: dict[str, Any] = {
     "required": ["run_id", "command", "part", "options"],
     "properties": {
         "run_id": {"type": "string"},
-        "command": {"enum": ["analyze", "plan", "validate", "service", "batch"]},
+        "command": {"enum": ["analyze", "plan", "validate", "service", "batch", "design"]},
         "part": _OBJ,
         "options": _OBJ,
     },
