@@ -60,6 +60,9 @@ def _members(data: bytes, max_bytes: int) -> Iterator[tuple[str, int, Any]]:
         if len(infos) > MAX_MEMBERS:
             raise LimitExceededError("archive", f"more than {MAX_MEMBERS} entries")
         for info in infos:
+            if info.flag_bits & 0x1 and info.filename.lower().endswith(PART_SUFFIXES):  # open() would raise RuntimeError
+                raise PartDocumentError("archive", f"member {_text(info.filename)!r} is encrypted: send an archive "
+                                        "without a password")
             if not info.is_dir():
                 yield _text(info.filename), info.file_size, lambda i=info: _bounded(zf.open(i), max_bytes)
         return

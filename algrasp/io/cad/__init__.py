@@ -7,14 +7,17 @@ These adapters read bytes and import their libraries lazily; the core never impo
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Callable
 from pathlib import Path, PurePath
-from typing import Any
+from typing import Any, TypeVar
 
-from algrasp.errors import ConfigError, LimitExceededError, PartDocumentError
+from algrasp.errors import AlgraspError, ConfigError, LimitExceededError, PartDocumentError
 from algrasp.geometry.limits import DEFAULT_LIMITS
 from algrasp.geometry.tolerances import TINY
 
+T = TypeVar("T")
 MAX_WARNINGS = 20
 """Warnings kept in a document's ``source`` (ezdxf may log hundreds on a damaged file)."""
 CAD_SUFFIXES = (".dxf", ".svg", ".stl", ".obj", ".ply", ".off", ".glb")
@@ -52,6 +55,31 @@ def _need_cad_extra(suffix: str) -> None:
         raise ConfigError("FILE", f"reading {suffix} files needs {reader}: pip install 'algrasp[cad]'")
 
 
+def _library_faults(fn: Callable[..., T]) -> Callable[..., T]:
+    """Any fault of a reader library (ezdxf, svgelements, trimesh, shapely, numpy) on a
+    file it cannot handle becomes a PartDocumentError naming the file, never a traceback:
+    the adapters name the entity where they can, this is the net under them."""
+
+    @functools.wraps(fn)
+    def guarded(filename: str, *args: Any, **kw: Any) -> T:
+        try:
+            return fn(filename, *args, **kw)
+        except AlgraspError:
+            raise
+        except (ValueError, TypeError, AttributeError, KeyError, IndexError, RuntimeError, ArithmeticError,
+                AssertionError, RecursionError, LookupError, OSError) as exc:
+            raise PartDocumentError(PurePath(filename).name or "file", f"the file cannot be read ({type(exc).__name__}: "
+                                    f"{str(exc)[:200]})") from None
+        except Exception as exc:  # noqa: BLE001 - ezdxf's DXFError, shapely's GEOSException: library-specific bases
+            if type(exc).__module__.split(".")[0] not in ("ezdxf", "shapely", "svgelements", "trimesh", "zipfile"):
+                raise
+            raise PartDocumentError(PurePath(filename).name or "file", f"the file cannot be read ({type(exc).__name__}: "
+                                    f"{str(exc)[:200]})") from None
+
+    return guarded
+
+
+@_library_faults
 def import_bytes(filename: str, data: bytes, layer: str | None = None, element_id: str | None = None,
                  pose: int | None = None, tolerance: float | None = None, units: str | None = None,
                  part: int | None = None) -> dict[str, Any]:
@@ -84,6 +112,7 @@ def import_bytes(filename: str, data: bytes, layer: str | None = None, element_i
     return _part_document(sheet, index, name, units or doc_units, k, source)
 
 
+@_library_faults
 def import_all_parts(filename: str, data: bytes) -> list[dict[str, Any]]:
     """Every part of a DXF/SVG sheet as its own document (``FILE#K`` when there are
     several), read once; a mesh or a one-part drawing gives one document. For catalogues."""
@@ -107,6 +136,7 @@ def _part_document(sheet: Any, index: int, name: str, units: str, k: float, sour
             "holes": [[_scale(s, k) for s in h] for h in holes], "source": source}
 
 
+@_library_faults
 def list_parts(filename: str, data: bytes, layer: str | None = None, element_id: str | None = None,
                tolerance: float | None = None, units: str | None = None) -> dict[str, Any]:
     """``{"parts": [{"index", "bbox", "area", "holes", "segments", "units"}], "ignored",

@@ -15,8 +15,9 @@ from typing import Any
 
 import numpy as np
 
-from algrasp.errors import PartDocumentError
+from algrasp.errors import LimitExceededError, PartDocumentError
 from algrasp.geometry.angles import to_rad
+from algrasp.geometry.limits import DEFAULT_LIMITS
 from algrasp.geometry.tolerances import ROUNDING
 
 Segment = dict[str, Any]
@@ -201,3 +202,16 @@ def default_tolerance(pieces: Sequence[Piece]) -> float:
             pts += [c - r, c + r]
     size = float(np.max(np.ptp(np.array(pts), axis=0))) if pts else 1.0
     return CHAIN_GAP_REL * max(size, ROUNDING)
+
+
+def check_bounded(segments: list[Segment], origin: str) -> None:
+    """Every coordinate and radius within ±max_abs_coordinate, checked before any geometry
+    (a KD-tree or a polygon of 1e300 overflows)."""
+    limit = DEFAULT_LIMITS.max_abs_coordinate
+    for seg in segments:
+        values = [*seg.get("start", ()), *seg.get("end", ()), *seg.get("center", ()),
+                  *(v for pt in seg.get("points", ()) for v in pt[:2]), seg.get("radius", 0.0), seg.get("rx", 0.0),
+                  seg.get("ry", 0.0)]
+        if not all(math.isfinite(v) and abs(v) <= limit for v in values):
+            raise LimitExceededError(origin, f"a coordinate beyond ±{limit:g} (or not a number): not a drawing in "
+                                     "any unit algrasp takes")

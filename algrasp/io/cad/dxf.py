@@ -18,10 +18,11 @@ from typing import Any
 
 import numpy as np
 
-from algrasp.errors import PartDocumentError
+from algrasp.errors import LimitExceededError, PartDocumentError
 from algrasp.geometry.angles import to_deg
+from algrasp.geometry.limits import DEFAULT_LIMITS
 from algrasp.geometry.tolerances import ROUNDING
-from algrasp.io.cad.chain import Piece, Segment
+from algrasp.io.cad.chain import Piece, Segment, check_bounded
 from algrasp.io.cad.nurbs import nurbs_to_beziers
 
 SKIPPED = {"TEXT", "MTEXT", "DIMENSION", "ARC_DIMENSION", "LEADER", "MLEADER", "MULTILEADER", "ATTRIB", "ATTDEF",
@@ -207,20 +208,22 @@ def _spline(e: Any) -> list[Segment]:
 
 MAX_BLOCK_DEPTH = 16
 """Nested INSERTs deeper than this (or a block inserting itself) are refused."""
+MAX_EXPANDED_SEGMENTS = 2 * DEFAULT_LIMITS.max_total_segments
+"""Most segments a drawing may expand to (INSERTs included): a sheet holds many parts, each
+within the part limits, plus title block and annotation that is set aside."""
 
 
-def entity_pieces(e: Any, within: str = "", depth: int = 0) -> list[Piece]:
+def entity_pieces(e: Any, within: str = "", depth: int = 0, budget: list[int] | None = None) -> list[Piece]:
     """The exact segments of one entity (INSERT: of its expanded block; their origins name
-    the block and the INSERT's handle, as block content has no handle of its own)."""
+    the block and the INSERT's handle, as block content has no handle of its own).
+    ``budget``: segments still allowed (one list shared by the whole expansion, so an
+    INSERT fan-out of 2^16 stops at the limit instead of expanding for seconds)."""
+    budget = [MAX_EXPANDED_SEGMENTS] if budget is None else budget
     t = e.dxftype()
     if t in SKIPPED or t.endswith("DIMENSION"):  # every dimension flavour is annotation
         return []
     if t == "INSERT":
-        if depth >= MAX_BLOCK_DEPTH:
-            raise PartDocumentError(f"INSERT #{e.dxf.handle}", f"blocks nested deeper than {MAX_BLOCK_DEPTH} "
-                                    f"(block {e.dxf.name!r} inserts itself?)")
-        where = f" in block {e.dxf.name!r} (INSERT #{e.dxf.handle}{within})"
-        return [p for v in e.virtual_entities() for p in entity_pieces(v, where, depth + 1)]
+        return _insert_pieces(e, within, depth, budget)
     handlers = {"LINE": lambda: [{"type": "line", "start": _xy(e.dxf.start), "end": _xy(e.dxf.end)}],
                 "ARC": lambda: [_arc(e, False)], "CIRCLE": lambda: [_arc(e, True)], "ELLIPSE": lambda: [_ellipse(e)],
                 "LWPOLYLINE": lambda: _polyline(e), "POLYLINE": lambda: _polyline(e), "SPLINE": lambda: _spline(e)}
@@ -232,7 +235,49 @@ def entity_pieces(e: Any, within: str = "", depth: int = 0) -> list[Piece]:
         segments = handlers[t]()
     except (ValueError, ArithmeticError, IndexError, TypeError) as exc:  # malformed data (bad knots, …)
         raise PartDocumentError(origin, f"malformed {t} on layer {e.dxf.layer!r}: {exc}") from None
+    check_bounded(segments, origin)
+    budget[0] -= len(segments)
+    if budget[0] < 0:
+        raise LimitExceededError(origin, f"the drawing expands to more than {MAX_EXPANDED_SEGMENTS} segments "
+                                 "(blocks inserted many times over?)")
     return [Piece(s, origin, e.dxf.layer) for s in segments]
+
+
+def _insert_pieces(e: Any, within: str, depth: int, budget: list[int]) -> list[Piece]:
+    if depth >= MAX_BLOCK_DEPTH:
+        raise PartDocumentError(f"INSERT #{e.dxf.handle}", f"blocks nested deeper than {MAX_BLOCK_DEPTH} "
+                                f"(block {e.dxf.name!r} inserts itself?)")
+    top = within or f" (INSERT #{e.dxf.handle})"  # nested block content has no handle: name the top INSERT
+    if e.doc is not None:
+        if e.doc.blocks.get(e.dxf.name) is None:
+            raise PartDocumentError(f"block {e.dxf.name!r}{top}", f"inserts block {e.dxf.name!r}, which the drawing does not define "
+                                    "(a damaged or partly exported file?)")
+        if depth == 0 and _entities(e.doc, e.dxf.name, {}) * _copies(e) > budget[0]:  # before expanding anything
+            raise LimitExceededError(f"block {e.dxf.name!r}{top}", f"block {e.dxf.name!r} expands to more than "
+                                     f"{MAX_EXPANDED_SEGMENTS} segments (inserted many times over?)")
+    return [Piece(p.segment, f"{p.origin.split(' in block ')[0]} in block {e.dxf.name!r}{top}", p.layer)
+            for v in e.virtual_entities() for p in entity_pieces(v, top, depth + 1, budget)]
+
+
+def _size(e: Any) -> int:
+    """Segments an entity gives, roughly (a polyline one per vertex)."""
+    t = e.dxftype()
+    return len(e) if t == "LWPOLYLINE" else len(e.vertices) if t == "POLYLINE" else 1
+
+
+def _copies(e: Any) -> int:
+    return max(1, int(e.dxf.get("row_count", 1))) * max(1, int(e.dxf.get("column_count", 1)))
+
+
+def _entities(doc: Any, name: str, memo: dict[str, int], depth: int = 0) -> int:
+    """Entities a block expands to, INSERTs counted through (memoised: O(blocks))."""
+    if name not in memo:
+        memo[name] = 0  # a block inserting itself counts as empty here; the depth limit refuses it
+        block = doc.blocks.get(name)
+        if block is not None and depth < MAX_BLOCK_DEPTH:
+            memo[name] = sum(_entities(doc, x.dxf.name, memo, depth + 1) * _copies(x) if x.dxftype() == "INSERT"
+                             else _size(x) for x in block)
+    return memo[name]
 
 
 def dxf_pieces(doc: Any, layer: str | None) -> tuple[list[Piece], str, float]:
@@ -241,7 +286,8 @@ def dxf_pieces(doc: Any, layer: str | None) -> tuple[list[Piece], str, float]:
     msp = doc.modelspace()
     layers = sorted({e.dxf.layer for e in msp})
     chosen = [e for e in msp if layer is None or e.dxf.layer.lower() == layer.lower()]
-    pieces = [p for e in chosen for p in entity_pieces(e)]
+    budget = [MAX_EXPANDED_SEGMENTS]  # shared by every entity of the drawing
+    pieces = [p for e in chosen for p in entity_pieces(e, budget=budget)]
     skipped: dict[str, int] = {}
     for e in chosen:
         if e.dxftype() in SKIPPED or e.dxftype().endswith("DIMENSION"):

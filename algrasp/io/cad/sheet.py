@@ -112,6 +112,7 @@ def find_parts(pieces: Sequence[Piece], tol: float, size: float,
         raise PartDocumentError("drawing", "no closed contour")
     if ignored:
         warnings.append(f"{len(ignored)} open chain(s) set aside (centre, construction or dimension lines?)")
+    loops = _with_area(loops, ignored)
     loops = [_untangle(lp, warnings) for lp in loops]
     polys = [_polygon(lp) for lp in loops]
     order = sorted(range(len(loops)), key=lambda i: -polys[i].area)
@@ -169,6 +170,21 @@ def _engraving(outer: list[int], order: list[int], parent: dict[int, int | None]
 KERF_AREA_REL = 0.01
 """A self-intersecting loop whose stray lobes (kerf loops, overshoots) hold less than this
 share of its area is resolved to the region it bounds."""
+
+
+def _with_area(loops: list[list[Segment]], ignored: list[str]) -> list[list[Segment]]:
+    """The loops that bound an area; a loop of fewer than 3 distinct points (a segment
+    shorter than the chaining tolerance closes on itself) or of no area is set aside, said.
+    Raises PartDocumentError when none is left."""
+    from shapely.geometry import Polygon
+
+    kept = [lp for lp in loops if len(np.unique(pts := ring(lp), axis=0)) >= 3 and Polygon(pts).buffer(0).area > 0]
+    if len(kept) < len(loops):
+        ignored.append(f"{len(loops) - len(kept)} degenerate loop(s) set aside (no area: a segment shorter than the "
+                       "chaining tolerance, or a loop that folds back on itself)")
+    if not kept:
+        raise PartDocumentError("drawing", "no closed contour with an area")
+    return kept
 
 
 def _untangle(loop: list[Segment], warnings: list[str]) -> list[Segment]:

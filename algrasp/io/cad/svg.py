@@ -13,7 +13,7 @@ from typing import Any
 
 from algrasp.errors import PartDocumentError
 from algrasp.geometry.angles import to_deg
-from algrasp.io.cad.chain import Piece, Segment
+from algrasp.io.cad.chain import Piece, Segment, check_bounded
 
 MM_PER_PX = 1.0 / (96.0 * 0.0393701)
 """svgelements turns mm into px with its rounded 0.0393701 in/mm at 96 px/in; inverting
@@ -64,6 +64,9 @@ def svg_pieces(data: bytes, element_id: str | None) -> list[Piece]:
         svg = SVG.parse(io.BytesIO(data), reify=True, ppi=96.0)
     except Exception as exc:  # noqa: BLE001 - the XML parser raises several types
         raise PartDocumentError("svg", f"not a readable SVG document: {exc}") from None
+    if not isinstance(svg, SVG):  # svgelements returns whatever the root is (<html>, a bare <g>)
+        raise PartDocumentError("svg", f"the root element is <{getattr(svg, 'tag', None) or type(svg).__name__}>, "
+                                "not <svg> in the SVG namespace: not an SVG drawing")
     if element_id is not None:
         el = svg.get_element_by_id(element_id)
         if el is None:
@@ -78,7 +81,9 @@ def svg_pieces(data: bytes, element_id: str | None) -> list[Piece]:
     for shape in shapes:
         origin = f"{type(shape).__name__}#{shape.id}" if shape.id else type(shape).__name__
         path = shape if isinstance(shape, Path) else Path(shape)
-        pieces += [Piece(seg, origin) for seg in map(_segment, path.segments()) if seg is not None]
+        segments = [seg for seg in map(_segment, path.segments()) if seg is not None]
+        check_bounded(segments, origin)
+        pieces += [Piece(seg, origin) for seg in segments]
     if not pieces:
         raise PartDocumentError("id" if element_id else "svg", "no outline geometry (paths or shapes) found")
     return pieces
