@@ -104,6 +104,19 @@ class AmbiguousRequestError(ConfigError):
     http_status = 400
 
 
+class SlowRequestError(AlgraspError):
+    """A request body that did not arrive within the server's time for it (``limit_s``):
+    HTTP 408, so a client trickling bytes cannot hold a connection."""
+
+    kind = "request_timeout"
+    http_status = 408
+    public_fields = ("limit_s",)
+
+    def __init__(self, limit_s: float) -> None:
+        super().__init__(f"the request body did not arrive within {limit_s:g} s")
+        self.limit_s = limit_s
+
+
 class RecordError(AlgraspError):
     """A run record is missing, damaged or holds no such content (``record``: its file name)."""
 

@@ -51,7 +51,7 @@ def _limits(svc: ServiceState, body: PlanBody) -> None:
 
 def build_state(settings: Settings, metrics: Metrics) -> ServiceState:
     settings.log_dir.mkdir(parents=True, exist_ok=True)
-    store = Store(settings.db_url)
+    store = Store(settings.db_url, settings.db_busy_timeout_s)
     job_exec = make_executor(settings.scheduler, settings.workers, SLOW_NICENESS)
     limit = settings.plan_time_limit_s + settings.validation_time_limit_s
     runner = JobRunner(store, job_exec, RunnerConfig.for_workers(str(settings.log_dir), settings.sim_workers, limit,
@@ -98,7 +98,8 @@ def create_app(settings: Settings | None = None, warmup: dict[str, Any] | None =
     app = FastAPIOffline(title="algrasp", version=VERSION, lifespan=lifespan,
                          description="Sensorless orienting plans for planar parts with a parallel-jaw gripper.")
     install_error_handlers(app)
-    app.add_middleware(RequestGuard, max_bytes=settings.max_body_bytes)  # type: ignore[arg-type]
+    app.add_middleware(RequestGuard, max_bytes=settings.max_body_bytes,  # type: ignore[arg-type]
+                       body_timeout_s=settings.body_timeout_s)
     app.add_middleware(MetricsMiddleware, metrics=metrics)  # type: ignore[arg-type]
     app.include_router(router, responses=ERRORS)
     from service.routes_jobs import router as jobs_router

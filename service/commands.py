@@ -29,8 +29,14 @@ def cmd_serve(args: argparse.Namespace) -> int:
 
     warmup = None if args.no_example else json.loads(resources.files("algrasp").joinpath("examples", EXAMPLE).read_text())
     url = f"http://{args.host}:{args.port}"
-    app = create_app(load_settings(), warmup=warmup, url=url)
-    uvicorn.run(app, host=args.host, port=args.port, log_level=args.log_level)
+    settings = load_settings()
+    app = create_app(settings, warmup=warmup, url=url)
+    # A stop (SIGTERM) waits at most shutdown_grace_s for requests in flight, then their
+    # workers are killed; idle and slow connections are closed after keep_alive_s, and
+    # past max_connections new ones get 503 at once instead of queueing in the kernel.
+    uvicorn.run(app, host=args.host, port=args.port, log_level=args.log_level,
+                timeout_graceful_shutdown=settings.shutdown_grace_s, timeout_keep_alive=settings.keep_alive_s,
+                limit_concurrency=settings.max_connections)
     return 0
 
 

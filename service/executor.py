@@ -179,6 +179,8 @@ def _as_error(exc: BaseException, stage: str) -> BaseException:
     """What the caller sees of a task's exception: user errors as they are; a worker that
     died (killed, out of memory) is a 503 to retry; anything else stays an internal error
     but never a StopIteration, which cannot cross into asyncio (the await would hang)."""
+    from concurrent.futures import BrokenExecutor
+
     from pebble import ProcessExpired
 
     if isinstance(exc, AlgraspError):
@@ -186,6 +188,9 @@ def _as_error(exc: BaseException, stage: str) -> BaseException:
     if isinstance(exc, ProcessExpired):
         return UnavailableError("worker_lost", f"the worker running this {stage} died (exit code {exc.exitcode}); "
                                 "the service goes on: send the request again", 1.0)
+    if isinstance(exc, BrokenExecutor):  # a process pool inside the task (Drake's) lost a worker
+        return UnavailableError("worker_lost", f"a worker of this {stage} died; the service goes on: send the "
+                                "request again", 1.0)
     if isinstance(exc, (StopIteration, StopAsyncIteration)):
         return RuntimeError(f"{type(exc).__name__} escaped the {stage} task")
     return exc

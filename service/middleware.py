@@ -18,7 +18,7 @@ from prometheus_client import CollectorRegistry, Counter, Gauge, Histogram
 from sqlalchemy.exc import SQLAlchemyError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
-from algrasp.errors import AlgraspError, AmbiguousRequestError, LimitExceededError, StorageError
+from algrasp.errors import AlgraspError, AmbiguousRequestError, LimitExceededError, SlowRequestError, StorageError
 from service.store import cause
 
 ASGIApp = Callable[[dict[str, Any], Callable[[], Awaitable[dict[str, Any]]], Callable[[dict[str, Any]], Awaitable[None]]],
@@ -74,9 +74,10 @@ class RequestGuard:
     Unicode) → else 422 naming the field. So no handler, worker or record ever sees a
     value it cannot represent."""
 
-    def __init__(self, app: ASGIApp, max_bytes: int) -> None:
+    def __init__(self, app: ASGIApp, max_bytes: int, body_timeout_s: float = 30.0) -> None:
         self.app = app
         self.max_bytes = max_bytes
+        self.body_timeout_s = body_timeout_s
 
     async def __call__(self, scope: dict[str, Any], receive: Any, send: Any) -> None:
         if scope["type"] != "http":
@@ -90,8 +91,12 @@ class RequestGuard:
         if declared is not None and declared.isdigit() and int(declared) > self.max_bytes:
             return await _send_error(send, 413, self._too_large())
         chunks, seen, more = [], 0, True
+        deadline = asyncio.get_running_loop().time() + self.body_timeout_s
         while more:
-            msg = await receive()
+            try:
+                msg = await asyncio.wait_for(receive(), deadline - asyncio.get_running_loop().time())
+            except TimeoutError:
+                return await _send_error(send, 408, SlowRequestError(self.body_timeout_s))
             if msg["type"] == "http.disconnect":
                 return None
             chunks.append(msg.get("body", b""))

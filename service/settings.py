@@ -73,6 +73,14 @@ class Settings(BaseSettings):
         record_max_bytes: the oldest records are deleted past this total (``5G``,
             ``500M``, bytes; ``0``: no limit).
         retention_period_s: how often retention runs (also once at start-up).
+        shutdown_grace_s: on SIGTERM, how long requests in flight may finish before
+            their workers are killed.
+        keep_alive_s: an idle connection is closed after this.
+        max_connections: connections (and requests) at once; past this: 503 at once.
+        body_timeout_s: a request body that does not arrive whole within this is
+            refused (408): a client trickling its body cannot hold a connection.
+        db_busy_timeout_s: how long a write waits for a locked SQLite database before
+            the request is answered 503 (the job runner retries).
     """
 
     model_config = SettingsConfigDict(env_prefix="ALGRASP_", extra="ignore")
@@ -101,6 +109,11 @@ class Settings(BaseSettings):
     record_max_age: str = "30d"
     record_max_bytes: str = "5G"
     retention_period_s: float = Field(default=60.0, gt=0)
+    shutdown_grace_s: int = Field(default=5, ge=0, le=3600)
+    keep_alive_s: int = Field(default=5, ge=1, le=3600)
+    max_connections: int = Field(default=1000, ge=10, le=1_000_000)
+    body_timeout_s: float = Field(default=30.0, gt=0)
+    db_busy_timeout_s: float = Field(default=2.0, ge=0, le=600)
 
     @field_validator("record_max_age")
     @classmethod

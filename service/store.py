@@ -92,9 +92,12 @@ class Store:
     """All database access of the service and the batch runner. Thread-safe: one short
     session per call."""
 
-    def __init__(self, url: str) -> None:
+    def __init__(self, url: str, busy_timeout_s: float = 2.0) -> None:
         sqlite = url.startswith("sqlite")
-        self.engine = create_engine(url, connect_args={"check_same_thread": False, "timeout": 30} if sqlite else {})
+        # A short busy timeout: a write-locked database is a fast 503 (and a paused job),
+        # not a request held 30 s. WAL (below) keeps readers from blocking the writer.
+        args = {"check_same_thread": False, "timeout": busy_timeout_s} if sqlite else {}
+        self.engine = create_engine(url, connect_args=args)
         if sqlite:
             event.listen(self.engine, "connect", _sqlite_pragmas)
         Base.metadata.create_all(self.engine)

@@ -19,7 +19,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from algrasp.errors import SimulationError
+from algrasp.errors import SimulationError, UnavailableError
 from algrasp.geometry.angles import to_deg, to_rad
 from algrasp.geometry.tolerances import SYMMETRY_TOL_RAD
 from algrasp.planning.analysis import Analysis
@@ -173,7 +173,23 @@ class ValidationPool:
         return cls._shared
 
     def map(self, tasks: list[SimTask]) -> list[tuple[float, list[float], float, list[tuple[float, ...]]]]:
-        return list(self._pool.map(_task, tasks))
+        """Every task's outcome, in order. A simulation worker that dies (killed, out of
+        memory) breaks the whole executor: it is thrown away — the next validation gets a
+        fresh pool — and this one is a 503 to retry, not a broken pool kept for ever."""
+        from concurrent.futures.process import BrokenProcessPool
+
+        try:
+            return list(self._pool.map(_task, tasks))
+        except BrokenProcessPool:
+            self.close()
+            raise UnavailableError("worker_lost", "a simulation worker died during the validation; the pool is "
+                                   "replaced: send the request again", 1.0) from None
+
+    def close(self) -> None:
+        """Shut the pool down (without waiting for the dead) and forget it as the shared one."""
+        self._pool.shutdown(wait=False, cancel_futures=True)
+        if ValidationPool._shared is self:
+            ValidationPool._shared = None
 
 
 # ----------------------------------------------------------------- orchestration
