@@ -66,7 +66,7 @@ def build_state(settings: Settings, metrics: Metrics) -> ServiceState:
 def create_app(settings: Settings | None = None, warmup: dict[str, Any] | None = None, url: str | None = None) -> FastAPI:
     """The app. ``warmup``: a part document planned once at start-up (``make run``);
     ``url``: printed with the docs address once the service is ready."""
-    from service.retention import clean_partials, retention_loop
+    from service.retention import clean_partials, reconcile_records, retention_loop
 
     settings = settings or Settings()
     metrics = Metrics()
@@ -77,6 +77,8 @@ def create_app(settings: Settings | None = None, warmup: dict[str, Any] | None =
         clean_partials(settings.log_dir)
         svc = build_state(settings, metrics)
         app.state.svc = svc
+        with suppress(Exception):  # noqa: BLE001 - a database fault here is retried by the retention loop
+            await asyncio.to_thread(reconcile_records, settings.log_dir, svc.store)
         svc.runner.resume_all()
         sweeper = asyncio.create_task(retention_loop(svc.settings, svc.store))
         if warmup is not None:

@@ -5,8 +5,13 @@ restart, cancel on request.
 Durability: the store is the truth. A part is dispatched only while ``pending`` and
 stored once (``Store.finish_parts``: the outcomes that arrived together, in one
 transaction), so a restart re-dispatches exactly the parts without a stored outcome:
-nothing is lost, nothing finished is redone. Progress callbacks are throttled and
-count with one query, so a 10,000-part job is not slowed by its own bookkeeping.
+nothing is lost, nothing finished is redone. A part keeps the run id it was first sent
+with, so it has one record and one run row however often it is sent; on resume the
+records an earlier process left under a pending part's id are removed. An attempt counts
+only when a worker ended on the part (an outcome, or the worker died on it); a server
+restart costs nothing, and a record-store or database fault pauses the job and retries.
+Progress callbacks are throttled and count with one query, so a 10,000-part job is not
+slowed by its own bookkeeping.
 """
 
 from __future__ import annotations
@@ -15,14 +20,14 @@ import concurrent.futures as cf
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from sqlalchemy.exc import SQLAlchemyError
 
-from algrasp.errors import AlgraspError, UnavailableError
-from algrasp.io.record.recorder import discard_partial, new_run_id
+from algrasp.errors import AlgraspError, StorageError, UnavailableError
+from algrasp.io.record.recorder import discard_partial, discard_record, new_run_id
 from service.executor import Executor
 from service.store import Outcome, Store
 from service.work import design_chunk, design_task
@@ -101,12 +106,19 @@ class JobRunner:
         if job is None or not self.store.set_state(job_id, "running"):
             return
         stop = self._cancel.setdefault(job_id, threading.Event())
-        todo = [(i, d) for i, d, a in self.store.pending_parts(job_id) if not self._given_up(job_id, i, a)]
+        pending = self.store.pending_parts(job_id)
+        for _, _, _, run_id in pending:  # what an earlier process recorded without storing the outcome
+            if run_id:
+                discard_record(Path(self.cfg.record_dir), run_id)
+        todo = [(i, d) for i, d, a, _ in pending if not self._given_up(job_id, i, a)]
         todo.reverse()
         inflight: dict[cf.Future[Any], list[Item]] = {}
         while (todo or inflight) and not (stop.is_set() or self._stopping.is_set()):
             try:
-                self._step(job_id, job.options, todo, inflight)
+                if self._step(job_id, job.options, todo, inflight):
+                    print(f"algrasp: job {job_id[:8]}: run records cannot be written; retrying in {STORE_RETRY_S:g} s",
+                          flush=True)
+                    (stop if stop.is_set() else self._stopping).wait(STORE_RETRY_S)
             except SQLAlchemyError as exc:  # read-only or full database: outcomes wait in memory, retried
                 print(f"algrasp: job {job_id[:8]}: the database cannot be written ({type(exc).__name__}); "
                       f"retrying in {STORE_RETRY_S:g} s", flush=True)
@@ -118,30 +130,31 @@ class JobRunner:
         self._report(job_id, final=True)
 
     def _step(self, job_id: str, options: dict[str, Any], todo: list[tuple[int, dict[str, Any]]],
-              inflight: dict[cf.Future[Any], list[Item]]) -> None:
+              inflight: dict[cf.Future[Any], list[Item]]) -> bool:
         """Dispatch up to the window (in chunks), then store what finished. A finished part
-        leaves ``inflight`` only once its outcome is stored, so a storage fault loses nothing."""
+        leaves ``inflight`` only once its outcome is stored, so a storage fault loses
+        nothing. Returns whether a record-store fault asks the job to pause."""
         free = self.cfg.window - sum(len(g) for g in inflight.values())
         batch = todo[len(todo) - min(len(todo), max(free, 0)):][::-1]
-        self.store.start_attempts(job_id, [idx for idx, _ in batch])  # counted before sent
+        run_ids = self.store.assign_run_ids(job_id, [idx for idx, _ in batch], new_run_id)
         del todo[len(todo) - len(batch):]
-        for group in self._chunks(job_id, batch):
+        for group in self._chunks(job_id, batch, run_ids):
             inflight[self._submit(options, group)] = group
         done, _ = cf.wait(inflight, timeout=0.5, return_when=cf.FIRST_COMPLETED)
-        outcomes: list[Outcome] = []
-        retry: list[tuple[int, dict[str, Any]]] = []
+        step = _Step()
         for fut in done:
-            self._collect(job_id, fut, inflight[fut], outcomes, retry)
-        # One transaction for everything that finished since the last step.
-        self.store.finish_parts(job_id, outcomes)
+            self._collect(job_id, fut, inflight[fut], step)
+        # One transaction for everything that finished since the last step, attempts included.
+        self.store.finish_parts(job_id, step.outcomes, step.tried)
         for fut in done:
             del inflight[fut]
-        todo.extend(retry)
+        todo.extend(step.retry)
         self._report(job_id)
+        return step.paused
 
-    def _chunks(self, job_id: str, batch: list[tuple[int, dict[str, Any]]]) -> list[list[Item]]:
+    def _chunks(self, job_id: str, batch: list[tuple[int, dict[str, Any]]], run_ids: dict[int, str]) -> list[list[Item]]:
         """Chunks of at most ``cfg.chunk`` parts, each with its run id; parts of a lost chunk alone."""
-        items = [(idx, doc, new_run_id()) for idx, doc in batch]
+        items = [(idx, doc, run_ids[idx]) for idx, doc in batch]
         alone = [[it] for it in items if (job_id, it[0]) in self._solo]
         rest = [it for it in items if (job_id, it[0]) not in self._solo]
         return alone + [rest[i:i + self.cfg.chunk] for i in range(0, len(rest), self.cfg.chunk)]
@@ -155,34 +168,41 @@ class JobRunner:
         return self.executor.submit(design_chunk, [(doc, run_id) for _, doc, run_id in group], options, cfg.record_dir,
                                     cfg.sim_workers, timeout_s=cfg.part_time_limit_s * len(group), stage="part")
 
-    def _collect(self, job_id: str, fut: cf.Future[Any], group: list[Item], outcomes: list[Outcome],
-                 retry: list[tuple[int, dict[str, Any]]]) -> None:
-        """The outcomes of a finished task; parts to dispatch again go to ``retry``."""
+    def _collect(self, job_id: str, fut: cf.Future[Any], group: list[Item], step: _Step) -> None:
+        """The outcomes of a finished task into ``step``: parts to dispatch again go to
+        ``retry``; a record-store fault retries the whole task, uncounted, after a pause."""
+        exc = fut.exception()
+        if isinstance(exc, StorageError):  # the worker's disk is full: not the part's fault
+            for idx, doc, run_id in group:
+                discard_partial(Path(self.cfg.record_dir), run_id)
+                step.retry.append((idx, doc))
+            step.paused = True
+            return
         if len(group) == 1:
             idx, doc, run_id = group[0]
+            step.tried.append(idx)
             outcome = self._outcome(job_id, idx, fut, run_id)
             if outcome is None:
-                retry.append((idx, doc))  # its worker died: another worker tries it
+                step.retry.append((idx, doc))  # its worker died: another worker tries it
             else:
-                outcomes.append(outcome)
+                step.outcomes.append(outcome)
             return
-        try:
-            results = fut.result()
-        except Exception:  # noqa: BLE001 - a chunk lost (worker died, time limit): each part alone
+        if exc is not None:  # a chunk lost (worker died, time limit): each part alone, uncounted (whose fault?)
             for idx, doc, run_id in group:
                 discard_partial(Path(self.cfg.record_dir), run_id)
                 self._solo.add((job_id, idx))
-                retry.append((idx, doc))
+                step.retry.append((idx, doc))
             return
-        outcomes.extend(_finished(idx, result) for (idx, _, _), result in zip(group, results))
+        step.tried += [idx for idx, _, _ in group]
+        step.outcomes.extend(_finished(idx, result) for (idx, _, _), result in zip(group, fut.result()))
 
     def _given_up(self, job_id: str, idx: int, attempts: int) -> bool:
-        """A part that was dispatched MAX_ATTEMPTS times without an outcome (its worker
-        died each time, or the server did) fails, so the job cannot loop forever."""
+        """A part on which workers died MAX_ATTEMPTS times fails, so the job cannot loop
+        forever (a server that died meanwhile counted nothing)."""
         if attempts < MAX_ATTEMPTS:
             return False
         self.store.finish_parts(job_id, [Outcome(idx, "failed", error=UnavailableError(
-            "worker_lost", f"no outcome after {attempts} attempts: the worker or the server died each time "
+            "worker_lost", f"no outcome after {attempts} attempts: the worker died on the part each time "
             "(a part that crashes its worker?)").to_dict())])
         return True
 
@@ -193,8 +213,12 @@ class JobRunner:
         except AlgraspError as exc:  # worker lost, time limit, a request that cannot be sent
             discard_partial(Path(self.cfg.record_dir), run_id)
             lost = isinstance(exc, UnavailableError) and exc.reason == "worker_lost"
-            if lost and self.store.attempts(job_id, idx) < MAX_ATTEMPTS:
+            if lost and self.store.attempts(job_id, idx) + 1 < MAX_ATTEMPTS:  # + 1: this one, counted with the step
                 return None
+            if lost:
+                return Outcome(idx, "failed", error=UnavailableError(
+                    "worker_lost", f"no outcome after {MAX_ATTEMPTS} attempts: the worker died on the part each time "
+                    "(a part that crashes its worker?)").to_dict())
             return Outcome(idx, "failed", error=exc.to_dict())
         except Exception as exc:  # noqa: BLE001 - a crashed worker must not stop the job
             return Outcome(idx, "failed", error={"type": "internal_error", "message": repr(exc)})
@@ -208,6 +232,17 @@ class JobRunner:
         self._reported_at[job_id] = now
         done, total = self.store.finished(job_id)
         self.on_progress(job_id, done, total)
+
+
+@dataclass
+class _Step:
+    """What one dispatch step collected: outcomes to store, parts tried (one attempt
+    each), parts to send again, and whether a record-store fault asks for a pause."""
+
+    outcomes: list[Outcome] = field(default_factory=list)
+    tried: list[int] = field(default_factory=list)
+    retry: list[tuple[int, dict[str, Any]]] = field(default_factory=list)
+    paused: bool = False
 
 
 def _finished(idx: int, result: Any) -> Outcome:

@@ -2,13 +2,15 @@
 
 Finishing a part is one conditional UPDATE (``… WHERE status = 'pending'``), so a part
 finished twice — a resumed job racing a late result — is stored once; ``attempts``
-counts dispatches, which is how a resume shows it redid nothing.
+counts dispatches that ended on a worker (an outcome, or the worker dying on the part):
+a dispatch cut short by the server's own death costs the part nothing.
 """
 
 from __future__ import annotations
 
 import time
 import uuid
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -111,6 +113,15 @@ class Store:
             for run in runs:
                 s.merge(_run_row(job_id, run))
 
+    def unknown_runs(self, run_ids: list[str]) -> tuple[set[str], set[str]]:
+        """Of ``run_ids``: those with no run row, and among them those a pending job part
+        holds (a part that will record again under its id)."""
+        with self._session() as s:
+            known = set(s.scalars(select(RunRow.run_id).where(RunRow.run_id.in_(run_ids))))
+            held = set(s.scalars(select(PartRow.run_id).where(PartRow.run_id.in_(run_ids), PartRow.status == "pending")))
+        unknown = set(run_ids) - known
+        return unknown, unknown & held
+
     def delete_runs(self, run_ids: list[str]) -> None:
         """Forget runs whose records retention deleted."""
         with self._session.begin() as s:
@@ -174,32 +185,49 @@ class Store:
         with self._session() as s:
             return list(s.scalars(select(JobRow.id).where(JobRow.state.in_(UNFINISHED)).order_by(JobRow.created_at)))
 
-    def pending_parts(self, job_id: str) -> list[tuple[int, dict[str, Any], int]]:
-        """``(index, document, attempts so far)`` of each pending part."""
+    def pending_parts(self, job_id: str) -> list[tuple[int, dict[str, Any], int, str | None]]:
+        """``(index, document, attempts so far, run id given at an earlier dispatch)`` of
+        each pending part."""
         with self._session() as s:
-            rows = s.execute(select(PartRow.idx, PartRow.document, PartRow.attempts)
+            rows = s.execute(select(PartRow.idx, PartRow.document, PartRow.attempts, PartRow.run_id)
                              .where(PartRow.job_id == job_id, PartRow.status == "pending").order_by(PartRow.idx))
-            return [(int(i), dict(d), int(a)) for i, d, a in rows]
+            return [(int(i), dict(d), int(a), r) for i, d, a, r in rows]
 
     def attempts(self, job_id: str, idx: int) -> int:
         with self._session() as s:
             return int(s.scalar(select(PartRow.attempts).where(PartRow.job_id == job_id, PartRow.idx == idx)) or 0)
 
-    def start_attempts(self, job_id: str, idxs: list[int]) -> None:
-        """Count one more dispatch of each part (one transaction)."""
+    def count_attempts(self, job_id: str, idxs: list[int]) -> None:
+        """Count one more attempt of each part (one transaction)."""
         if not idxs:
             return
         with self._session.begin() as s:
-            s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx.in_(idxs))
-                      .values(attempts=PartRow.attempts + 1))
+            _count(s, job_id, idxs)
 
-    def finish_parts(self, job_id: str, outcomes: list[Outcome]) -> None:
-        """Several parts' outcomes and their runs in one transaction (all or none); a part
-        no longer pending keeps its stored outcome."""
-        if not outcomes:
+    def assign_run_ids(self, job_id: str, idxs: list[int], make: Callable[[], str]) -> dict[int, str]:
+        """The run id of each part: the one given at an earlier dispatch, else a new one
+        (``make()``), stored before the part is sent. So a part dispatched again — after a
+        lost worker or a server restart — records under one id: one record, one run row."""
+        if not idxs:
+            return {}
+        with self._session.begin() as s:
+            have = dict(s.execute(select(PartRow.idx, PartRow.run_id)
+                                  .where(PartRow.job_id == job_id, PartRow.idx.in_(idxs))).all())
+            out = {i: have.get(i) or make() for i in idxs}
+            for i in idxs:
+                if not have.get(i):
+                    s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx == i).values(run_id=out[i]))
+            return out
+
+    def finish_parts(self, job_id: str, outcomes: list[Outcome], tried: Sequence[int] = ()) -> None:
+        """Several parts' outcomes and their runs in one transaction (all or none), with
+        one more attempt counted for each index in ``tried``; a part no longer pending
+        keeps its stored outcome."""
+        if not outcomes and not tried:
             return
         now = time.time()
         with self._session.begin() as s:
+            _count(s, job_id, list(tried))
             owner = s.scalar(select(JobRow.owner).where(JobRow.id == job_id))
             for o in outcomes:
                 if o.run is not None:
@@ -253,6 +281,11 @@ class Store:
             rows = s.scalars(select(PartRow).where(PartRow.job_id == job_id).order_by(PartRow.idx)).all()
             return [{"index": r.idx, "name": r.name, "status": r.status, "run_id": r.run_id, "attempts": r.attempts,
                      "result": r.result, "error": r.error} for r in rows]
+
+
+def _count(s: Any, job_id: str, idxs: list[int]) -> None:
+    if idxs:
+        s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx.in_(idxs)).values(attempts=PartRow.attempts + 1))
 
 
 def _run_dict(r: RunRow) -> dict[str, Any]:

@@ -84,6 +84,14 @@ def discard_partial(directory: Path, run_id: str) -> None:
         partial_path(directory, run_id).unlink(missing_ok=True)
 
 
+def discard_record(directory: Path, run_id: str) -> None:
+    """Remove a run's record, final or partial (a batch part whose outcome was never
+    stored: it is recorded again under the same id)."""
+    discard_partial(directory, run_id)
+    with contextlib.suppress(OSError):
+        (directory / f"{run_id}.mcap").unlink(missing_ok=True)
+
+
 def _storage_error(directory: Path, err: OSError) -> Exception:
     from algrasp.errors import StorageError
 
