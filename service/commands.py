@@ -81,7 +81,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
     assert before is not None
     if before["pending"] < before["total"]:
         print(f"resuming job {job_id}: {before['total'] - before['pending']} of {before['total']} parts already finished")
-    executor = make_executor(settings.scheduler, settings.workers)
+    executor = make_executor(settings.scheduler, settings.workers, wait_for_workers_s=args.wait_for_workers_s)
     limit = settings.plan_time_limit_s + (settings.validation_time_limit_s if options["samples"] else 0.0)
     record_dir = str(Path(args.record_dir) if args.record_dir else settings.log_dir)
     t0 = time.perf_counter()
@@ -128,6 +128,8 @@ def add_commands(sub: Any) -> None:
     p.add_argument("--out", required=True, metavar="DIR", help="reports and the job database (re-running resumes)")
     p.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler (tcp://host:8786); default: local worker pool")
     p.add_argument("--workers", type=int, default=2, help="local worker processes")
+    p.add_argument("--wait-for-workers-s", type=float, default=30.0, metavar="S",
+                   help="with --scheduler: wait this long for a first Dask worker, then stop (default 30)")
     p.add_argument("--sim-workers", type=int, default=1, help="Drake processes per validation")
     p.add_argument("--database", metavar="URL", help="SQLAlchemy URL of the job store (default sqlite in --out)")
     p.add_argument("--min-margin-deg", type=float, default=0.0)

@@ -12,6 +12,7 @@ import concurrent.futures as cf
 import contextlib
 import multiprocessing
 import pickle
+import re
 from collections.abc import Callable
 from typing import Any, Protocol
 
@@ -23,6 +24,10 @@ class Executor(Protocol):
 
     @property
     def alive(self) -> bool: ...
+
+    def capacity(self) -> int:
+        """Tasks that can run at once (0: no worker to run anything)."""
+        ...
 
     def submit(self, fn: Callable[..., Any], *args: Any, timeout_s: float, stage: str) -> cf.Future[Any]: ...
 
@@ -81,6 +86,9 @@ class LocalExecutor:
     def alive(self) -> bool:
         return bool(self._pool.active)
 
+    def capacity(self) -> int:
+        return 0 if self._closed else self.workers
+
     def submit(self, fn: Callable[..., Any], *args: Any, timeout_s: float, stage: str) -> cf.Future[Any]:
         out: cf.Future[Any] = cf.Future()
         payload = pickled(fn, args, out)
@@ -104,19 +112,46 @@ class LocalExecutor:
         self._pool.join(timeout=5)
 
 
+DASK_ADDRESS = re.compile(r"^(?:(?:tcp|tls|ws|wss|ucx)://)?(?:[A-Za-z0-9_.-]+|\[[0-9A-Fa-f:]+\]):[0-9]{1,5}$")
+"""What a Dask scheduler address looks like (``tcp://host:8786``, ``host:8786``)."""
+CONNECT_S = 10.0
+"""How long to wait for the scheduler to answer."""
+
+
 class DaskExecutor:
     """Tasks on a Dask distributed cluster; the time limit is enforced by the caller's
-    wait (a Dask worker cannot be interrupted, so a late task is cancelled instead)."""
+    wait (a Dask worker cannot be interrupted, so a late task is cancelled instead).
+    ``wait_for_workers_s``: wait this long for a first worker, then refuse (the batch CLI);
+    None: connect only (the service, whose readiness and job admission ask for workers)."""
 
     name = "dask"
 
-    def __init__(self, address: str) -> None:
-        try:
-            from distributed import Client
+    def __init__(self, address: str, wait_for_workers_s: float | None = None) -> None:
+        if not DASK_ADDRESS.match(address) or not 0 < int(address.rsplit(":", 1)[1]) < 65536:
+            raise ConfigError("scheduler", f"{address!r} is not a Dask scheduler address (tcp://host:port)")
+        from distributed import Client
 
-            self._client = Client(address, timeout="10s", set_as_default=False)
+        try:
+            self._client = Client(address, timeout=f"{CONNECT_S:g}s", set_as_default=False)
         except (OSError, TimeoutError, ValueError) as exc:
-            raise ConfigError("scheduler", f"cannot reach the Dask scheduler at {address!r}: {exc}") from None
+            raise UnavailableError("scheduler", f"cannot reach the Dask scheduler at {address!r} within "
+                                   f"{CONNECT_S:g} s ({type(exc).__name__})", CONNECT_S) from None
+        self.address = address
+        if wait_for_workers_s is not None and not self.capacity():
+            try:
+                self._client.wait_for_workers(1, timeout=wait_for_workers_s)
+            except (TimeoutError, OSError):
+                self._client.close()
+                raise UnavailableError("no_workers", f"the Dask scheduler at {address!r} has no workers (waited "
+                                       f"{wait_for_workers_s:g} s): start some with `dask worker {address}`",
+                                       wait_for_workers_s) from None
+
+    def capacity(self) -> int:
+        try:
+            workers = self._client.scheduler_info().get("workers", {})
+        except (OSError, TimeoutError, AttributeError):
+            return 0
+        return sum(int(w.get("nthreads", 1)) for w in workers.values())
 
     def submit(self, fn: Callable[..., Any], *args: Any, timeout_s: float, stage: str) -> cf.Future[Any]:
         import threading
@@ -155,9 +190,9 @@ class DaskExecutor:
         self._client.close()
 
 
-def make_executor(scheduler: str, workers: int, niceness: int = 0) -> Executor:
+def make_executor(scheduler: str, workers: int, niceness: int = 0, wait_for_workers_s: float | None = None) -> Executor:
     """Dask when a scheduler address is configured, else the local pool."""
-    return DaskExecutor(scheduler) if scheduler else LocalExecutor(workers, niceness)
+    return DaskExecutor(scheduler, wait_for_workers_s) if scheduler else LocalExecutor(workers, niceness)
 
 
 def _settle(out: cf.Future[Any], inner: cf.Future[Any], stage: str, timeout_s: float) -> None:
@@ -188,6 +223,9 @@ def _as_error(exc: BaseException, stage: str) -> BaseException:
     if isinstance(exc, ProcessExpired):
         return UnavailableError("worker_lost", f"the worker running this {stage} died (exit code {exc.exitcode}); "
                                 "the service goes on: send the request again", 1.0)
+    if type(exc).__name__ == "KilledWorker":  # Dask: the workers running the task died (after its own retries)
+        return UnavailableError("worker_lost", f"the Dask workers running this {stage} died; the service goes on: "
+                                "send the request again", 1.0)
     if isinstance(exc, BrokenExecutor):  # a process pool inside the task (Drake's) lost a worker
         return UnavailableError("worker_lost", f"a worker of this {stage} died; the service goes on: send the "
                                 "request again", 1.0)

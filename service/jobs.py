@@ -157,7 +157,9 @@ class JobRunner:
         items = [(idx, doc, run_ids[idx]) for idx, doc in batch]
         alone = [[it] for it in items if (job_id, it[0]) in self._solo]
         rest = [it for it in items if (job_id, it[0]) not in self._solo]
-        return alone + [rest[i:i + self.cfg.chunk] for i in range(0, len(rest), self.cfg.chunk)]
+        # A small batch is spread over every worker, not sent as one chunk to one of them.
+        size = max(1, min(self.cfg.chunk, -(-len(rest) // max(1, self.executor.capacity()))))
+        return alone + [rest[i:i + size] for i in range(0, len(rest), size)]
 
     def _submit(self, options: dict[str, Any], group: list[Item]) -> cf.Future[Any]:
         cfg = self.cfg

@@ -12,7 +12,7 @@ from fastapi.responses import JSONResponse, Response
 from pydantic import ValidationError
 from starlette.datastructures import UploadFile
 
-from algrasp.errors import ConfigError, LimitExceededError, PartDocumentError
+from algrasp.errors import ConfigError, LimitExceededError, PartDocumentError, UnavailableError
 from algrasp.io.jsonguard import parse_json
 from service.catalogue import Entry, read_archive
 from service.contract import CancelOut, GripperSpecOut, JobCreatedOut, JobOut, JobsOut, inline, ok
@@ -74,6 +74,9 @@ async def _entries(request: Request, max_parts: int, max_bytes: int) -> tuple[li
 async def create_job(request: Request) -> JSONResponse:
     """Queue a batch: fixture design for every part. Returns ``202`` and the job id."""
     svc = _svc(request)
+    if not await asyncio.to_thread(svc.runner.executor.capacity):  # a Dask scheduler without workers
+        raise UnavailableError("no_workers", "no worker can take batch parts now (the Dask scheduler has no "
+                               "workers): try again once /readyz is ready", 10.0)
     entries, opts = await _entries(request, svc.settings.max_batch_parts, svc.settings.max_body_bytes)
     check_samples(svc.settings, opts.validate_, "options.validate.samples")
     if opts.gripper is not None:
