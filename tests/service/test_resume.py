@@ -54,6 +54,9 @@ class _DyingExecutor:
     name = "dying"
     alive = True
 
+    def capacity(self) -> int:
+        return 1
+
     def submit(self, fn: object, *args: object, timeout_s: float, stage: str) -> object:
         import concurrent.futures as cf
 
