@@ -81,6 +81,7 @@ def create_app(settings: Settings | None = None, warmup: dict[str, Any] | None =
             await asyncio.to_thread(reconcile_records, settings.log_dir, svc.store)
         svc.runner.resume_all()
         sweeper = asyncio.create_task(retention_loop(svc.settings, svc.store))
+        adopter = asyncio.create_task(_adopt_jobs(svc))
         if warmup is not None:
             plan = await run_task(svc, "slow", "warmup", plan_task, warmup,
                                   {"action": "push_grasp", "optimise": True, "physics": settings.cell_physics.to_dict()},
@@ -92,6 +93,7 @@ def create_app(settings: Settings | None = None, warmup: dict[str, Any] | None =
             print(f"algrasp service ready: workbench at {url}/, API docs at {url}/docs", flush=True)
         yield
         sweeper.cancel()
+        adopter.cancel()
         svc.runner.stop_all()
         for pool in (*svc.pools.values(), svc.runner.executor):
             pool.shutdown()
@@ -117,6 +119,19 @@ def create_app(settings: Settings | None = None, warmup: dict[str, Any] | None =
 
 
 router = APIRouter()
+
+
+async def _adopt_jobs(svc: ServiceState) -> None:
+    """Every half lease: run the unfinished jobs of the database that no thread here runs
+    (another instance's; conventions: one database, several instances)."""
+    from sqlalchemy.exc import SQLAlchemyError
+
+    from service.jobs import LEASE_S
+
+    while True:
+        await asyncio.sleep(LEASE_S / 2)
+        with suppress(SQLAlchemyError):
+            await asyncio.to_thread(svc.runner.resume_all)
 
 
 def _typed_openapi(app: FastAPI) -> None:

@@ -17,6 +17,8 @@ slowed by its own bookkeeping.
 from __future__ import annotations
 
 import concurrent.futures as cf
+import hashlib
+import socket
 import threading
 import time
 from collections.abc import Callable
@@ -36,6 +38,9 @@ STORE_RETRY_S = 5.0
 """A job whose database cannot be written waits this long before trying again."""
 MAX_ATTEMPTS = 3
 """Dispatches of one part without an outcome before it is failed (not resumed forever)."""
+LEASE_S = 30.0
+"""A part sent by one service instance is held by it this long, renewed at every step
+while it is in flight; an instance that dies lets its parts go to the others after it."""
 REPORT_EVERY_S = 0.25
 """Progress callbacks are throttled to this interval (plus one when the job ends)."""
 Item = tuple[int, dict[str, Any], str]  # (part index, part document, run id)
@@ -49,6 +54,12 @@ class RunnerConfig:
     part_time_limit_s: float
     window: int  # parts in flight at once (bounded, so ``attempts`` counts real dispatches)
     chunk: int = 1  # parts sent to a worker in one task
+    holder: str = ""  # who holds parts in the store: this instance (stable across its restarts)
+
+    def __post_init__(self) -> None:
+        if not self.holder:  # one instance = one host and record directory
+            key = f"{socket.gethostname()}:{Path(self.record_dir).resolve()}"
+            object.__setattr__(self, "holder", hashlib.sha256(key.encode()).hexdigest()[:32])
 
     @classmethod
     def for_workers(cls, record_dir: str, sim_workers: int, part_time_limit_s: float, workers: int,
@@ -79,10 +90,13 @@ class JobRunner:
         t.start()
 
     def resume_all(self) -> list[str]:
-        """Start every job a previous process left queued or running."""
-        jobs = self.store.unfinished_jobs()
+        """Start every unfinished job not running here: those a previous process left
+        queued or running, and — called periodically — those another instance on the same
+        database started (this one helps, and takes over if that one dies)."""
+        jobs = [j for j in self.store.unfinished_jobs() if not (j in self._threads and self._threads[j].is_alive())]
         for job_id in jobs:
-            self.start(job_id)
+            if not self._stopping.is_set():
+                self.start(job_id)
         return jobs
 
     def cancel(self, job_id: str) -> bool:
@@ -101,33 +115,47 @@ class JobRunner:
             t.join(timeout=5)
 
     def run(self, job_id: str) -> None:
-        """Dispatch the pending parts, at most ``window`` at a time, and store outcomes."""
+        """Dispatch the pending parts, at most ``window`` at a time, and store outcomes;
+        with other instances on the same database, only the parts this one holds."""
         job = self.store.job(job_id)
         if job is None or not self.store.set_state(job_id, "running"):
             return
         stop = self._cancel.setdefault(job_id, threading.Event())
-        pending = self.store.pending_parts(job_id)
-        for _, _, _, run_id in pending:  # what an earlier process recorded without storing the outcome
-            if run_id:
-                discard_record(Path(self.cfg.record_dir), run_id)
-        todo = [(i, d) for i, d, a, _ in pending if not self._given_up(job_id, i, a)]
-        todo.reverse()
+        waiting = stop if stop.is_set() else self._stopping
+        todo: list[tuple[int, dict[str, Any]]] = []
         inflight: dict[cf.Future[Any], list[Item]] = {}
-        while (todo or inflight) and not (stop.is_set() or self._stopping.is_set()):
+        while not (stop.is_set() or self._stopping.is_set()):
             try:
+                if not todo and not inflight:
+                    todo = self._claimable(job_id)
+                    if not todo:
+                        if not self.store.pending_count(job_id):
+                            break
+                        waiting.wait(LEASE_S / 8)  # another instance holds the rest: take over if it dies
+                        continue
                 if self._step(job_id, job.options, todo, inflight):
                     print(f"algrasp: job {job_id[:8]}: run records cannot be written; retrying in {STORE_RETRY_S:g} s",
                           flush=True)
-                    (stop if stop.is_set() else self._stopping).wait(STORE_RETRY_S)
+                    waiting.wait(STORE_RETRY_S)
             except SQLAlchemyError as exc:  # read-only or full database: outcomes wait in memory, retried
                 print(f"algrasp: job {job_id[:8]}: the database cannot be written ({type(exc).__name__}); "
                       f"retrying in {STORE_RETRY_S:g} s", flush=True)
-                (stop if stop.is_set() else self._stopping).wait(STORE_RETRY_S)
+                waiting.wait(STORE_RETRY_S)
         for fut in inflight:
             fut.cancel()
         if not self._stopping.is_set():
             self.store.set_state(job_id, "done", only_if=("running",))
         self._report(job_id, final=True)
+
+    def _claimable(self, job_id: str) -> list[tuple[int, dict[str, Any]]]:
+        """Pending parts no other live instance holds, in dispatch order (reversed: popped
+        from the end). Their records from an earlier holder (a dead process) are removed:
+        they are recorded again under the same run ids."""
+        rows = self.store.claimable(job_id, self.cfg.holder)
+        for _, _, _, run_id in rows:
+            if run_id:
+                discard_record(Path(self.cfg.record_dir), run_id)
+        return [(i, d) for i, d, a, _ in rows if not self._given_up(job_id, i, a)][::-1]
 
     def _step(self, job_id: str, options: dict[str, Any], todo: list[tuple[int, dict[str, Any]]],
               inflight: dict[cf.Future[Any], list[Item]]) -> bool:
@@ -136,8 +164,11 @@ class JobRunner:
         nothing. Returns whether a record-store fault asks the job to pause."""
         free = self.cfg.window - sum(len(g) for g in inflight.values())
         batch = todo[len(todo) - min(len(todo), max(free, 0)):][::-1]
-        run_ids = self.store.assign_run_ids(job_id, [idx for idx, _ in batch], new_run_id)
         del todo[len(todo) - len(batch):]
+        held = [idx for g in inflight.values() for idx, _, _ in g]
+        claimed = set(self.store.claim(job_id, [idx for idx, _ in batch] + held, self.cfg.holder, LEASE_S))
+        batch = [(idx, doc) for idx, doc in batch if idx in claimed]  # the rest: another instance has them
+        run_ids = self.store.assign_run_ids(job_id, [idx for idx, _ in batch], new_run_id)
         for group in self._chunks(job_id, batch, run_ids):
             inflight[self._submit(options, group)] = group
         done, _ = cf.wait(inflight, timeout=0.5, return_when=cf.FIRST_COMPLETED)

@@ -72,6 +72,8 @@ class PartRow(Base):
     error: Mapped[dict[str, Any] | None] = mapped_column(JSON)
     run_id: Mapped[str | None] = mapped_column(String(64))
     finished_at: Mapped[float | None] = mapped_column(Float)
+    claimed_by: Mapped[str | None] = mapped_column(String(32))
+    claimed_until: Mapped[float | None] = mapped_column(Float)
 
 
 @dataclass(frozen=True)
@@ -204,6 +206,35 @@ class Store:
         with self._session.begin() as s:
             _count(s, job_id, idxs)
 
+    def claim(self, job_id: str, idxs: list[int], holder: str, lease_s: float) -> list[int]:
+        """Of ``idxs``, the pending parts ``holder`` may now send: those nobody holds, or
+        whose holder's lease ran out (a dead service instance), or its own — held for
+        ``lease_s`` more. One conditional UPDATE: two instances on one database never hold
+        one part at once (on PostgreSQL the second UPDATE waits for the first and re-reads)."""
+        if not idxs:
+            return []
+        now = time.time()
+        with self._session.begin() as s:
+            free = (PartRow.claimed_by.is_(None)) | (PartRow.claimed_by == holder) | (PartRow.claimed_until < now)
+            s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx.in_(idxs), PartRow.status == "pending", free)
+                      .values(claimed_by=holder, claimed_until=now + lease_s))
+            return sorted(int(i) for i in s.scalars(select(PartRow.idx).where(
+                PartRow.job_id == job_id, PartRow.idx.in_(idxs), PartRow.status == "pending", PartRow.claimed_by == holder)))
+
+    def claimable(self, job_id: str, holder: str) -> list[tuple[int, dict[str, Any], int, str | None]]:
+        """``pending_parts`` that no other live holder holds."""
+        now = time.time()
+        with self._session() as s:
+            free = (PartRow.claimed_by.is_(None)) | (PartRow.claimed_by == holder) | (PartRow.claimed_until < now)
+            rows = s.execute(select(PartRow.idx, PartRow.document, PartRow.attempts, PartRow.run_id)
+                             .where(PartRow.job_id == job_id, PartRow.status == "pending", free).order_by(PartRow.idx))
+            return [(int(i), dict(d), int(a), r) for i, d, a, r in rows]
+
+    def pending_count(self, job_id: str) -> int:
+        with self._session() as s:
+            return int(s.scalar(select(func.count()).select_from(PartRow)
+                                .where(PartRow.job_id == job_id, PartRow.status == "pending")) or 0)
+
     def assign_run_ids(self, job_id: str, idxs: list[int], make: Callable[[], str]) -> dict[int, str]:
         """The run id of each part: the one given at an earlier dispatch, else a new one
         (``make()``), stored before the part is sent. So a part dispatched again — after a
@@ -257,10 +288,11 @@ class Store:
     def finished(self, job_id: str) -> tuple[int, int]:
         """(parts no longer pending, all parts) of a job: one counting query, for progress
         bars (``progress`` reads every part)."""
-        with self._session() as s:
-            rows = dict(s.execute(select(PartRow.status == "pending", func.count()).where(PartRow.job_id == job_id)
-                                  .group_by(PartRow.status == "pending")).all())
-        return int(rows.get(False, 0)), int(rows.get(False, 0) + rows.get(True, 0))
+        with self._session() as s:  # grouped by status itself: PostgreSQL refuses a bound parameter in GROUP BY
+            rows = dict(s.execute(select(PartRow.status, func.count()).where(PartRow.job_id == job_id)
+                                  .group_by(PartRow.status)).all())
+        total = sum(int(n) for n in rows.values())
+        return total - int(rows.get("pending", 0)), total
 
     def counts(self) -> dict[str, dict[str, int]]:
         """Jobs by state and parts by status (for /metrics)."""
@@ -304,11 +336,14 @@ def _add_missing_columns(engine: Any) -> None:
     made by an older version opens, its rows owned by no key (admin keys see them)."""
     from sqlalchemy import inspect, text
 
-    have = {t: {c["name"] for c in inspect(engine).get_columns(t)} for t in ("runs", "jobs")}
+    added = {"runs": {"owner": "VARCHAR(40)"}, "jobs": {"owner": "VARCHAR(40)"},
+             "job_parts": {"claimed_by": "VARCHAR(32)", "claimed_until": "FLOAT"}}
+    have = {t: {c["name"] for c in inspect(engine).get_columns(t)} for t in added}
     with engine.begin() as conn:
-        for table in ("runs", "jobs"):
-            if "owner" not in have[table]:
-                conn.execute(text(f"ALTER TABLE {table} ADD COLUMN owner VARCHAR(40)"))
+        for table, columns in added.items():
+            for name, kind in columns.items():
+                if name not in have[table]:
+                    conn.execute(text(f"ALTER TABLE {table} ADD COLUMN {name} {kind}"))
 
 
 def _sqlite_pragmas(conn: Any, _record: Any) -> None:
