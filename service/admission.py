@@ -16,6 +16,7 @@ from collections import Counter
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
+from typing import Any
 
 from algrasp.errors import TooManyRequestsError, UnavailableError
 
@@ -54,6 +55,29 @@ class Gate:
         """Requests in flight per pool."""
         with self._lock:
             return {p: self._pools[p] for p in self.capacity}
+
+
+FAST_COST = 4_000
+"""Estimated cost (segment-samples, see :func:`estimated_cost`) above which an analysis
+or a plain plan goes to the slow pool: a 6,000-piece Bezier part analysed with 3,600
+drawing samples must not hold the workers that answer cheap plans."""
+
+
+def estimated_cost(part: Any, samples: int = 0) -> float:
+    """A request's cost before any work, from its size alone: the part's pieces (a
+    polygon's vertices, a Bezier's control points, the holes too) times the drawing
+    samples per 360 asked for. O(pieces); never raises on a malformed document."""
+    def pieces(boundary: Any) -> int:
+        if not isinstance(boundary, list):
+            return 0
+        return sum(len(b["points"]) - 1 if isinstance(b, dict) and isinstance(b.get("points"), list) else 1 for b in boundary)
+
+    if not isinstance(part, dict):
+        return 0.0
+    n = pieces(part.get("boundary")) + pieces(part.get("polygon"))
+    holes = part.get("holes")
+    n += sum(pieces(h) for h in holes) if isinstance(holes, list) else 0
+    return float(n) * (1.0 + max(0, samples) / 360.0)
 
 
 def client_id(key: str | None, address: str | None) -> str:

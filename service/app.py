@@ -21,7 +21,7 @@ from fastapi_offline import FastAPIOffline
 
 from algrasp.errors import ConfigError
 from algrasp.planning.sampled import MAX_SAMPLES
-from service.admission import Gate
+from service.admission import FAST_COST, Gate, estimated_cost
 from service.catalogue import canonical_hash
 from service.contract import ERRORS, IMPORTED, NOT_FOUND, AnalysisOut, PlanOut, ok, typed
 from service.executor import make_executor
@@ -39,7 +39,8 @@ machine the cheap requests get the CPU first."""
 
 
 def _cheap(body: PlanBody) -> bool:
-    return not body.optimise and body.validate_ is None
+    """A plan for the fast pool: no optimisation, no validation, a part of modest size."""
+    return not body.optimise and body.validate_ is None and estimated_cost(body.part) <= FAST_COST
 
 
 def _limits(svc: ServiceState, body: PlanBody) -> None:
@@ -174,7 +175,8 @@ async def analyses(request: Request, part: PartJson,
 
     async def compute() -> Any:
         options = {"exact": exact, "samples": samples, "physics": svc.settings.cell_physics.to_dict()}
-        return await run_task(svc, "fast", who(request), analysis_task, part, str(svc.settings.log_dir), options,
+        pool = "fast" if estimated_cost(part, samples) <= FAST_COST else "slow"
+        return await run_task(svc, pool, who(request), analysis_task, part, str(svc.settings.log_dir), options,
                               timeout_s=svc.settings.analysis_time_limit_s, stage="analysis", run_id=new_run_id())
 
     response, cached = await _cached(request, key, compute, "the part's size")

@@ -22,6 +22,8 @@ from service.runtime import check_samples, owner, run_task, sees, who
 
 router = APIRouter(prefix="/v1/jobs", tags=["jobs"])
 JOB_ID = r"^[0-9a-f]{32}$"
+RESULTS_PAGE = 1000
+"""Parts per page of ``GET /v1/jobs/{id}/results`` (jsonl) by default: ~3 MB."""
 
 
 _BODY = {"required": True, "content": {
@@ -118,16 +120,33 @@ async def job(request: Request, job_id: str = Path(pattern=JOB_ID)) -> dict[str,
 @router.get("/{job_id}/results", response_class=Response, responses={200: {"description": "JSON lines or a zip", "content": {
     "application/x-ndjson": {"schema": {"type": "string"}}, "application/zip": {"schema": {"type": "string", "format": "binary"}}}}})
 async def results(request: Request, job_id: str = Path(pattern=JOB_ID),
-                  format: str = Query("jsonl", pattern="^(jsonl|zip)$")) -> Response:  # noqa: A002
-    """JSON lines (one part per line) or a zip with results, summary, report and gripper
-    specification. Partial while the job runs."""
+                  format: str = Query("jsonl", pattern="^(jsonl|zip)$"),  # noqa: A002
+                  offset: int = Query(0, ge=0, le=1_000_000_000, description="jsonl: parts to skip"),
+                  limit: int = Query(RESULTS_PAGE, ge=1, le=100_000, description="jsonl: most parts in this page")) -> Response:
+    """JSON lines (one part per line; a page of ``limit`` parts from ``offset``, with a
+    ``Link: rel="next"`` header while more follow) or a zip with results, summary, report
+    and gripper specification. Partial while the job runs. A body past the response bound
+    is a 422 naming what to lower."""
+    svc = _svc(request)
     p = await _progress(request, job_id)
-    rows = await asyncio.to_thread(_svc(request).store.results, job_id)
+    rows = await asyncio.to_thread(svc.store.results, job_id)
     if format == "jsonl":
-        return Response(results_jsonl(rows), media_type="application/x-ndjson")
+        body = results_jsonl(rows[offset:offset + limit]).encode()
+        _bounded(svc, len(body), "limit")
+        more = offset + limit < len(rows)
+        headers = {"Link": f'</v1/jobs/{job_id}/results?offset={offset + limit}&limit={limit}>; rel="next"'} if more else {}
+        return Response(body, media_type="application/x-ndjson", headers={**headers, "X-Total-Count": str(len(rows))})
     data = await asyncio.to_thread(report_zip, rows, p)
+    _bounded(svc, len(data), "format")
     return Response(data, media_type="application/zip",
                     headers={"Content-Disposition": f'attachment; filename="job-{job_id}.zip"'})
+
+
+def _bounded(svc: Any, size: int, option: str) -> None:
+    if size > svc.settings.max_response_bytes:
+        advice = "lower limit (page with offset)" if option == "limit" else "use format=jsonl, paged with offset and limit"
+        raise LimitExceededError(option, f"the response would be {size} bytes (at most "
+                                 f"{svc.settings.max_response_bytes}): {advice}")
 
 
 @router.get("/{job_id}/gripper", response_model=None, responses=ok(GripperSpecOut))

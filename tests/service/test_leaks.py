@@ -175,3 +175,26 @@ def test_a_zero_byte_cache_still_draws_figures(srv: Server) -> None:
             assert r.status_code == 200 and r.text.lstrip().startswith(("<?xml", "<svg")), r.text[:200]
         r = c.get(f"/v1/runs/{run_id}/record")
         assert r.status_code == 200 and r.content.startswith(b"\x89MCAP")
+
+
+def test_job_results_are_paged_within_the_response_bound(tmp_path: Path) -> None:
+    from tests.service.conftest import wait_job
+
+    s = start_server(tmp_path, ALGRASP_MAX_RESPONSE_BYTES="10000")
+    try:
+        with s.client() as c:
+            parts = [{**SQUARE, "name": f"sq{i}", "boundary": [[0, 0], [4 + i, 0], [4 + i, 3], [0, 3]]} for i in range(20)]
+            job_id = c.post("/v1/jobs", json={"parts": parts}).json()["id"]
+            wait_job(c, job_id)
+            r = c.get(f"/v1/jobs/{job_id}/results")
+            assert r.status_code == 422 and r.json()["error"]["field"] == "limit", r.text[:300]
+            url, names = f"/v1/jobs/{job_id}/results?limit=2", []
+            while url:
+                r = c.get(url)
+                assert r.status_code == 200 and len(r.content) <= 10000 and r.headers["X-Total-Count"] == "20"
+                names += [json.loads(line)["name"] for line in r.text.splitlines()]
+                link = r.headers.get("Link")
+                url = link.split(">")[0].lstrip("<") if link else ""
+            assert names == [p["name"] for p in parts]
+    finally:
+        s.kill()

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -96,3 +97,44 @@ def test_the_client_of_the_rate_limit_is_the_normalised_key() -> None:
     assert bearer_key("k1") is None and bearer_key("Basic k1") is None and bearer_key("Bearer ") is None
     assert client_id(bearer_key("Bearer  k1 "), "1.2.3.4") == client_id("k1", "5.6.7.8")
     assert client_id(None, "1.2.3.4") == "addr:1.2.3.4"
+
+
+def test_the_cost_of_a_request_is_estimated_from_its_size() -> None:
+    from algrasp.geometry.shapes import bezier_blob
+    from service.admission import FAST_COST, estimated_cost
+
+    square = {"polygon": [[0, 0], [1, 0], [1, 1], [0, 1]]}
+    assert estimated_cost(square) == 4 and estimated_cost(square, 360) == 8
+    blob = bezier_blob(6000, 3)
+    assert estimated_cost(blob) == 3 * 6000 > FAST_COST  # control points - 1 per cubic piece
+    assert estimated_cost({"boundary": "x", "holes": 3}) == 0 and estimated_cost([1]) == 0  # malformed: no crash
+
+
+def test_costly_analyses_do_not_hold_the_cheap_plans(tmp_path: Path) -> None:
+    """Issue 31: three clients analysing a 6,000-piece Bezier part with samples=3600 made
+    cheap plans wait 21 s. Now they go to the slow pool: every cheap plan is answered while
+    the costly analyses are still in flight (an ordering of events, not a time bound)."""
+    import threading
+
+    from algrasp.geometry.shapes import bezier_blob
+
+    s = start_server(tmp_path)
+    try:
+        blob = bezier_blob(6000, 3)
+        heavy = [threading.Thread(target=lambda k=k: s.client().post("/v1/analyses", json={**blob, "name": f"h{k}"},
+                                                                      params={"samples": 3600}, timeout=300))
+                 for k in range(3)]
+        for t in heavy:
+            t.start()
+        while not list(tmp_path.glob("*.mcap.partial")):  # the event: a costly analysis is being computed
+            assert all(t.is_alive() for t in heavy)
+            time.sleep(0.01)
+        with s.client() as c:
+            for k in range(5):
+                r = c.post("/v1/plans", json={"part": {**SQUARE, "name": f"cheap{k}"}})
+                assert r.status_code == 200, r.text
+        assert all(t.is_alive() for t in heavy), "a cheap plan waited for a costly analysis to end"
+        for t in heavy:
+            t.join(300)
+    finally:
+        s.kill()
