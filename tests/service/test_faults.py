@@ -27,18 +27,21 @@ def _workers(pid: int) -> list[psutil.Process]:
     return [p for p in psutil.Process(pid).children(recursive=True) if "spawn_main" in " ".join(p.cmdline())]
 
 
-def _fast_workers(pid: int) -> list[psutil.Process]:
-    """The fast pool's workers: the slow and job pools run at niceness 5, these at 0."""
-    return [p for p in _workers(pid) if p.nice() == 0]
+def _idle(c: httpx.Client, pid: int) -> dict[int, float]:
+    """Every pool has answered a readiness ping (one worker each: all warm, none busy);
+    then each worker's CPU so far."""
+    assert c.get("/readyz").status_code == 200
+    return {p.pid: p.cpu_times().user for p in _workers(pid)}
 
 
 def _wait_busy(pid: int, before: dict[int, float], cpu_s: float = 0.3, limit_s: float = 120.0) -> psutil.Process:
-    """The fast worker that has used ``cpu_s`` more CPU than in ``before``: the one
-    computing the request (an event, not a wall-clock guess: a loaded machine only makes
-    it later; ``limit_s`` only guards against a hang)."""
+    """The worker that has used ``cpu_s`` more CPU than in ``before`` (taken when all were
+    idle): the one computing the request — whichever pool its cost sent it to (an event,
+    not a wall-clock guess: a loaded machine only makes it later; ``limit_s`` only guards
+    against a hang)."""
     deadline = time.monotonic() + limit_s
     while time.monotonic() < deadline:
-        for p in _fast_workers(pid):
+        for p in _workers(pid):
             if p.cpu_times().user - before.get(p.pid, 0.0) >= cpu_s:
                 return p
         time.sleep(0.02)
@@ -55,7 +58,7 @@ def test_worker_killed_mid_request_is_503_then_the_service_goes_on(tmp_path: Pat
         with s.client() as c:
             assert _plan(c, "warm").status_code == 200
             out: dict[str, Any] = {}
-            before = {p.pid: p.cpu_times().user for p in _workers(s.proc.pid)}
+            before = _idle(c, s.proc.pid)
             slow = threading.Thread(target=lambda: out.update(r=c.post("/v1/analyses", json=bezier_blob(12000, 3))))
             slow.start()
             _wait_busy(s.proc.pid, before).kill()  # the worker computing the request, mid-request
@@ -137,10 +140,12 @@ def test_sigterm_with_work_in_flight_stops_promptly(tmp_path: Path) -> None:
     """SIGTERM while a request that needs several seconds is computing: the server waits
     at most its grace (1 s) and stops — the request is cut, not finished — and no worker
     is left. Synchronised on events (the worker busy, the process exit), not on sleeps."""
-    s = start_server(tmp_path, ALGRASP_SHUTDOWN_GRACE_S="1", ALGRASP_ANALYSIS_TIME_LIMIT_S="600")
+    s = start_server(tmp_path, ALGRASP_SHUTDOWN_GRACE_S="1", ALGRASP_ANALYSIS_TIME_LIMIT_S="600",
+                     ALGRASP_FAST_WORKERS="1")
     try:
+        with s.client() as c:
+            before = _idle(c, s.proc.pid)
         workers = _workers(s.proc.pid)
-        before = {p.pid: p.cpu_times().user for p in workers}
         out: dict[str, Any] = {}
 
         def slow() -> None:
