@@ -32,7 +32,7 @@ def _as_postgres(argv: list[str]) -> list[str]:
 
 
 @pytest.fixture(scope="module")
-def pg() -> Iterator[str]:
+def server_url() -> Iterator[str]:
     bindir = _bin()
     if bindir is None:
         pytest.skip("no PostgreSQL server here (Debian's postgresql package; .ci/run installs it)")
@@ -48,11 +48,24 @@ def pg() -> Iterator[str]:
     subprocess.run(_as_postgres([str(bindir / "pg_ctl"), "-D", str(data), "-o", opts, "-l", str(root / "log"), "-w",
                                  "-t", "120", "start"]), check=True, capture_output=True, timeout=180)
     try:
-        yield f"postgresql+psycopg://postgres@127.0.0.1:{port}/postgres"
+        yield f"postgresql+psycopg://postgres@127.0.0.1:{port}"
     finally:
         subprocess.run(_as_postgres([str(bindir / "pg_ctl"), "-D", str(data), "-m", "immediate", "stop"]),
                        capture_output=True, timeout=120)
         shutil.rmtree(root, ignore_errors=True)
+
+
+@pytest.fixture
+def pg(server_url: str, request: pytest.FixtureRequest) -> str:
+    """A database of its own for each test: instances resume every unfinished job of
+    their database, so one test's jobs must not be another's."""
+    import psycopg
+
+    name = "t_" + "".join(ch if ch.isalnum() else "_" for ch in request.node.name)[:50].lower()
+    with psycopg.connect(server_url.replace("postgresql+psycopg", "postgresql") + "/postgres", autocommit=True) as conn:
+        conn.execute(f'DROP DATABASE IF EXISTS "{name}"')
+        conn.execute(f'CREATE DATABASE "{name}"')
+    return f"{server_url}/{name}"
 
 
 def test_the_store_works_on_postgresql(pg: str) -> None:
