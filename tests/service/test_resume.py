@@ -166,3 +166,25 @@ def test_a_lost_chunk_is_retried_part_by_part(tmp_path: Path) -> None:
     # p0, p1 shared the poison's chunk: a lost chunk counts for none of its parts (whose fault was it?)
     assert [r["attempts"] for i, r in enumerate(rows) if i != 2] == [1, 1, 1, 1, 1]
     assert ex.chunks[:2] == [3, 3] and all(r["result"]["orientable"] for r in rows if r["status"] == "done")
+
+
+def test_records_without_a_run_row_are_reconciled(tmp_path: Path) -> None:
+    """Issue 31: requests that failed after their worker wrote the record left orphans.
+    At start-up a readable orphan is indexed from its summary; a batch part's orphan that
+    no pending part holds, and a damaged file, are removed."""
+    from algrasp.io.record.session import recording
+    from service.retention import reconcile_records
+
+    store = Store(f"sqlite:///{tmp_path / 'jobs.db'}")
+    doc = dict(rectangle(2.0, 1.0), name="orphan")
+    with recording(True, tmp_path, "plan", doc, {"action": "squeeze"}) as plan_rec:
+        pass
+    with recording(True, tmp_path, "design", doc, {"design": {}}) as design_rec:
+        pass
+    (tmp_path / "20261202T000000Z-deadbeef.mcap").write_bytes(b"\x89MCAP0\r\n garbage")
+    assert reconcile_records(tmp_path, store) == {"indexed": 1, "removed": 2}
+    row = store.run(plan_rec.run_id)
+    assert row is not None and row["command"] == "plan" and row["part_name"] == "orphan" and row["status"] == "ok"
+    assert {p.stem for p in tmp_path.glob("*.mcap")} == {plan_rec.run_id}
+    assert design_rec.run_id != plan_rec.run_id
+    assert reconcile_records(tmp_path, store) == {"indexed": 0, "removed": 0}  # idempotent
