@@ -33,10 +33,13 @@ def cmd_serve(args: argparse.Namespace) -> int:
     app = create_app(settings, warmup=warmup, url=url)
     # A stop (SIGTERM) waits at most shutdown_grace_s for requests in flight, then their
     # workers are killed; idle and slow connections are closed after keep_alive_s, and
-    # past max_connections new ones get 503 at once instead of queueing in the kernel.
+    # past max_connections new ones get 503 at once instead of queueing in the kernel; a
+    # request head that has not arrived within header_timeout_s closes the connection.
+    from service.protocol import with_header_timeout
+
     uvicorn.run(app, host=args.host, port=args.port, log_level=args.log_level,
                 timeout_graceful_shutdown=settings.shutdown_grace_s, timeout_keep_alive=settings.keep_alive_s,
-                limit_concurrency=settings.max_connections)
+                limit_concurrency=settings.max_connections, http=with_header_timeout(settings.header_timeout_s))
     return 0
 
 

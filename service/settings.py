@@ -79,6 +79,8 @@ class Settings(BaseSettings):
         max_connections: connections (and requests) at once; past this: 503 at once.
         body_timeout_s: a request body that does not arrive whole within this is
             refused (408): a client trickling its body cannot hold a connection.
+        header_timeout_s: a connection whose request line and headers have not arrived
+            whole within this is closed (slow clients cannot hold connections).
         db_busy_timeout_s: how long a write waits for a locked SQLite database before
             the request is answered 503 (the job runner retries).
     """
@@ -113,6 +115,7 @@ class Settings(BaseSettings):
     keep_alive_s: int = Field(default=5, ge=1, le=3600)
     max_connections: int = Field(default=1000, ge=10, le=1_000_000)
     body_timeout_s: float = Field(default=30.0, gt=0)
+    header_timeout_s: float = Field(default=10.0, gt=0)
     db_busy_timeout_s: float = Field(default=2.0, ge=0, le=600)
 
     @field_validator("record_max_age")

@@ -251,3 +251,24 @@ def test_a_trickled_body_is_cut_with_408(tmp_path: Path) -> None:
         assert data.startswith(b"HTTP/1.1 408"), data[:200]
     finally:
         s.kill()
+
+
+def test_trickled_headers_are_cut(tmp_path: Path) -> None:
+    """Slowloris: 50 connections that send half a request head and stop are closed by the
+    server after its header timeout (the event: the socket reads end-of-file), and the
+    service answers others meanwhile."""
+    import socket
+
+    s = start_server(tmp_path, ALGRASP_HEADER_TIMEOUT_S="1")
+    try:
+        host, port = s.url.removeprefix("http://").split(":")
+        socks = [socket.create_connection((host, int(port)), timeout=120) for _ in range(50)]
+        for sock in socks:
+            sock.sendall(b"GET /v1/runs HTTP/1.1\r\nHost: x\r\nX-Slow: ")
+        with s.client() as c:
+            assert _plan(c, "meanwhile").status_code == 200
+        for sock in socks:
+            assert sock.recv(4096) == b""  # closed by the server, not by our timeout (that would raise)
+            sock.close()
+    finally:
+        s.kill()
