@@ -234,9 +234,7 @@ class JobRunner:
         forever (a server that died meanwhile counted nothing)."""
         if attempts < MAX_ATTEMPTS:
             return False
-        self.store.finish_parts(job_id, [Outcome(idx, "failed", error=UnavailableError(
-            "worker_lost", f"no outcome after {attempts} attempts: the worker died on the part each time "
-            "(a part that crashes its worker?)").to_dict())])
+        self.store.finish_parts(job_id, [_exhausted(idx, attempts)])
         return True
 
     def _outcome(self, job_id: str, idx: int, fut: cf.Future[Any], run_id: str) -> Outcome | None:
@@ -249,9 +247,7 @@ class JobRunner:
             if lost and self.store.attempts(job_id, idx) + 1 < MAX_ATTEMPTS:  # + 1: this one, counted with the step
                 return None
             if lost:
-                return Outcome(idx, "failed", error=UnavailableError(
-                    "worker_lost", f"no outcome after {MAX_ATTEMPTS} attempts: the worker died on the part each time "
-                    "(a part that crashes its worker?)").to_dict())
+                return _exhausted(idx, MAX_ATTEMPTS)
             return Outcome(idx, "failed", error=exc.to_dict())
         except Exception as exc:  # noqa: BLE001 - a crashed worker must not stop the job
             return Outcome(idx, "failed", error={"type": "internal_error", "message": repr(exc)})
@@ -276,6 +272,13 @@ class _Step:
     tried: list[int] = field(default_factory=list)
     retry: list[tuple[int, dict[str, Any]]] = field(default_factory=list)
     paused: bool = False
+
+
+def _exhausted(idx: int, attempts: int) -> Outcome:
+    """The outcome of a part on which workers died ``attempts`` times."""
+    return Outcome(idx, "failed", error=UnavailableError(
+        "worker_lost", f"no outcome after {attempts} attempts: the worker died on the part each time "
+        "(a part that crashes its worker?)").to_dict())
 
 
 def _finished(idx: int, result: Any) -> Outcome:

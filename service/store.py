@@ -187,24 +187,9 @@ class Store:
         with self._session() as s:
             return list(s.scalars(select(JobRow.id).where(JobRow.state.in_(UNFINISHED)).order_by(JobRow.created_at)))
 
-    def pending_parts(self, job_id: str) -> list[tuple[int, dict[str, Any], int, str | None]]:
-        """``(index, document, attempts so far, run id given at an earlier dispatch)`` of
-        each pending part."""
-        with self._session() as s:
-            rows = s.execute(select(PartRow.idx, PartRow.document, PartRow.attempts, PartRow.run_id)
-                             .where(PartRow.job_id == job_id, PartRow.status == "pending").order_by(PartRow.idx))
-            return [(int(i), dict(d), int(a), r) for i, d, a, r in rows]
-
     def attempts(self, job_id: str, idx: int) -> int:
         with self._session() as s:
             return int(s.scalar(select(PartRow.attempts).where(PartRow.job_id == job_id, PartRow.idx == idx)) or 0)
-
-    def count_attempts(self, job_id: str, idxs: list[int]) -> None:
-        """Count one more attempt of each part (one transaction)."""
-        if not idxs:
-            return
-        with self._session.begin() as s:
-            _count(s, job_id, idxs)
 
     def claim(self, job_id: str, idxs: list[int], holder: str, lease_s: float) -> list[int]:
         """Of ``idxs``, the pending parts ``holder`` may now send: those nobody holds, or
@@ -222,7 +207,8 @@ class Store:
                 PartRow.job_id == job_id, PartRow.idx.in_(idxs), PartRow.status == "pending", PartRow.claimed_by == holder)))
 
     def claimable(self, job_id: str, holder: str) -> list[tuple[int, dict[str, Any], int, str | None]]:
-        """``pending_parts`` that no other live holder holds."""
+        """``(index, document, attempts so far, run id given at an earlier dispatch)`` of
+        each pending part that no other live holder holds."""
         now = time.time()
         with self._session() as s:
             free = (PartRow.claimed_by.is_(None)) | (PartRow.claimed_by == holder) | (PartRow.claimed_until < now)

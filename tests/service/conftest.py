@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import json
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -20,6 +20,19 @@ EXAMPLE = ROOT / "algrasp" / "examples" / "pie-20.json"
 
 
 Server = LocalServer
+
+
+def dxf_bytes(build: Callable[[Any], None]) -> bytes:
+    """A DXF drawing made by ``build(doc)`` on a new ezdxf document, as a file's bytes."""
+    import io
+
+    import ezdxf
+
+    doc = ezdxf.new()
+    build(doc)
+    out = io.StringIO()
+    doc.write(out)
+    return out.getvalue().encode()
 
 
 def start_server(log_dir: Path, **env: str) -> LocalServer:

@@ -10,10 +10,9 @@ import zipfile
 from collections.abc import Callable, Iterator
 from typing import Any
 
-import ezdxf
 import pytest
 
-from tests.service.conftest import Server, start_server
+from tests.service.conftest import Server, dxf_bytes, start_server
 
 SQUARE = {"name": "sq", "units": "mm", "boundary": [[0, 0], [4, 0], [4, 3], [0, 3]]}
 
@@ -23,14 +22,6 @@ def srv(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
     s = start_server(tmp_path_factory.mktemp("cad"))
     yield s
     s.kill()
-
-
-def _dxf(build: Callable[[Any], None]) -> bytes:
-    doc = ezdxf.new()
-    build(doc)
-    out = io.StringIO()
-    doc.write(out)
-    return out.getvalue().encode()
 
 
 def _missing_block(doc: Any) -> None:
@@ -54,10 +45,10 @@ def _fanout(levels: int) -> Callable[[Any], None]:
 
 
 CASES: dict[str, tuple[str, bytes, str]] = {
-    "INSERT of a missing block": ("plate.dxf", _dxf(_missing_block), "NOPE"),
-    "coordinate 1e300": ("plate.dxf", _dxf(_huge), "coordinate"),
-    "fan-out 2^15": ("fan.dxf", _dxf(_fanout(15)), "expands to more than"),
-    "fan-out 2^16": ("fan.dxf", _dxf(_fanout(16)), "nested deeper"),
+    "INSERT of a missing block": ("plate.dxf", dxf_bytes(_missing_block), "NOPE"),
+    "coordinate 1e300": ("plate.dxf", dxf_bytes(_huge), "coordinate"),
+    "fan-out 2^15": ("fan.dxf", dxf_bytes(_fanout(15)), "expands to more than"),
+    "fan-out 2^16": ("fan.dxf", dxf_bytes(_fanout(16)), "nested deeper"),
     "root is <html>": ("a.svg", b'<?xml version="1.0"?><html xmlns="http://www.w3.org/1999/xhtml"><body/></html>', "root"),
     "root is a bare <g>": ("a.svg", b'<g xmlns="http://www.w3.org/2000/svg"><rect width="10" height="5"/></g>', "root"),
 }
@@ -82,7 +73,7 @@ def test_a_segment_shorter_than_the_tolerance_is_set_aside(srv: Server) -> None:
         doc.modelspace().add_lwpolyline([(30, 0), (30 + 1e-9, 0), (30, 1e-9)], close=True)  # a loop of no area
 
     with srv.client() as c:
-        r = c.post("/v1/imports", files={"file": ("plate.dxf", _dxf(build))})
+        r = c.post("/v1/imports", files={"file": ("plate.dxf", dxf_bytes(build))})
         assert r.status_code == 200, r.text
         xs = [p[0] for s in r.json()["boundary"] for p in ([s["start"], s["end"]] if isinstance(s, dict) else [s])]
         assert max(xs) == pytest.approx(10.0) and min(xs) == pytest.approx(0.0)

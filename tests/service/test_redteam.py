@@ -13,11 +13,10 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-import ezdxf
 import httpx
 import pytest
 
-from tests.service.conftest import Server, start_server
+from tests.service.conftest import Server, dxf_bytes, start_server
 
 SQUARE = {"name": "sq", "units": "mm", "boundary": [[0, 0], [4, 0], [4, 3], [0, 3]]}
 LIMIT_S = 20.0  # the analysis limit of the server below; the plan limit is 30 s
@@ -107,14 +106,6 @@ def test_chunked_body_over_the_limit_is_413(red: Server) -> None:
         assert r.status_code == 413 and r.json()["error"]["type"] == "limit_exceeded"
 
 
-def _dxf(build: Any) -> bytes:
-    d = ezdxf.new()
-    build(d)
-    buf = io.StringIO()
-    d.write(buf)
-    return buf.getvalue().encode()
-
-
 def _self_insert(d: Any) -> None:
     b = d.blocks.new("LOOP")
     b.add_line((0, 0), (1, 0))
@@ -123,7 +114,7 @@ def _self_insert(d: Any) -> None:
 
 
 UPLOADS: dict[str, tuple[str, bytes]] = {
-    "self-inserting block": ("loop.dxf", _dxf(_self_insert)),
+    "self-inserting block": ("loop.dxf", dxf_bytes(_self_insert)),
     "svg scale 1e308 twice": ("big.svg", b'<svg xmlns="http://www.w3.org/2000/svg"><g transform="scale(1e308) '
                                          b'scale(1e308)"><rect width="1" height="1"/></g></svg>'),
     "svg entity expansion": ("bomb.svg", b'<?xml version="1.0"?><!DOCTYPE s [<!ENTITY a "aaaaaaaaaa"><!ENTITY b '

@@ -84,7 +84,7 @@ def test_a_part_that_keeps_killing_workers_fails_and_is_not_resumed_forever(tmp_
     # a job left "running" by a server that died on its parts' attempts is failed on resume
     job2 = store.create_job({}, [("p", rectangle(2.0, 1.0), None)])
     for _ in range(MAX_ATTEMPTS):
-        store.count_attempts(job2, [0])
+        store.finish_parts(job2, [], tried=[0])
     runner.run(job2)
     assert store.results(job2)[0]["status"] == "failed" and store.results(job2)[0]["attempts"] == MAX_ATTEMPTS
 

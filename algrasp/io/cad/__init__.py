@@ -55,6 +55,13 @@ def _need_cad_extra(suffix: str) -> None:
         raise ConfigError("FILE", f"reading {suffix} files needs {reader}: pip install 'algrasp[cad]'")
 
 
+LIBRARY_FAULTS = (ValueError, TypeError, AttributeError, LookupError, RuntimeError, ArithmeticError, AssertionError,
+                  OSError)
+"""What reader libraries raise on files they cannot handle (RecursionError is a RuntimeError)."""
+LIBRARIES = ("ezdxf", "shapely", "svgelements", "trimesh", "zipfile")
+"""Libraries whose own exception bases (ezdxf's DXFError, shapely's GEOSException) are faults too."""
+
+
 def _library_faults(fn: Callable[..., T]) -> Callable[..., T]:
     """Any fault of a reader library (ezdxf, svgelements, trimesh, shapely, numpy) on a
     file it cannot handle becomes a PartDocumentError naming the file, never a traceback:
@@ -66,12 +73,8 @@ def _library_faults(fn: Callable[..., T]) -> Callable[..., T]:
             return fn(filename, *args, **kw)
         except AlgraspError:
             raise
-        except (ValueError, TypeError, AttributeError, KeyError, IndexError, RuntimeError, ArithmeticError,
-                AssertionError, RecursionError, LookupError, OSError) as exc:
-            raise PartDocumentError(PurePath(filename).name or "file", f"the file cannot be read ({type(exc).__name__}: "
-                                    f"{str(exc)[:200]})") from None
-        except Exception as exc:  # noqa: BLE001 - ezdxf's DXFError, shapely's GEOSException: library-specific bases
-            if type(exc).__module__.split(".")[0] not in ("ezdxf", "shapely", "svgelements", "trimesh", "zipfile"):
+        except Exception as exc:  # noqa: BLE001 - filtered below: only the libraries' faults are the file's
+            if not isinstance(exc, LIBRARY_FAULTS) and type(exc).__module__.split(".")[0] not in LIBRARIES:
                 raise
             raise PartDocumentError(PurePath(filename).name or "file", f"the file cannot be read ({type(exc).__name__}: "
                                     f"{str(exc)[:200]})") from None
