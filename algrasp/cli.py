@@ -393,7 +393,9 @@ def _cad_options(p: argparse.ArgumentParser) -> None:
     x.add_argument("--layer", help="DXF: the layer holding the outline (default: every layer)")
     x.add_argument("--id", help="SVG: the element (path, shape or group) to import (default: every shape)")
     x.add_argument("--pose", type=int, help="mesh: stable resting pose, 0 = most probable (default)")
-    g.add_argument("--tolerance", type=float, help="chaining tolerance in drawing units (default 1e-6 of its size)")
+    g.add_argument("--tolerance", type=float,
+                   help="join and gap tolerance in drawing units (default: ends within 1e-6 of the drawing's size "
+                        "join; gaps up to 2e-3 of the chains meeting there close, reported)")
     g.add_argument("--units", help="override the unit (meshes carry none: default mm)")
     g.add_argument("--part", type=int, metavar="K", dest="sheet_part",
                    help="DXF/SVG sheet: the K-th part (import FILE --list shows them)")

@@ -15,7 +15,6 @@ from typing import Any, TypeVar
 
 from algrasp.errors import AlgraspError, ConfigError, LimitExceededError, PartDocumentError
 from algrasp.geometry.limits import DEFAULT_LIMITS
-from algrasp.geometry.tolerances import TINY
 
 T = TypeVar("T")
 MAX_WARNINGS = 20
@@ -88,8 +87,9 @@ def import_bytes(filename: str, data: bytes, layer: str | None = None, element_i
                  part: int | None = None) -> dict[str, Any]:
     """The part document of a DXF/SVG/mesh file's bytes. ``layer`` (DXF), ``element_id``
     (SVG), ``pose`` (mesh) choose what to import; ``part`` chooses one of several parts on
-    a sheet (:func:`list_parts` lists them); ``tolerance`` is the chaining tolerance in
-    drawing units (default: 1e-6 of the drawing's size); ``units`` overrides the unit
+    a sheet (:func:`list_parts` lists them); ``tolerance`` is the join and gap tolerance in
+    drawing units (default: ends within 1e-6 of the drawing's size join, and gaps up to
+    2e-3 of the chains meeting there close); ``units`` overrides the unit
     (meshes carry none: default mm)."""
     suffix = PurePath(filename).suffix.lower()
     name = PurePath(filename).stem
@@ -156,39 +156,67 @@ def list_parts(filename: str, data: bytes, layer: str | None = None, element_id:
 def _sheet(filename: str, data: bytes, layer: str | None, element_id: str | None, pose: int | None,
            tolerance: float | None, units: str | None) -> tuple[Any, str, float, dict[str, Any]]:
     """The parts of a DXF/SVG drawing, its unit, scale and source description."""
-    from algrasp.io.cad.chain import default_tolerance, point_at
+    from algrasp.io.cad.chain import drawing_extent, point_at
+    from algrasp.io.cad.clutter import Marks
     from algrasp.io.cad.sheet import find_parts
 
     suffix = PurePath(filename).suffix.lower()
     _check_options(suffix, layer, element_id, pose)
     if suffix == ".dxf":
-        from algrasp.io.cad.dxf import captured_ezdxf_log, dxf_pieces, read_dxf
-
-        drawing = read_dxf(data)
-        with captured_ezdxf_log() as log:  # expanding blocks logs too
-            pieces, doc_units, k = dxf_pieces(drawing, layer)
-        drawing.algrasp_warnings += sorted(set(log))
-        source: dict[str, Any] = {"format": "dxf", "layer": layer}
-        hatched = drawing.algrasp_hatches
-        # With --units the unit assumption is the user's, not ours to warn about.
-        kept = [w for w in drawing.algrasp_warnings if units is None or "$INSUNITS" not in w][:MAX_WARNINGS]
-        if kept:
-            source["warnings"] = kept
+        pieces, doc_units, k, source, marks = _dxf(data, layer, units)
     elif suffix == ".svg":
         from algrasp.io.cad.svg import svg_pieces
 
         pieces, doc_units, k = svg_pieces(data, element_id), "mm", 1.0
-        hatched = []
+        marks = Marks()
         source = {"format": "svg", "id": element_id}
     else:
         raise PartDocumentError("FILE", f"unsupported file type {suffix or '(none)'}: use .json, {', '.join(CAD_SUFFIXES)}")
     for p in pieces:  # a transform can overflow (SVG scale(1e308) scale(1e308))
         if not all(math.isfinite(c) for e in (False, True) for c in point_at(p.segment, e)):
             raise PartDocumentError(p.origin, "coordinates overflow to infinity (an extreme scale or transform?)")
-    ends = [point_at(p.segment, e) for p in pieces for e in (False, True)]
-    size = float(max(max(abs(c) for pt in ends for c in pt), TINY))
-    tol = tolerance if tolerance is not None else default_tolerance(pieces)
-    return find_parts(pieces, tol, size, hatched), doc_units, k, source
+    sheet = find_parts(pieces, drawing_extent(pieces), tolerance, marks)
+    if units is None and suffix == ".dxf":
+        doc_units, k = _plausible_units(sheet, doc_units, k, source)
+    return sheet, doc_units, k, source
+
+
+def _dxf(data: bytes, layer: str | None, units: str | None) -> tuple[list[Any], str, float, dict[str, Any], Any]:
+    from algrasp.io.cad.dxf import captured_ezdxf_log, dxf_pieces, read_dxf
+
+    drawing = read_dxf(data)
+    with captured_ezdxf_log() as log:  # expanding blocks logs too
+        pieces, doc_units, k = dxf_pieces(drawing, layer)
+    drawing.algrasp_warnings += sorted(set(log))
+    source: dict[str, Any] = {"format": "dxf", "layer": layer}
+    # With --units the unit assumption is the user's, not ours to warn about.
+    kept = [w for w in drawing.algrasp_warnings if units is None or "$INSUNITS" not in w][:MAX_WARNINGS]
+    if kept:
+        source["warnings"] = kept
+    return pieces, doc_units, k, source, drawing.algrasp_marks
+
+
+PLAUSIBLE_PART_MM = 500.0
+"""The largest part a parallel-jaw gripper cell takes (mm): a drawing whose header unit
+makes its parts larger, while millimetres make them a plausible size, is read in mm."""
+
+
+def _plausible_units(sheet: Any, units: str, k: float, source: dict[str, Any]) -> tuple[str, float]:
+    """The header's unit, unless it makes every part implausibly large and millimetres
+    would not (KiCad writes $MEASUREMENT 0 with mm content; some exporters say inches for
+    mm): then mm, and both readings are said in the warnings."""
+    from algrasp.io.cad.chain import ring
+
+    if units != "in" or not sheet.parts:
+        return units, k
+    extent = max(float(max(ring(outline).max(axis=0) - ring(outline).min(axis=0))) for outline, _ in sheet.parts)
+    as_mm = extent * k * 25.4
+    if as_mm <= PLAUSIBLE_PART_MM or extent * k > PLAUSIBLE_PART_MM:
+        return units, k
+    note = (f"the header says inches, but its parts would then be up to {extent * k:.4g} in ({as_mm:.4g} mm) across: "
+            f"read as millimetres ({extent * k:.4g} mm); use --units in if they really are inches")
+    source["warnings"] = [*source.get("warnings", []), note][:MAX_WARNINGS]
+    return "mm", k
 
 
 def _check_options(suffix: str, layer: str | None, element_id: str | None, pose: int | None) -> None:

@@ -1,9 +1,9 @@
-"""Chain exact segments (part-document segment dicts, in any order and direction) into
-closed loops (which loop is a part and which a hole: `algrasp.io.cad.sheet`).
+"""Drawing segments (part-document segment dicts) and where they came from: end points,
+reversal, sample points, loops as polygons, the drawing's size and coordinate bounds.
+Loops are found by `algrasp.io.cad.arrange`, parts and holes by `algrasp.io.cad.sheet`.
 
-Only the chaining and the loop classification look at sampled points (to find which
-loop contains which); the segments themselves stay exact. Chaining is O(n log n) in the
-number of segments (a KD-tree of the end points).
+Only loop classification looks at sampled points (to find which loop contains which);
+the segments themselves stay exact.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from algrasp.errors import LimitExceededError, PartDocumentError
+from algrasp.errors import LimitExceededError
 from algrasp.geometry.angles import to_rad
 from algrasp.geometry.limits import DEFAULT_LIMITS
 from algrasp.geometry.tolerances import ROUNDING
@@ -65,16 +65,6 @@ def reverse(s: Segment) -> Segment:
     return {**s, "start_deg": s["end_deg"], "end_deg": s["start_deg"]}
 
 
-def _snap(s: Segment, start: np.ndarray) -> Segment:
-    """Move a line's or a Bezier's first point onto the previous segment's end (arcs are
-    left exact: their gap must be within the document tolerance)."""
-    if s["type"] == "line":
-        return {**s, "start": [float(start[0]), float(start[1])]}
-    if s["type"] == "bezier":
-        return {**s, "points": [[float(start[0]), float(start[1])], *s["points"][1:]]}
-    return s
-
-
 def samples(s: Segment, n: int = 16) -> np.ndarray:
     """Points along a segment, for loop classification, areas and boxes only: a line's two
     ends; a curve's n points, or one every degree of an arc's sweep (≤ 0.004 % area error)."""
@@ -98,47 +88,6 @@ def samples(s: Segment, n: int = 16) -> np.ndarray:
     return np.column_stack([c[0] + x * math.cos(rot) - y * math.sin(rot), c[1] + x * math.sin(rot) + y * math.cos(rot)])
 
 
-def chain(pieces: Sequence[Piece], tol: float, open_chains: list[str] | None = None) -> list[list[Segment]]:
-    """Closed loops from the pieces; endpoints closer than ``tol`` join. Raises
-    PartDocumentError for an open contour, naming where the gap is and how big — unless
-    ``open_chains`` is given: then each open chain is set aside there (its message) and
-    chaining goes on with the rest.
-
-    The free ends are found with a KD-tree of all end points (scipy): O(n log n) for n
-    pieces (a 10,000-entity sheet chains in well under a second)."""
-    from scipy.spatial import cKDTree
-
-    n = len(pieces)
-    ends = np.array([point_at(p.segment, e) for p in pieces for e in (False, True)]).reshape(2 * n, 2)
-    tree = cKDTree(ends)
-    used = np.zeros(n, dtype=bool)
-    loops = []
-    for i0 in range(n):
-        if used[i0]:
-            continue
-        used[i0] = True
-        first = pieces[i0]
-        loop = [first.segment]
-        start, end = ends[2 * i0], ends[2 * i0 + 1]
-        while np.linalg.norm(end - start) > tol:
-            k, flip = _nearest_free(tree, ends, used, end, tol)
-            if k is None:
-                err = _open_contour(first, loop, start, end, ends, used, tol)
-                if open_chains is None:
-                    raise err
-                open_chains.append(err.message)
-                loop = []
-                break
-            used[k] = True
-            seg = pieces[k].segment
-            seg = _snap(reverse(seg) if flip else seg, end)
-            loop += [*_bridge(end, point_at(seg, False), seg), seg]
-            end = point_at(seg, True)
-        if loop:
-            loops.append([*loop, *_bridge(end, start, loop[0])])
-    return loops
-
-
 def _bridge(a: np.ndarray, b: np.ndarray, like: Segment) -> list[Segment]:
     """A line over a gap the chaining tolerance closed but snapping cannot (arcs stay
     exact): the loop stays continuous to the document's tolerance."""
@@ -149,28 +98,6 @@ def _bridge(a: np.ndarray, b: np.ndarray, like: Segment) -> list[Segment]:
     if "_layer" in like:
         out["_layer"] = like["_layer"]
     return [out]
-
-
-def _nearest_free(tree: Any, ends: np.ndarray, used: np.ndarray, p: np.ndarray, tol: float) -> tuple[int | None, bool]:
-    """The unused piece with an end within ``tol`` of p (the nearest), and whether that
-    end is the piece's end (so the piece must be reversed)."""
-    near = [j for j in tree.query_ball_point(p, tol) if not used[j // 2]]
-    if not near:
-        return None, False
-    j = min(near, key=lambda q: float(np.linalg.norm(ends[q] - p)))
-    return j // 2, bool(j % 2)
-
-
-def _open_contour(first: Piece, loop: list[Segment], start: np.ndarray, end: np.ndarray, ends: np.ndarray,
-                  used: np.ndarray, tol: float) -> PartDocumentError:
-    free = ends[np.repeat(~used, 2)]
-    gap = float(np.min(np.linalg.norm(free - end, axis=1))) if len(free) else None
-    nearest = "no other segment is left" if gap is None else f"the nearest free end is {gap:.3g} away"
-    return PartDocumentError(
-        f"contour at ({end[0]:.6g}, {end[1]:.6g})",
-        f"open contour: the chain of {len(loop)} segment(s) from {first.origin} ends here, "
-        f"{float(np.linalg.norm(end - start)):.3g} from its start ({start[0]:.6g}, {start[1]:.6g}); "
-        f"{nearest} (chaining tolerance {tol:.3g})")
 
 
 def ring(loop: list[Segment]) -> np.ndarray:
@@ -184,24 +111,21 @@ def _polygon(loop: list[Segment]) -> Any:
     return Polygon(ring(loop)).buffer(0)
 
 
-CHAIN_GAP_REL = 1e-4
-"""Default chaining tolerance relative to the drawing's size: drawings made by people have
-gaps of a few hundredths of a millimetre between entities that should meet (0.015 mm seen
-on a 300 mm sheet); lines and curves are snapped over such gaps, arcs get a bridging line."""
 BRIDGE_REL = 1e-9
 """Gaps below this (relative to the coordinates) need no bridging line."""
 
 
-def default_tolerance(pieces: Sequence[Piece]) -> float:
-    """Chaining tolerance: ``CHAIN_GAP_REL`` times the drawing's size."""
+def drawing_extent(pieces: Sequence[Piece]) -> float:
+    """The drawing's size: the larger side of the box of its entities' ends (a lone
+    circle's ends coincide: its radius still sizes it)."""
     pts = [point_at(p.segment, e) for p in pieces for e in (False, True)]
-    for p in pieces:  # a lone circle's end points coincide: its radius still sizes it
+    for p in pieces:
         r = max(float(p.segment.get(k, 0.0)) for k in ("radius", "rx", "ry"))
         if r > 0.0:
             c = np.asarray(p.segment["center"], dtype=float)
             pts += [c - r, c + r]
     size = float(np.max(np.ptp(np.array(pts), axis=0))) if pts else 1.0
-    return CHAIN_GAP_REL * max(size, ROUNDING)
+    return max(size, ROUNDING)
 
 
 def check_bounded(segments: list[Segment], origin: str) -> None:

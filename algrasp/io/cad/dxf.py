@@ -23,6 +23,7 @@ from algrasp.geometry.angles import to_deg
 from algrasp.geometry.limits import DEFAULT_LIMITS
 from algrasp.geometry.tolerances import ROUNDING
 from algrasp.io.cad.chain import Piece, Segment, check_bounded
+from algrasp.io.cad.clutter import Marks
 from algrasp.io.cad.nurbs import nurbs_to_beziers
 
 SKIPPED = {"TEXT", "MTEXT", "DIMENSION", "ARC_DIMENSION", "LEADER", "MLEADER", "MULTILEADER", "ATTRIB", "ATTDEF",
@@ -206,6 +207,20 @@ def _spline(e: Any) -> list[Segment]:
     return out
 
 
+CONSTRUCTION_LINETYPE = re.compile(r"center|centre|dash|hidden|phantom|dot|divide|achs|mittel|strich|axe|axis|eje|"
+                                   r"trait|punt|tratt|hidd", re.IGNORECASE)
+"""Linetypes of centre, hidden and construction lines (never cut paths): set aside."""
+
+
+def construction_line(e: Any) -> bool:
+    """Whether an entity is drawn in a centre/hidden/construction linetype (its own, or its
+    layer's when it says BYLAYER)."""
+    name = str(e.dxf.get("linetype", "BYLAYER"))
+    if name.upper() == "BYLAYER" and e.doc is not None and e.doc.layers.has_entry(e.dxf.layer):
+        name = str(e.doc.layers.get(e.dxf.layer).dxf.get("linetype", "CONTINUOUS"))
+    return bool(CONSTRUCTION_LINETYPE.search(name))
+
+
 MAX_BLOCK_DEPTH = 16
 """Nested INSERTs deeper than this (or a block inserting itself) are refused."""
 MAX_EXPANDED_SEGMENTS = 2 * DEFAULT_LIMITS.max_total_segments
@@ -224,6 +239,8 @@ def entity_pieces(e: Any, within: str = "", depth: int = 0, budget: list[int] | 
         return []
     if t == "INSERT":
         return _insert_pieces(e, within, depth, budget)
+    if construction_line(e):
+        return []
     handlers = {"LINE": lambda: [{"type": "line", "start": _xy(e.dxf.start), "end": _xy(e.dxf.end)}],
                 "ARC": lambda: [_arc(e, False)], "CIRCLE": lambda: [_arc(e, True)], "ELLIPSE": lambda: [_ellipse(e)],
                 "LWPOLYLINE": lambda: _polyline(e), "POLYLINE": lambda: _polyline(e), "SPLINE": lambda: _spline(e)}
@@ -289,11 +306,15 @@ def dxf_pieces(doc: Any, layer: str | None) -> tuple[list[Piece], str, float]:
     budget = [MAX_EXPANDED_SEGMENTS]  # shared by every entity of the drawing
     pieces = [p for e in chosen for p in entity_pieces(e, budget=budget)]
     skipped: dict[str, int] = {}
+    dashed = sum(1 for e in chosen if e.dxftype() not in SKIPPED and e.dxftype() != "INSERT" and construction_line(e))
+    if dashed:
+        skipped["centre/hidden-line entity (by linetype)"] = dashed
     for e in chosen:
         if e.dxftype() in SKIPPED or e.dxftype().endswith("DIMENSION"):
             skipped[e.dxftype()] = skipped.get(e.dxftype(), 0) + 1
     if hasattr(doc, "algrasp_warnings"):
-        doc.algrasp_hatches = hatch_points([e for e in chosen if e.dxftype() == "HATCH"])
+        doc.algrasp_marks = Marks(hatch_points([e for e in chosen if e.dxftype() == "HATCH"]), text_marks(msp),
+                                  any(t.endswith("DIMENSION") for t in skipped))
     if skipped and hasattr(doc, "algrasp_warnings"):
         doc.algrasp_warnings.append("set aside (annotation, fills, construction, 3-D): "
                                     + ", ".join(f"{n} {t}" for t, n in sorted(skipped.items())))
@@ -303,6 +324,29 @@ def dxf_pieces(doc: Any, layer: str | None) -> tuple[list[Piece], str, float]:
                                 f"{where} has no outline geometry (layers: {', '.join(layers) or 'none'})")
     units, k = dxf_units(doc)
     return pieces, units, k
+
+
+MAX_TEXT_MARKS = 2000
+"""Texts read for the frame and title-block rules (a drawing's first ones suffice)."""
+
+
+def text_marks(entities: Any, depth: int = 0) -> list[tuple[float, float, str]]:
+    """(x, y, content) of the drawing's TEXT, MTEXT and block attributes, blocks (title
+    blocks are often blocks) read one level deep."""
+    out: list[tuple[float, float, str]] = []
+    for e in entities:
+        if len(out) >= MAX_TEXT_MARKS:
+            break
+        t = e.dxftype()
+        try:
+            if t in ("TEXT", "MTEXT", "ATTRIB"):
+                p = e.dxf.insert
+                out.append((float(p[0]), float(p[1]), str(e.plain_text() if t == "MTEXT" else e.dxf.text)))
+            elif t == "INSERT" and depth == 0:
+                out += text_marks(e.attribs, 1) + text_marks(e.virtual_entities(), 1)
+        except (ValueError, TypeError, AttributeError, LookupError, ArithmeticError):
+            continue  # an unreadable text only ever weakens a clutter rule
+    return out[:MAX_TEXT_MARKS]
 
 
 def hatch_points(hatches: list[Any]) -> list[tuple[float, float]]:

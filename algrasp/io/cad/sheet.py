@@ -1,21 +1,17 @@
-"""The parts on a drawing sheet (issue 17): several outlines on one layer, nested sheets,
-clutter.
+"""The parts on a drawing sheet: several outlines on one layer, nested sheets, shared cut
+lines, clutter.
 
-Pieces are cleaned (zero-length and duplicated entities dropped, with a warning), chained
-into closed loops (open chains — centre lines, construction lines, dimension leftovers —
-are set aside and reported), and the loops are nested by containment: a loop at even depth
-is a part's outline, the loops directly inside it are its holes, and a loop inside a hole
-is a part of its own (a nested sheet). Parts are numbered by decreasing area.
-
-Drawings made for people hold more than the part: a frame with its title block (a
-rectangle around everything, on a layer of its own) is set aside; so are section views
-(hatched regions, when some parts are hatched and some are not) and engraving (loops on an
-engraving/marking layer inside a part are not holes).
+Zero-length lines are dropped; the rest become a planar arrangement
+(`algrasp.io.cad.arrange`: shared stretches split, duplicates merged, small gaps closed,
+open chains set aside) whose bounded faces are the loops. Loops are nested by containment:
+a loop at even depth is a part's outline, the loops directly inside it are its holes, and
+a loop inside a hole is a part of its own (a nested sheet). Frames and title blocks, other
+views of a part and engraving are recognised and set aside (`algrasp.io.cad.clutter`).
+Parts are numbered by decreasing area.
 """
 
 from __future__ import annotations
 
-import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -24,11 +20,9 @@ import numpy as np
 
 from algrasp.errors import PartDocumentError
 from algrasp.geometry.tolerances import ROUNDING, TINY
-from algrasp.io.cad.chain import Piece, Segment, _polygon, chain, point_at, ring
-
-_DUPLICATE_DIGITS = 9
-"""End points rounded to this many significant digits of the drawing size when looking
-for duplicated entities."""
+from algrasp.io.cad.arrange import arrange
+from algrasp.io.cad.chain import Piece, Segment, _polygon, point_at, ring
+from algrasp.io.cad.clutter import NO_MARKS, Loops, Marks, engraving, frames, views
 
 
 @dataclass
@@ -54,137 +48,73 @@ class Sheet:
         return {"parts": rows, "ignored": list(self.ignored), "warnings": list(self.warnings)}
 
 
-def clean(pieces: Sequence[Piece], size: float) -> tuple[list[Piece], list[str]]:
-    """Drop zero-length and duplicated entities (the same end points, type and shape)."""
-    out: list[Piece] = []
-    seen: set[tuple[Any, ...]] = set()
-    zero, dup = 0, 0
+def drop_zero_length(pieces: Sequence[Piece], size: float) -> tuple[list[Piece], list[str]]:
+    """Drop lines of no length (duplicates are found by the arrangement, by geometry)."""
     scale = max(size, TINY)
-    for p in pieces:
-        a, b = point_at(p.segment, False), point_at(p.segment, True)
-        if np.linalg.norm(b - a) <= ROUNDING * scale and p.segment["type"] == "line":
-            zero += 1
-            continue
-        key = _key(p.segment, a, b, scale)
-        if key in seen:
-            dup += 1
-            continue
-        seen.add(key)
-        out.append(p)
-    notes = []
-    if zero:
-        notes.append(f"{zero} zero-length entit{'y' if zero == 1 else 'ies'} dropped")
-    if dup:
-        notes.append(f"{dup} duplicated entit{'y' if dup == 1 else 'ies'} dropped")
-    return out, notes
+    out = [p for p in pieces if p.segment["type"] != "line"
+           or np.linalg.norm(point_at(p.segment, True) - point_at(p.segment, False)) > ROUNDING * scale]
+    zero = len(pieces) - len(out)
+    return out, [f"{zero} zero-length entit{'y' if zero == 1 else 'ies'} dropped"] if zero else []
 
 
-def _key(seg: Segment, a: np.ndarray, b: np.ndarray, scale: float) -> tuple[Any, ...]:
-    """Direction-free identity of a segment: its type, end points and shape parameters."""
-    def r(v: Any) -> tuple[float, ...]:
-        return tuple(np.round(np.ravel(np.asarray(v, dtype=float)) / scale, _DUPLICATE_DIGITS).tolist())
-
-    ends = tuple(sorted([r(a), r(b)]))
-    shape: tuple[Any, ...] = ()
-    if seg["type"] == "bezier":
-        shape = tuple(sorted(r(p) for p in seg["points"])) + tuple(sorted(seg.get("weights", [])))
-    elif seg["type"] in ("arc", "ellipse_arc"):
-        shape = r(seg["center"]) + r([seg.get("radius", 0.0), seg.get("rx", 0.0), seg.get("ry", 0.0)])
-        shape += (round(abs(seg["end_deg"] - seg["start_deg"]), 9),)
-    return (seg["type"], ends, shape)
-
-
-ENGRAVING_LAYER = re.compile(r"engrav|etch|mark|scor|scrib|label|text|letter|logo|raster", re.IGNORECASE)
-"""Layer names whose loops inside a part are engraving or marking, not holes."""
-
-
-def find_parts(pieces: Sequence[Piece], tol: float, size: float,
-               hatched: Sequence[tuple[float, float]] = ()) -> Sheet:
-    """The parts of a drawing (see module docs); ``hatched`` holds one point inside each
-    hatched region. Raises PartDocumentError when no closed contour is left (naming the
-    first open one)."""
-    kept, warnings = clean(pieces, size)
-    ignored: list[str] = []
-    loops = chain([Piece({**p.segment, "_layer": p.layer}, p.origin) for p in kept], tol, ignored)
-    if not loops:
-        if ignored:
-            raise PartDocumentError("drawing", ignored[0])
-        raise PartDocumentError("drawing", "no closed contour")
+def find_parts(pieces: Sequence[Piece], size: float, tolerance: float | None = None, marks: Marks = NO_MARKS) -> Sheet:
+    """The parts of a drawing (see module docs); ``size`` is the drawing's extent,
+    ``tolerance`` (drawing units) overrides the join and gap tolerances. Raises
+    PartDocumentError when no closed contour is left (naming the first open one)."""
+    kept, warnings = drop_zero_length(pieces, size)
+    arr = arrange(kept, size, tolerance)
+    warnings += arr.notes
+    ignored = list(arr.open_chains)
+    if not arr.faces:
+        raise PartDocumentError("drawing", ignored[0] if ignored else "no closed contour")
     if ignored:
         warnings.append(f"{len(ignored)} open chain(s) set aside (centre, construction or dimension lines?)")
-    loops = _with_area(loops, ignored)
-    loops = [_untangle(lp, warnings) for lp in loops]
+    loops = [_untangle(lp, warnings) for lp in arr.faces]
     polys = [_polygon(lp) for lp in loops]
-    order = sorted(range(len(loops)), key=lambda i: -polys[i].area)
+    order = sorted((i for i in range(len(loops)) if polys[i].area > 0.0), key=lambda i: -polys[i].area)
+    if not order:
+        raise PartDocumentError("drawing", "no closed contour with an area")
     parent = {i: _parent(i, order, polys) for i in order}
     warnings += _overlaps(order, parent, polys)
-    frames = [i for i in order if parent[i] is None and _is_frame(loops, i, parent)]
-    ignored += [f"frame: the rectangle on layer {_layer(loops[f])!r} around the parts" for f in frames]
-    for i in order:  # by decreasing area: a cell's parent is decided before the cell
-        if parent[i] in frames and i not in frames and _layer(loops[i]) == _layer(loops[parent[i]]):  # type: ignore[index]
-            frames.append(i)  # title block cells, however nested
-            ignored.append(f"title block: a loop on the frame's layer {_layer(loops[i])!r}")
+    lp = Loops(loops, polys, parent, arr.component, arr.outer, order)
+    framed, said = frames(lp, marks, size)
+    ignored += said
     for i in order:
-        if parent[i] in frames:
+        if parent[i] in framed:
             parent[i] = None
+    order = [i for i in order if i not in framed]
+    return _nest(lp, order, marks, ignored, warnings, bool(framed))
+
+
+def _nest(lp: Loops, order: list[int], marks: Marks, ignored: list[str], warnings: list[str], framed: bool) -> Sheet:
+    """Parts at even depth, their holes the loops directly inside; engraving (and all it
+    holds) is neither; other views of a part are set aside."""
+    lp.order = order
     depth: dict[int, int] = {}
-    for i in order:
-        depth[i] = 0 if parent[i] is None else depth[parent[i]] + 1  # type: ignore[index]
-    outer = [i for i in order if i not in frames and depth[i] % 2 == 0]
-    outer = _without_sections(outer, polys, hatched, ignored)
-    engraved = _engraving(outer, order, parent, loops, ignored)
-    parts = [(_strip(loops[i]), [_strip(loops[j]) for j in order if parent[j] == i and j not in engraved])
-             for i in outer]
-    return Sheet(parts, ignored, warnings, [_layer(loops[i]) for i in outer])
-
-
-def _without_sections(outer: list[int], polys: list[Any], hatched: Sequence[tuple[float, float]],
-                      ignored: list[str]) -> list[int]:
-    """Set aside hatched parts (section views) when some parts are not hatched: a part to
-    cut is drawn as an outline, a section through it is filled."""
-    from shapely.geometry import Point
-
-    marks = [Point(p) for p in hatched]
-    filled = {i for i in outer if any(polys[i].covers(m) for m in marks)}
-    if not filled or len(filled) == len(outer):
-        return outer
-    ignored += [f"section view: a hatched region of {len(polys[i].exterior.coords) - 1} vertices" for i in sorted(filled)]
-    return [i for i in outer if i not in filled]
-
-
-def _engraving(outer: list[int], order: list[int], parent: dict[int, int | None], loops: list[list[Segment]],
-               ignored: list[str]) -> set[int]:
-    """Loops directly inside a part, on an engraving or marking layer other than the part's:
-    not holes."""
-    out = set()
-    for i in outer:
-        for j in order:
-            name = _layer(loops[j])
-            if parent[j] == i and name != _layer(loops[i]) and name and ENGRAVING_LAYER.search(name):
-                out.add(j)
-    if out:
-        ignored.append(f"engraving: {len(out)} loop(s) on marking layers inside parts (not holes)")
-    return out
+    dropped: set[int] = set()
+    parts: list[int] = []
+    for i in order:  # by decreasing area: a loop's parent is placed before the loop
+        p = lp.parent[i]
+        if p in dropped:
+            dropped.add(i)
+            continue
+        depth[i] = 0 if p is None else depth[p] + 1
+        if depth[i] % 2 == 0:
+            parts.append(i)
+            marked, said = engraving(lp, i, marks)
+            dropped |= marked
+            ignored += said
+    holes = {i: [j for j in lp.children(i) if j not in dropped] for i in parts}
+    others, said = views(lp, parts, {i: len(h) for i, h in holes.items()}, marks, framed)
+    ignored += said
+    parts = [i for i in parts if i not in others]
+    return Sheet([(_strip(lp.loops[i]), [_strip(lp.loops[j]) for j in holes[i]]) for i in parts], ignored, warnings,
+                 [lp.layer(i) for i in parts])
 
 
 KERF_AREA_REL = 0.01
 """A self-intersecting loop whose stray lobes (kerf loops, overshoots) hold less than this
 share of its area is resolved to the region it bounds."""
-
-
-def _with_area(loops: list[list[Segment]], ignored: list[str]) -> list[list[Segment]]:
-    """The loops that bound an area; a loop of fewer than 3 distinct points (a segment
-    shorter than the chaining tolerance closes on itself) or of no area is set aside, said.
-    Raises PartDocumentError when none is left."""
-    from shapely.geometry import Polygon
-
-    kept = [lp for lp in loops if len(np.unique(pts := ring(lp), axis=0)) >= 3 and Polygon(pts).buffer(0).area > 0]
-    if len(kept) < len(loops):
-        ignored.append(f"{len(loops) - len(kept)} degenerate loop(s) set aside (no area: a segment shorter than the "
-                       "chaining tolerance, or a loop that folds back on itself)")
-    if not kept:
-        raise PartDocumentError("drawing", "no closed contour with an area")
-    return kept
 
 
 def _untangle(loop: list[Segment], warnings: list[str]) -> list[Segment]:
@@ -228,23 +158,6 @@ def _overlaps(order: list[int], parent: dict[int, int | None], polys: list[Any])
             if parent[i] == parent[j] and polys[i].intersects(polys[j]) and polys[i].intersection(polys[j]).area > 0.0:
                 out.append(f"overlapping loops: loops {i} and {j} cross (several parts drawn over each other?)")
     return out[:10]
-
-
-def _layer(loop: list[Segment]) -> str | None:
-    return loop[0].get("_layer")
-
-
-def _is_frame(loops: list[list[Segment]], i: int, parent: dict[int, int | None]) -> bool:
-    """A drawing frame: an axis-aligned rectangle around other loops on other layers (a
-    plate with holes has its holes on its own layer); loops inside it on its own layer
-    are its title block."""
-    loop = loops[i]
-    children = [j for j, p in parent.items() if p == i]
-    if len(loop) != 4 or not children or any(s["type"] != "line" for s in loop):
-        return False
-    if not all(s["start"][0] == s["end"][0] or s["start"][1] == s["end"][1] for s in loop):
-        return False
-    return _layer(loop) is not None and any(_layer(loops[j]) != _layer(loop) for j in children)
 
 
 def _strip(loop: list[Segment]) -> list[Segment]:

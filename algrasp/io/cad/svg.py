@@ -56,6 +56,28 @@ def _segment(s: Any) -> Segment | None:
     raise PartDocumentError("svg", f"unsupported path segment {type(s).__name__}")
 
 
+INKSCAPE_LABEL = "{http://www.inkscape.org/namespaces/inkscape}label"
+
+
+def _layers(svg: Any) -> dict[int, str]:
+    """Each shape's layer name: its Inkscape layer label, else Illustrator's ``data-name``,
+    else the id of the top-level group holding it (Illustrator writes layers as top-level
+    groups named by id, escaping non-ASCII names). Keyed by ``id(shape)``."""
+    from svgelements import Group, Shape
+
+    out: dict[int, str] = {}
+    for child in svg:
+        if isinstance(child, Group) and getattr(child, "id", None):
+            for e in child.select():
+                out[id(e)] = str(child.id)
+    for e in svg.elements():
+        if isinstance(e, Shape):
+            label = e.values.get(INKSCAPE_LABEL) or e.values.get("data-name")
+            if label:
+                out[id(e)] = str(label)
+    return out
+
+
 def svg_pieces(data: bytes, element_id: str | None) -> list[Piece]:
     """Exact segments of the element ``element_id`` (default: every shape)."""
     from svgelements import SVG, Path, Shape
@@ -77,13 +99,14 @@ def svg_pieces(data: bytes, element_id: str | None) -> list[Piece]:
         shapes = [e for e in ([el] if isinstance(el, Shape) else el.select()) if isinstance(e, Shape)]
     else:
         shapes = [e for e in svg.elements() if isinstance(e, Shape)]
+    layers = _layers(svg)
     pieces = []
     for shape in shapes:
         origin = f"{type(shape).__name__}#{shape.id}" if shape.id else type(shape).__name__
         path = shape if isinstance(shape, Path) else Path(shape)
         segments = [seg for seg in map(_segment, path.segments()) if seg is not None]
         check_bounded(segments, origin)
-        pieces += [Piece(seg, origin) for seg in segments]
+        pieces += [Piece(seg, origin, layers.get(id(shape))) for seg in segments]
     if not pieces:
         raise PartDocumentError("id" if element_id else "svg", "no outline geometry (paths or shapes) found")
     return pieces

@@ -1,0 +1,251 @@
+"""What a drawing made for people holds beside the parts: frames and title blocks, other
+views of the same part, engraving. Each rule looks at the loops' shapes and nesting and at
+the drawing's marks (hatches, text), never at one layer name alone; layer names are a
+hint, read in any language.
+
+- **Frame**: a component whose outer boundary is an axis-aligned rectangle around other
+  loops, with something that says "sheet": cells (a title block drawn onto it), text
+  inside it, loops on other layers, parts that have holes of their own, parts that fill
+  over half of it, or a frame-like layer name. Its cells holding text (or on its own
+  layer, when the parts are on another) are the title block; other cells are parts cut
+  along the border.
+- **Views**: in an annotated drawing (dimensions, a frame), loops aligned with another
+  (same width stacked, or same height side by side) that are not copies of it are views
+  of one part: the plan view (most holes, not hatched, largest) is kept.
+- **Engraving**: loops inside a part on a marking layer, filled by a hatch, or a row of
+  small, different, non-circular loops (letters).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from algrasp.geometry.tolerances import ROUNDING
+from algrasp.io.cad.chain import Segment
+
+ENGRAVING_LAYER = re.compile(
+    r"engrav|etch|mark|scor|scrib|label|text|letter|logo|raster|gravur|beschrift|schrift|grav|marqu|texte|grabad|"
+    r"marcad|rotul|incisi|marcatur|testo|scritt|gravaç|marcaç|graveer|tekst|grawer|znakow|napis|gravyr|märk|popis|"
+    r"гравир|маркир|текст|надпис|彫刻|刻印|マーキング|文字|テキスト|ロゴ|雕刻|刻字|打标|标记|标识|각인|조각|마킹|텍스트",
+    re.IGNORECASE)
+"""Layer names (English, German, French, Spanish, Italian, Portuguese, Dutch, Polish,
+Swedish, Czech, Russian, Japanese, Chinese, Korean) of engraving, marking and text."""
+FRAME_LAYER = re.compile(
+    r"border|frame|title|rahmen|schriftfeld|cadre|cartouche|marco|cajet|cornice|cartiglio|moldura|kader|ramka|"
+    r"рамк|штамп|枠|表題|图框|标题栏|도곽|표제", re.IGNORECASE)
+"""Layer names of drawing frames and title blocks, in the same languages."""
+VIEW_ALIGN_REL = 5e-3
+"""Two loops whose extents agree to this share (along one axis) are aligned views."""
+COPY_AREA_REL = 1e-2
+"""Aligned loops whose areas agree to this share (and hole counts too) are copies of one
+part (a nesting row), not views of it."""
+FILL_SHARE = 0.5
+"""Parts filling over this share of a rectangle around them make it a sheet border."""
+GLYPH_AREA_REL = 5e-3
+"""A letter engraved in a part has less than this share of the part's area."""
+GLYPH_MIN = 4
+"""At least this many small, different, non-circular loops make a line of text."""
+
+
+@dataclass(frozen=True)
+class Marks:
+    """What a drawing says beside its geometry: one point inside each hatched region, the
+    text (insertion point, content), and whether it is annotated (dimensions)."""
+
+    hatched: Sequence[tuple[float, float]] = ()
+    texts: Sequence[tuple[float, float, str]] = ()
+    annotated: bool = False
+
+
+NO_MARKS = Marks()
+
+
+@dataclass
+class Loops:
+    """The loops of a sheet with what the rules need: polygons, containment parent,
+    component (of the arrangement) and layer of each."""
+
+    loops: list[list[Segment]]
+    polys: list[Any]
+    parent: dict[int, int | None]
+    component: list[int]
+    outer: dict[int, list[Segment]]
+    order: list[int] = field(default_factory=list)
+
+    def layer(self, i: int) -> str | None:
+        return self.loops[i][0].get("_layer")
+
+    def children(self, i: int) -> list[int]:
+        return [j for j in self.order if self.parent[j] == i]
+
+
+def _is_rectangle(loop: list[Segment], size: float) -> bool:
+    """Axis-aligned lines with four corners (collinear runs merged)."""
+    if any(s["type"] != "line" for s in loop):
+        return False
+    tol = ROUNDING * max(size, 1.0) * 1e3
+    dirs: list[tuple[int, int]] = []
+    for s in loop:
+        dx, dy = np.subtract(s["end"], s["start"])
+        if abs(dx) > tol and abs(dy) > tol:
+            return False
+        d = (int(np.sign(dx)) if abs(dx) > tol else 0, int(np.sign(dy)) if abs(dy) > tol else 0)
+        if d != (0, 0) and (not dirs or dirs[-1] != d):
+            dirs.append(d)
+    if len(dirs) > 1 and dirs[0] == dirs[-1]:
+        dirs.pop()
+    return len(dirs) == 4
+
+
+def _texts_in(poly: Any, marks: Marks) -> list[str]:
+    from shapely.geometry import Point
+
+    return [t for x, y, t in marks.texts if poly.covers(Point(x, y))]
+
+
+def frames(lp: Loops, marks: Marks, size: float) -> tuple[set[int], list[str]]:
+    """The loops that are frames or title-block cells, and what was said about them."""
+    out: set[int] = set()
+    said: list[str] = []
+    by_comp: dict[int, list[int]] = {}
+    for i in lp.order:
+        by_comp.setdefault(lp.component[i], []).append(i)
+    for c, faces in by_comp.items():
+        main = faces[0]  # the largest face of the component (order is by decreasing area)
+        if lp.parent[main] is not None or c not in lp.outer or not _is_rectangle(lp.outer[c], size):
+            continue
+        inside = lp.children(main)
+        reason = _frame_reason(lp, main, faces, inside, marks)
+        if reason is None:
+            continue
+        out.add(main)
+        said.append(f"frame: the rectangle on layer {lp.layer(main)!r} around the parts ({reason})")
+        other_layers = any(lp.layer(j) != lp.layer(main) and not ENGRAVING_LAYER.search(lp.layer(j) or "")
+                           for j in inside)
+        titled = any(_texts_in(lp.polys[j], marks) for j in faces[1:])  # a title block: all its cells are
+        for j in faces[1:]:
+            if titled or (other_layers and lp.layer(j) == lp.layer(main)):
+                out.add(j)
+                said.append(f"title block: a cell of the frame on layer {lp.layer(j)!r}")
+        for j in lp.order:  # title-block boxes drawn on their own, on the frame's layer
+            if other_layers and lp.parent.get(j) == main and lp.layer(j) == lp.layer(main) and j not in out:
+                out.add(j)
+                said.append(f"title block: a loop on the frame's layer {lp.layer(j)!r}")
+    return out, said
+
+
+def _frame_reason(lp: Loops, main: int, faces: list[int], inside: list[int], marks: Marks) -> str | None:
+    if not inside and len(faces) < 2:
+        return None
+    name = lp.layer(main) or ""
+    poly = lp.polys[main]
+    from shapely.geometry import Point
+
+    spots = [Point(x, y) for x, y, _ in marks.texts]
+    loose_text = [p for p in spots if poly.covers(p) and not any(lp.polys[j].covers(p) for j in inside)]
+    checks = [
+        (len(faces) > 1 and any(_texts_in(lp.polys[j], marks) for j in faces[1:]), "a title block"),
+        (any(lp.layer(j) != lp.layer(main) and not ENGRAVING_LAYER.search(lp.layer(j) or "") for j in inside),
+         "loops on other layers inside"),
+        (bool(inside) and bool(loose_text) and len(inside) >= 2, "text beside the parts"),
+        (any(lp.children(j) for j in inside), "parts with holes of their own inside"),
+        (len(inside) >= 2 and sum(lp.polys[j].area for j in inside) > FILL_SHARE * poly.area, "parts filling it"),
+        (bool(inside) and bool(FRAME_LAYER.search(name)), f"layer {name!r}"),
+        (len(faces) > 2 and bool(inside), "cells along it"),
+    ]
+    return next((why for ok, why in checks if ok), None)
+
+
+def views(lp: Loops, parts: list[int], holes: dict[int, int], marks: Marks, framed: bool) -> tuple[set[int], list[str]]:
+    """Loops that are other views (side, section) of a part drawn beside its plan view."""
+    if not (marks.annotated or framed) or len(parts) < 2:
+        return set(), []
+    from shapely.geometry import Point
+
+    hatched = {i for i in parts if any(lp.polys[i].covers(Point(p)) for p in marks.hatched)}
+    box = {i: lp.polys[i].bounds for i in parts}
+    group = {i: i for i in parts}
+
+    def root(i: int) -> int:
+        while group[i] != i:
+            i = group[i]
+        return i
+
+    for n, a in enumerate(parts):
+        for b in parts[n + 1:]:
+            if _aligned(box[a], box[b]) and not _copies(lp, a, b, holes):
+                group[root(b)] = root(a)
+    out: set[int] = set()
+    said: list[str] = []
+    for r in {root(i) for i in parts}:
+        members = [i for i in parts if root(i) == r]
+        if len(members) < 2:
+            continue
+        plan = max(members, key=lambda i: (i not in hatched, holes[i], lp.polys[i].area))
+        for i in members:
+            if i != plan:
+                out.add(i)
+                kind = "section view: a hatched" if i in hatched else "side view: a"
+                said.append(f"{kind} view of the part drawn beside its plan view, set aside")
+    return out, said
+
+
+def _aligned(a: tuple[float, ...], b: tuple[float, ...]) -> bool:
+    for lo, hi in ((0, 2), (1, 3)):
+        span = max(a[hi] - a[lo], b[hi] - b[lo])
+        if abs(a[lo] - b[lo]) <= VIEW_ALIGN_REL * span and abs(a[hi] - b[hi]) <= VIEW_ALIGN_REL * span:
+            return True
+    return False
+
+
+def _copies(lp: Loops, a: int, b: int, holes: dict[int, int]) -> bool:
+    area_a, area_b = lp.polys[a].area, lp.polys[b].area
+    return holes[a] == holes[b] and abs(area_a - area_b) <= COPY_AREA_REL * max(area_a, area_b)
+
+
+def engraving(lp: Loops, part: int, marks: Marks) -> tuple[set[int], list[str]]:
+    """The loops directly inside ``part`` that are engraving, not holes."""
+    from shapely.geometry import Point
+
+    kids = lp.children(part)
+    by_layer = {j for j in kids if (name := lp.layer(j)) and name != lp.layer(part) and ENGRAVING_LAYER.search(name)}
+    filled = {j for j in kids if any(lp.polys[j].covers(Point(p)) for p in marks.hatched)}
+    glyphs = _glyphs(lp, part, kids)
+    out = by_layer | filled | glyphs
+    said = []
+    for found, why in ((by_layer, "on marking layers"), (filled, "filled by a hatch"), (glyphs, "a line of letters")):
+        if found:
+            said.append(f"engraving: {len(found)} loop(s) inside a part ({why}): not holes")
+    return out, said
+
+
+def _glyphs(lp: Loops, part: int, kids: list[int]) -> set[int]:
+    """Small non-circular loops of at least three different shapes and similar heights:
+    a line of engraved letters. Shapes repeated three times or more (a grille of equal
+    slots, a bolt pattern) are machined features and stay holes."""
+    area = lp.polys[part].area
+    small = [j for j in kids if lp.polys[j].area < GLYPH_AREA_REL * area and not _round(lp.loops[j])]
+    shape = {j: (round(lp.polys[j].area, 6), len(lp.loops[j])) for j in small}
+    repeats = {sig: sum(1 for v in shape.values() if v == sig) for sig in shape.values()}
+    small = [j for j in small if repeats[shape[j]] < 3]
+    if len(small) < GLYPH_MIN:
+        return set()
+    heights = np.array([lp.polys[j].bounds[3] - lp.polys[j].bounds[1] for j in small])
+    med = float(np.median(heights))
+    row = [j for j, h in zip(small, heights) if med / 2 <= h <= 2 * med]
+    return set(row) if len(row) >= GLYPH_MIN and len({shape[j] for j in row}) >= 3 else set()
+
+
+def _round(loop: list[Segment]) -> bool:
+    """A drilled hole: one full circle, or arcs of one circle."""
+    if not all(s["type"] == "arc" for s in loop):
+        return False
+    scale = max(float(loop[0]["radius"]), ROUNDING)
+    circles = {(round(s["radius"] / scale, 6), round(s["center"][0] / scale, 6), round(s["center"][1] / scale, 6))
+               for s in loop}
+    return len(circles) == 1
