@@ -15,7 +15,8 @@ __version__ = "0.1.0"
 
 _API = {
     "load_part": "algrasp.api", "analyse": "algrasp.api", "plan": "algrasp.api", "validate": "algrasp.api",
-    "import_drawing": "algrasp.api", "document": "algrasp.api", "model": "algrasp.api",
+    "import_drawing": "algrasp.api", "document": "algrasp.api", "model": "algrasp.api", "Drawing": "algrasp.api",
+    "Validation": "algrasp.sim.validate",
     "Part": "algrasp.geometry.part", "Tolerances": "algrasp.geometry.tolerances",
     "DEFAULT_TOLERANCES": "algrasp.geometry.tolerances",
     "Analysis": "algrasp.planning.analysis", "Plan": "algrasp.planning.plans", "Model": "algrasp.planning.analysis",
@@ -25,15 +26,15 @@ _API = {
     "SimulationError": "algrasp.errors", "TimeLimitError": "algrasp.errors", "UnavailableError": "algrasp.errors",
     "StorageError": "algrasp.errors",
 }
-__all__ = ["AlgraspError", "Analysis", "ConfigError", "DEFAULT_PHYSICS", "DEFAULT_TOLERANCES",
+__all__ = ["AlgraspError", "Analysis", "ConfigError", "DEFAULT_PHYSICS", "DEFAULT_TOLERANCES", "Drawing",
            "GeometryError", "LimitExceededError", "Model", "NotOrientableError", "Part", "PartDocumentError",
            "Physics", "Plan", "SimulationError", "StorageError", "TimeLimitError", "Tolerances",
-           "UnavailableError", "analyse", "document", "import_drawing", "load_part", "model", "plan",
+           "UnavailableError", "Validation", "analyse", "document", "import_drawing", "load_part", "model", "plan",
            "validate"]
 # (kept literal for linters; a test checks it equals the lazy table)
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
-    from algrasp.api import analyse, document, import_drawing, load_part, model, plan, validate
+    from algrasp.api import Drawing, analyse, document, import_drawing, load_part, model, plan, validate
     from algrasp.errors import (
         AlgraspError,
         ConfigError,
@@ -51,6 +52,7 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
     from algrasp.planning.analysis import Analysis, Model
     from algrasp.planning.deadband import DEFAULT_PHYSICS, Physics
     from algrasp.planning.plans import Plan
+    from algrasp.sim.validate import Validation
 
 
 def __getattr__(name: str) -> Any:

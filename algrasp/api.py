@@ -1,123 +1,289 @@
 """The public Python API: a part in, its analysis and plan out, in a few calls.
 
-Everything here is re-exported by ``algrasp`` itself (``from algrasp import plan``).
-Angles inside the returned objects are radians; their ``to_dict()`` documents use degrees
-(conventions §5), as the CLI's ``--json`` and the HTTP API do.
+Everything here is re-exported by ``algrasp`` itself (``from algrasp import plan``). Each
+function accepts what the others return — a part document (mapping), a path (``.json``
+part document, drawing or mesh), a :class:`Drawing`, a :class:`Part`, an
+:class:`Analysis` or a :class:`Plan` — and options are keyword-only. Angles inside the
+returned objects are radians; their ``to_dict()`` documents use degrees
+(docs/conventions.md §1), as the CLI's ``--json`` and the HTTP API do.
 
 >>> from algrasp import analyse, load_part, plan
 >>> square = {"name": "square", "boundary": [[0, 0], [4, 0], [4, 4], [0, 4]]}
 >>> part = load_part(square)
 >>> round(part.area, 9), part.center_of_mass
 (16.0, (2.0, 2.0))
->>> p = plan(square, "squeeze", exact=True)
+>>> p = plan(part, action="squeeze", exact=True)
 >>> len(p.steps), round(p.symmetry_period * 180 / 3.141592653589793, 6)
 (1, 90.0)
->>> p.to_dict()["action"]
-'squeeze'
+>>> p.to_dict()["action"], plan(p.analysis, action="push-grasp").action
+('squeeze', 'push_grasp')
+>>> plan(42)
+Traceback (most recent call last):
+...
+algrasp.errors.ConfigError: source: expected a part document (mapping), a path, a Drawing, a Part, an Analysis or a Plan, got int
+
+Validation (:func:`validate`) starts simulation worker processes with the ``spawn``
+method, which imports the calling script again in each worker: a script that calls
+``validate`` keeps its work under ``if __name__ == "__main__":`` (the README's example).
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Literal
 
 from algrasp.errors import ConfigError
 from algrasp.geometry.part import Part
 from algrasp.geometry.part import load_part as _load_part
-from algrasp.planning.analysis import Analysis, Model, analyse_document
+from algrasp.planning.actions import Action, parse_action
+from algrasp.planning.analysis import Analysis, Model, analyse_part
 from algrasp.planning.deadband import DEFAULT_PHYSICS, Physics
 from algrasp.planning.plans import LimitsWanted, Plan, make_plan
 
-PartSource = Mapping[str, Any] | str | Path
-"""A part document (a mapping), or the path of a part document (``.json``) or of a
-drawing/mesh (``.dxf``, ``.svg``, ``.stl``, …)."""
-Action = Literal["squeeze", "push_grasp"]
+
+@dataclass(frozen=True)
+class Drawing:
+    """A drawing (DXF, SVG) or mesh imported as one part: its part document (exact
+    curves; a mesh gives an approximate polygon) and what the import noticed.
+
+    Attributes:
+        document: the part document (lengths in ``units``; ``source`` says where from).
+        warnings: what was assumed or set aside (units read, gaps closed, clutter).
+    """
+
+    document: Mapping[str, Any]
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def name(self) -> str:
+        return str(self.document.get("name", ""))
+
+    @property
+    def units(self) -> str:
+        return str(self.document.get("units", "mm"))
+
+    def to_dict(self) -> dict[str, Any]:
+        """The part document (as ``algrasp import`` writes it)."""
+        return dict(self.document)
 
 
-def import_drawing(path: str | Path, **options: Any) -> dict[str, Any]:
-    """The part document of a DXF/SVG drawing or a mesh (exact curves; meshes give an
-    approximate polygon). ``options``: ``layer``, ``element_id``, ``pose``, ``part`` (one
-    of several parts on a sheet), ``tolerance``, ``units`` — as ``algrasp import``.
-    Raises PartDocumentError naming the entity (and the parts to choose from)."""
+PartSource = Mapping[str, Any] | str | Path | Drawing | Part | Analysis | Plan
+"""What names a part: a part document, the path of a part document (``.json``) or of a
+drawing/mesh (``.dxf``, ``.svg``, ``.stl``, …), or any result of this API."""
+PhysicsSource = Physics | Mapping[str, Any] | None
+"""A :class:`Physics`, or physics keys (numbers or ``[lo, hi]``) over the cell
+$ALGRASP_CELL names (default: the real-cell defaults of docs/conventions.md §8)."""
+GripperSource = Mapping[str, Any] | str | Path | Any
+"""A gripper profile: a mapping of its keys, a YAML/JSON file, or a ``GripperProfile``."""
+_KINDS = "a part document (mapping), a path, a Drawing, a Part, an Analysis or a Plan"
+
+
+def import_drawing(path: str | Path, **options: Any) -> Drawing:
+    """The :class:`Drawing` of a DXF/SVG drawing or a mesh. ``options``: ``layer``,
+    ``element_id``, ``pose``, ``part`` (one of several parts on a sheet), ``tolerance``,
+    ``units`` — as ``algrasp import``. Raises PartDocumentError naming the entity (and the
+    parts to choose from)."""
     from algrasp.io.cad import import_file
 
-    return import_file(str(path), **options)
+    if not isinstance(path, (str, Path)):
+        raise ConfigError("path", f"expected the path of a drawing or mesh, got {type(path).__name__}")
+    doc = import_file(str(path), **options)
+    return Drawing(doc, tuple(str(w) for w in doc.get("source", {}).get("warnings", ())))
 
 
 def document(source: PartSource, **import_options: Any) -> dict[str, Any]:
-    """The part document of ``source`` (a mapping is returned as a dict)."""
-    from algrasp.io.parts import read_part_file
+    """The part document of ``source`` (a new dict). ``import_options`` apply to drawings."""
+    if isinstance(source, Mapping):
+        return dict(source)
+    if isinstance(source, Drawing):
+        return dict(source.document)
+    if isinstance(source, (str, Path)):
+        from algrasp.io.parts import read_part_file
 
-    return dict(source) if isinstance(source, Mapping) else read_part_file(source, **import_options)
+        return read_part_file(source, **import_options)
+    return dict(_part_of(source).source_document)
 
 
-def load_part(source: PartSource, **import_options: Any) -> Part:
-    """A validated :class:`Part` (exact geometry, area, centre of mass, convex hull).
-    Complexity: O(N log N) in the number of segments."""
-    return _load_part(document(source, **import_options))
+def _part_of(source: object) -> Part:
+    if isinstance(source, Part):
+        return source
+    if isinstance(source, Analysis):
+        return source.part
+    if isinstance(source, Plan) and source.analysis is not None:
+        return source.analysis.part
+    raise ConfigError("source", f"expected {_KINDS}, got {type(source).__name__}")
 
 
-PhysicsSource = Physics | Mapping[str, Any] | None
-"""A :class:`Physics`, or physics keys (numbers or ``[lo, hi]``) over the cell
-$ALGRASP_CELL names (default: the real-cell defaults of conventions §8)."""
+def load_part(source: PartSource, *, exact: bool = False, **import_options: Any) -> Part:
+    """A validated :class:`Part` (exact geometry, area, centre of mass, convex hull), read
+    as the model reads it: by default (the robust model) runs of polygon vertices that
+    tessellate circular arcs become the arcs (``Part.recognised`` says so); ``exact``
+    keeps every drawn segment. Complexity: O(N log N) in the number of segments."""
+    if isinstance(source, Part) and not import_options:
+        return source
+    return _load_part(document(source, **import_options), snap=not exact)
 
 
 def model(exact: bool = False, physics: PhysicsSource = None) -> Model:
-    """The robust model over the cell's physics ranges (conventions §8) or, with
+    """The robust model over the cell's physics ranges (docs/conventions.md §8) or, with
     ``exact``, the paper's frictionless one.
 
     >>> model(physics={"jaw_friction": [0, 0.2]}).physics.jaw_friction
     (0.0, 0.2)
     """
+    if not isinstance(exact, bool):
+        raise ConfigError("exact", f"expected True or False, got {exact!r}")
     if isinstance(physics, Physics):
         return Model(exact, physics)
+    if physics is not None and not isinstance(physics, Mapping):
+        raise ConfigError("physics", f"expected a Physics or a mapping of physics keys, got {type(physics).__name__}")
     from algrasp.cli_physics import env_cell
 
     return Model.from_options({"exact": exact, "physics": dict(physics or {})}, cell=env_cell())
 
 
-def analyse(source: PartSource, *, exact: bool = False, physics: PhysicsSource = None) -> Analysis:
+def model_of(analysis: Analysis) -> Model:
+    """The model ``analysis`` was made under (the exact model simulates the cell
+    $ALGRASP_CELL names, as :func:`model` does)."""
+    return model(True) if analysis.robust is None else Model(False, analysis.robust.physics)
+
+
+def analyse(source: PartSource, *, exact: bool | None = None, physics: PhysicsSource = None) -> Analysis:
     """Diameter and radius functions, squeeze and push-grasp transfer functions and both
     shortest plans' inputs (:class:`Analysis`). Milliseconds for polygons, tens of
-    milliseconds for curved parts."""
-    return analyse_document(document(source), model(exact, physics))
+    milliseconds for curved parts. An :class:`Analysis` or :class:`Plan` given is kept
+    when no model is asked for, and re-analysed under the model asked for otherwise
+    (``exact`` None: as the source was made, else the robust model)."""
+    made = source.analysis if isinstance(source, Plan) else source
+    if isinstance(made, Analysis):
+        if exact is None and physics is None:
+            return made
+        wanted = model(model_of(made).exact if exact is None else exact, physics)
+        if wanted == model_of(made):
+            return made
+    else:
+        wanted = model(bool(exact), physics)
+    part = _load_part(document(source), snap=not wanted.exact)
+    return analyse_part(part, physics=None if wanted.exact else wanted.physics)
 
 
-def plan(source: PartSource | Analysis, action: Action = "squeeze", *, min_margin_deg: float = 0.0,
-         exact: bool = False, physics: PhysicsSource = None, limits: LimitsWanted = "headline") -> Plan:
+def plan(source: PartSource, *, action: Action | str = "squeeze", min_margin_deg: float = 0.0,
+         exact: bool | None = None, physics: PhysicsSource = None, limits: LimitsWanted = "headline",
+         optimise: bool = False, gripper: GripperSource | None = None, push_scale: float = 1.0) -> Plan:
     """The shortest plan (Algorithm A′) that brings the part from any orientation to as
-    few as its symmetry allows, holding in every cell of the physics ranges;
+    few as its symmetry allows, holding in every cell of the physics ranges.
+
+    ``action``: ``squeeze`` or ``push_grasp`` (``push-grasp`` is read as ``push_grasp``);
     ``min_margin_deg``: every transition tolerates that much gripper error; ``limits``:
-    which physics limits to search (``plan.limits``). Raises NotOrientableError (with its
-    reason and the limits under which a plan exists) when no plan exists."""
-    if action not in ("squeeze", "push_grasp"):
-        raise ConfigError("action", f"expected squeeze or push_grasp, got {action!r}")
-    analysis = source if isinstance(source, Analysis) else analyse(source, exact=exact, physics=physics)
-    return make_plan(analysis, action, min_margin_deg, "none" if analysis.robust is None else limits)
+    which physics limits to search (``plan.limits``); ``optimise``: push distances, jaw
+    timing and cycle time for the ``gripper`` profile (CasADi; ``plan.execution``, and its
+    fields in ``plan.to_dict()``). Raises NotOrientableError (with its reason and the
+    limits under which a plan exists) when no plan exists.
+    """
+    act = parse_action(action)
+    if limits not in ("none", "headline", "all"):
+        raise ConfigError("limits", f"expected none, headline or all, got {limits!r}")
+    if not isinstance(optimise, bool):
+        raise ConfigError("optimise", f"expected True or False, got {optimise!r}")
+    if gripper is not None and not optimise:
+        raise ConfigError("gripper", "a gripper profile needs optimise=True")
+    if not (isinstance(push_scale, (int, float)) and 0.0 < push_scale <= 10.0):
+        raise ConfigError("push_scale", f"must be in (0, 10], got {push_scale!r}")
+    analysis = analyse(source, exact=exact, physics=physics)
+    out = make_plan(analysis, act, _margin(min_margin_deg), "none" if analysis.robust is None else limits)
+    if not optimise:
+        return out
+    from algrasp.pipeline import optimise_plan
+
+    return optimise_plan(out, _gripper(gripper), float(push_scale))
 
 
-def validate(source: PartSource, action: Action = "squeeze", *, samples: int = 36, seed: int = 0,
-             placement: Literal["centred", "random"] | None = None, tolerance_deg: float = 1.0, optimise: bool = False,
-             exact: bool = False, physics: PhysicsSource = None, sim_physics: str = "nominal",
-             workers: int = 2) -> dict[str, Any]:
+def _margin(min_margin_deg: object) -> float:
+    if isinstance(min_margin_deg, bool) or not isinstance(min_margin_deg, (int, float)):
+        raise ConfigError("min_margin_deg", f"expected a number of degrees, got {min_margin_deg!r}")
+    return float(min_margin_deg)
+
+
+def _gripper(gripper: GripperSource | None) -> dict[str, Any] | None:
+    """The profile's keys (None: the default profile)."""
+    from optimisation.profile import GripperProfile, load_profile, profile_from_dict
+
+    if gripper is None:
+        return None
+    if isinstance(gripper, GripperProfile):
+        return gripper.to_dict()
+    if isinstance(gripper, (str, Path)):
+        return load_profile(gripper).to_dict()
+    if isinstance(gripper, Mapping):
+        return profile_from_dict(dict(gripper), "gripper").to_dict()
+    raise ConfigError("gripper", f"expected a mapping, a YAML/JSON file or a GripperProfile, got {type(gripper).__name__}")
+
+
+def validate(source: PartSource, *, action: Action | str | None = None, samples: int = 36, seed: int = 0,
+             placement: Literal["centred", "random"] | None = None, tolerance_deg: float = 1.0,
+             optimise: bool | None = None, gripper: GripperSource | None = None, exact: bool | None = None,
+             physics: PhysicsSource = None, sim_physics: str = "nominal", workers: int = 2) -> Any:
     """Simulate the plan in Drake from ``samples`` start orientations in each cell
     ``sim_physics`` names (``nominal``, ``corners``, ``random``, ``KEY=VALUE,...``; needs
-    the ``sim`` extra); returns the validation document (``agreement``, per-sample
-    outcomes, per-cell agreement). ``placement`` None follows the physics."""
+    the ``sim`` extra). A :class:`Plan` given is validated as it is (its action, model and
+    execution); anything else is planned first (``action`` default squeeze, ``optimise``
+    default False). ``placement`` None follows the physics.
+
+    Returns a :class:`~algrasp.sim.validate.Validation`: ``agreement``, per-sample
+    outcomes (``samples``), per-cell agreement (``cells``); ``to_dict()`` is the validation
+    document. Worker processes: see the module docstring (``__main__`` guard).
+    """
+    from algrasp.sim.validate import Validation
+
+    _check_sim_options(samples, seed, placement, tolerance_deg, workers)
+    if isinstance(source, Plan) and source.analysis is not None:
+        if action is not None and parse_action(action) != source.action:
+            raise ConfigError("action", f"the plan given is a {source.action} plan, not {parse_action(action)}")
+        made = source
+        if optimise and made.execution is None:
+            made = plan(made, action=made.action, exact=exact, physics=physics, optimise=True, gripper=gripper)
+        elif exact is not None or physics is not None:
+            made = plan(made, action=made.action, exact=exact, physics=physics, optimise=made.execution is not None,
+                        gripper=gripper)
+    else:
+        made = plan(source, action=action or "squeeze", exact=exact, physics=physics, optimise=bool(optimise),
+                    gripper=gripper)
+    out = _simulate(made, samples, seed, placement, tolerance_deg, sim_physics, workers)
+    assert isinstance(out, Validation)
+    return out
+
+
+def _check_sim_options(samples: object, seed: object, placement: object, tolerance_deg: object, workers: object) -> None:
+    for name, value, low in (("samples", samples, 1), ("seed", seed, 0), ("workers", workers, 1)):
+        if isinstance(value, bool) or not isinstance(value, int) or value < low:
+            raise ConfigError(name, f"expected a whole number ≥ {low}, got {value!r}")
+    if placement not in (None, "centred", "random"):
+        raise ConfigError("placement", f"expected centred, random or None (follow the physics), got {placement!r}")
+    if isinstance(tolerance_deg, bool) or not isinstance(tolerance_deg, (int, float)) \
+            or not (math.isfinite(tolerance_deg) and 0.0 < tolerance_deg < 180.0):
+        raise ConfigError("tolerance_deg", f"expected degrees in (0, 180), got {tolerance_deg!r}")
+
+
+def _simulate(made: Plan, samples: int, seed: int, placement: Literal["centred", "random"] | None,
+              tolerance_deg: float, sim_physics: str, workers: int) -> Any:
     from algrasp.io.record.session import recording
     from algrasp.pipeline import PlanRequest, plan_part
 
-    doc = document(source)
-    m = model(exact, physics)
-    req = PlanRequest(action=action, optimise=optimise, samples=samples, seed=seed, placement=placement,
-                      tolerance_deg=tolerance_deg, exact=exact, physics=m.physics.to_dict(), sim_physics=sim_physics)
+    assert made.analysis is not None
+    m = model_of(made.analysis)
+    doc = dict(made.analysis.part.source_document)
+    execution = made.execution
+    req = PlanRequest(action=made.action, optimise=execution is not None,
+                      gripper_profile=None if execution is None else execution.profile.to_dict(), samples=samples,
+                      seed=seed, placement=placement, tolerance_deg=float(tolerance_deg), exact=m.exact,
+                      physics=m.physics.to_dict(), sim_physics=sim_physics)
     with recording(False, None, "validate", doc, req.record_options()) as rec:
-        out = plan_part(doc, req, rec, sim_workers=workers, record_sim=False)
-    v = out.validation_doc()
-    assert v is not None  # samples > 0
-    return v
+        out = plan_part(doc, req, rec, sim_workers=workers, record_sim=False, analysis=made.analysis, plan=made)
+    return replace(out.validation, plan_document=out.plan_doc)
 
 
-__all__ = ["DEFAULT_PHYSICS", "Action", "Analysis", "Model", "Part", "PartSource", "Physics", "Plan", "analyse",
-           "document", "import_drawing", "load_part", "model", "plan", "validate"]
+__all__ = ["DEFAULT_PHYSICS", "Action", "Analysis", "Drawing", "Model", "Part", "PartSource", "Physics", "Plan",
+           "analyse", "document", "import_drawing", "load_part", "model", "plan", "validate"]

@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import functools
 import json
+import re
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -137,8 +138,18 @@ def _request(args: argparse.Namespace) -> Any:
     profile = _gripper_profile(args.gripper).to_dict() if getattr(args, "gripper", None) else None
     extra = {k: getattr(args, k) for k in ("samples", "seed", "tolerance_deg", "push_scale", "sim_physics") if hasattr(args, k)}
     model = model_from_args(args)
-    return PlanRequest(args.action.replace("-", "_"), args.min_margin_deg, args.optimise, profile, **extra,
+    return PlanRequest(args.action, args.min_margin_deg, args.optimise, profile, **extra,
                        exact=model.exact, physics=model.physics.to_dict(), limits="all" if args.limits else "headline")
+
+
+def _action(value: str) -> str:
+    """``--action``: one spelling, the other accepted (:mod:`algrasp.planning.actions`)."""
+    from algrasp.planning.actions import parse_action
+
+    try:
+        return parse_action(value, "--action")
+    except ConfigError as exc:
+        raise argparse.ArgumentTypeError(exc.problem) from None
 
 
 def model_from_args(args: argparse.Namespace) -> Model:
@@ -192,7 +203,7 @@ def print_plan(plan: Plan) -> None:
     from rich.table import Table
 
     d: dict[str, Any] = plan.to_dict()
-    table = Table(title=f"{len(plan.steps)}-step {d['action'].replace('_', '-')} plan (execution order)")
+    table = Table(title=f"{len(plan.steps)}-step {d['action']} plan (execution order)")
     for col in ("step", "gripper angle (deg)", "margin (deg)", "interval Θ (deg)"):
         table.add_column(col, justify="right")
     intervals = d["intervals_deg"][::-1]
@@ -369,7 +380,8 @@ def _plan_arguments(p: argparse.ArgumentParser) -> None:
     """The part and what to plan: shared by ``plan`` and ``validate``."""
     p.add_argument("part", metavar="PART.json")
     _cad_options(p)
-    p.add_argument("--action", choices=["squeeze", "push-grasp", "push_grasp"], default="squeeze")
+    p.add_argument("--action", type=_action, default="squeeze", metavar="{squeeze,push_grasp}",
+                   help="the gripper action (push-grasp is read as push_grasp)")
     p.add_argument("--min-margin-deg", type=_non_negative, default=0.0, metavar="M",
                    help="every transition must tolerate M degrees of gripper error")
     p.add_argument("--limits", action="store_true",
@@ -426,8 +438,21 @@ def main(argv: Sequence[str] | None = None) -> int:
         if getattr(args, "json", False):
             print(json.dumps({"error": exc.to_dict()}))
         else:
-            print(f"algrasp: error: {exc.message}", file=sys.stderr)
+            print(f"algrasp: error: {_as_flags(exc)}", file=sys.stderr)
         return exc.exit_code
+
+
+FLAGS = {"element_id": "--id", "gripper_profile": "--gripper"}
+"""Library parameters whose command-line flag is not ``--`` + the name with dashes."""
+
+
+def _as_flags(exc: AlgraspError) -> str:
+    """The message with a library parameter (``ConfigError.field``) named as its flag:
+    the library names parameters, the command line speaks of flags."""
+    if isinstance(exc, ConfigError) and re.fullmatch(r"[a-z][a-z0-9_]*", exc.field) and exc.message.startswith(f"{exc.field}: "):
+        flag = FLAGS.get(exc.field, "--" + exc.field.replace("_", "-"))
+        return f"{flag}: {exc.problem}"
+    return exc.message
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -8,14 +8,13 @@ validation is asked for) the Drake simulation, each imported lazily.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Literal
 
 from algrasp.errors import ConfigError
+from algrasp.planning.actions import Action
 from algrasp.planning.analysis import Analysis, Model, analyse_document
 from algrasp.planning.plans import LimitsWanted, Plan, make_plan
-
-Action = Literal["squeeze", "push_grasp"]
 
 
 @dataclass(frozen=True)
@@ -52,6 +51,10 @@ class PlanRequest:
             raise ConfigError("push_scale", f"must be in (0, 10], got {self.push_scale}")
         if self.samples < 0:
             raise ConfigError("samples", f"must be ≥ 0, got {self.samples}")
+        if self.placement not in (None, "centred", "random"):
+            raise ConfigError("placement", f"expected centred, random or None, got {self.placement!r}")
+        if not 0.0 < self.tolerance_deg < 180.0:
+            raise ConfigError("tolerance_deg", f"must be in (0, 180) degrees, got {self.tolerance_deg}")
         if self.limits not in ("none", "headline", "all"):
             raise ConfigError("limits", f"expected none, headline or all, got {self.limits!r}")
         _ = self.model  # the physics are checked here, before any work
@@ -108,11 +111,11 @@ def plan_part(doc: dict[str, Any], req: PlanRequest, rec: Any, sim_workers: int 
     t1 = time.perf_counter()
     plan = plan if plan is not None else make_plan(analysis, req.action, req.min_margin_deg,
                                                    "none" if req.model.exact else req.limits)
-    plan.timings_s.setdefault("analysis", t1 - t0)
-    out = PlanOutcome(analysis, plan)
-    if req.optimise:
-        out.execution = _optimise(analysis, plan, req)
-    out.plan_doc = plan.to_dict() if out.execution is None else out.execution.apply_to(plan.to_dict())
+    plan = replace(plan, timings_s={"analysis": t1 - t0, **plan.timings_s})
+    if req.optimise and plan.execution is None:
+        plan = optimise_plan(plan, req.gripper_profile, req.push_scale)
+    out = PlanOutcome(analysis, plan, plan.execution)
+    out.plan_doc = plan.to_dict()
     rec.plan(out.plan_doc)
     if req.samples:
         out.validation = _validate(out, req, sim_workers, record_sim)
@@ -120,14 +123,18 @@ def plan_part(doc: dict[str, Any], req: PlanRequest, rec: Any, sim_workers: int 
     return out
 
 
-def _optimise(analysis: Analysis, plan: Plan, req: PlanRequest) -> Any:
+def optimise_plan(plan: Plan, gripper_profile: dict[str, Any] | None = None, push_scale: float = 1.0) -> Plan:
+    """``plan`` with its execution optimised (CasADi: push distances, jaw timing, cycle
+    time) for the gripper profile (None: the default profile); the plan's own analysis."""
     from optimisation.execution import optimise_execution
     from optimisation.profile import DEFAULT_PROFILE, profile_from_dict
 
-    profile = DEFAULT_PROFILE if req.gripper_profile is None else profile_from_dict(req.gripper_profile)
-    execution = optimise_execution(analysis, plan, profile, req.push_scale)
-    plan.timings_s.update({f"optimisation_{k}": v for k, v in execution.timings_s.items()})
-    return execution
+    if plan.analysis is None:
+        raise ConfigError("plan", "this plan has no analysis to optimise against: make it with algrasp.plan()")
+    profile = DEFAULT_PROFILE if gripper_profile is None else profile_from_dict(gripper_profile, "gripper")
+    execution = optimise_execution(plan.analysis, plan, profile, push_scale)
+    return replace(plan, execution=execution,
+                   timings_s={**plan.timings_s, **{f"optimisation_{k}": v for k, v in execution.timings_s.items()}})
 
 
 def _validate(out: PlanOutcome, req: PlanRequest, sim_workers: int, record_sim: bool) -> Any:

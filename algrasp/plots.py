@@ -154,7 +154,7 @@ def plan_figure(analysis: Analysis, plan: Plan, path: str | Path) -> Path:
     """Write the figure to ``path`` (.svg or .png). Returns the path."""
     out = Path(path)
     if out.suffix.lower() not in (".svg", ".png"):
-        raise ConfigError("--figure", f"unsupported format {out.suffix!r} (use .svg or .png)")
+        raise ConfigError("figure", f"unsupported format {out.suffix!r} (use .svg or .png)")
     fig = plt.figure(figsize=(11, 8.5))
     grid = fig.add_gridspec(2, 2, width_ratios=[1.1, 1], height_ratios=[1, 1], hspace=0.32)
     _function_panel(fig.add_subplot(grid[0, 0]), analysis, plan)
@@ -166,7 +166,7 @@ def plan_figure(analysis: Analysis, plan: Plan, path: str | Path) -> Path:
     try:
         fig.savefig(out, dpi=110)
     except OSError as exc:
-        raise ConfigError("--figure", f"cannot write {out}: {exc.strerror}") from None
+        raise ConfigError("figure", f"cannot write {out}: {exc.strerror}") from None
     finally:
         plt.close(fig)
     return out

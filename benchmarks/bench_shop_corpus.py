@@ -72,6 +72,21 @@ def _part_miss(row: dict[str, Any], truth: dict[str, Any], suffix: str) -> str |
     return None
 
 
+FAMILIES = ("SolidWorks", "Fusion 360", "Inventor", "AutoCAD", "LibreCAD", "QCAD", "FreeCAD", "OpenSCAD", "Inkscape",
+            "Illustrator", "CorelDRAW", "KiCad", "SketchUp", "Onshape", "LightBurn", "maker.js", "dxfwrite", "ezdxf",
+            "cairo", "matplotlib", "Eagle", "Rhino", "DraftSight", "BricsCAD", "Affinity", "svg.py")
+"""Source programs as the README's table names them (the truth's ``program`` says more)."""
+
+
+def family(program: str | None) -> str:
+    """The program family a truth's ``program`` note names first (``other`` if none)."""
+    text = (program or "").lower()
+    hits = [(text.find(f.lower()), f) for f in FAMILIES if f.lower() in text]
+    if "corel" in text and not hits:
+        return "CorelDRAW"
+    return min(hits)[1] if hits else ("unknown" if not text or text.startswith("unknown") else "other")
+
+
 def main() -> None:
     rows = corpus()
     by_program: dict[str, list[bool]] = defaultdict(list)
@@ -80,11 +95,14 @@ def main() -> None:
     for path, truth in rows:
         miss, seconds = judge(path, truth)
         slowest = max(slowest, seconds)
-        by_program[f"{truth.get('program') or 'unknown'} ({path.suffix[1:]})"].append(miss is None)
+        by_program[f"{family(truth.get('program'))} ({path.suffix[1:]})"].append(miss is None)
         if miss is not None:
             misses += 1
             print(f"MISS {path.parent.name}/{path.name}: {miss}")
-    print(f"\n{len(rows)} drawings, {len(rows) - misses} right as delivered, slowest {slowest:.2f} s\n")
+    sources = {line.split("|")[2].strip() for f in SHOPS.glob("*/SOURCES.md") for line in f.read_text().splitlines()
+               if line.startswith("|") and not line.startswith(("| file", "|---", "| ---"))}
+    print(f"\n{len(rows)} drawings from {len(sources)} repositories, {len(rows) - misses} right as delivered, "
+          f"slowest {slowest:.2f} s\n")
     print("| source program | drawings | right as delivered |")
     print("|---|---|---|")
     for program, oks in sorted(by_program.items(), key=lambda kv: (-len(kv[1]), kv[0])):

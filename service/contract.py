@@ -12,6 +12,8 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from algrasp.planning.actions import Action
+
 Point = Annotated[list[float], Field(min_length=2, max_length=2, description="[x, y] in the part's unit")]
 
 
@@ -117,7 +119,7 @@ class PlanStepOut(_Open):
 class PlanOut(_Open):
     """``POST /v1/plans``: the plan document (conventions §6), its run and validation."""
 
-    action: Literal["squeeze", "push_grasp"]
+    action: Action
     symmetry_period_deg: float
     intervals_deg: list[list[float]] = Field(description="Θ intervals of Algorithm A′, last to first")
     steps: list[PlanStepOut]
@@ -265,6 +267,11 @@ class JobsOut(_Open):
     jobs: list[dict[str, Any]]
 
 
+class ProgressOut(_Open):
+    finished: int = Field(description="parts done, failed or cancelled")
+    total: int
+
+
 class JobOut(_Open):
     id: str
     state: str
@@ -274,7 +281,7 @@ class JobOut(_Open):
     cancelled: int
     pending: int
     parts: list[dict[str, Any]]
-    progress: dict[str, int]
+    progress: ProgressOut
 
 
 class GripperSpecOut(_Open):
@@ -354,7 +361,30 @@ def typed(spec: dict[str, Any]) -> dict[str, Any]:
             return {k: walk(v) for k, v in x.items()}
         return [walk(v) for v in x] if isinstance(x, list) else x
 
-    return json_errors(walk(spec))  # type: ignore[no-any-return]
+    return files(json_errors(walk(spec)))  # type: ignore[no-any-return]
+
+
+BINARY = {"type": "string", "format": "binary"}
+FILE_TYPES = ("image/svg+xml", "application/zip", "application/x-ndjson")
+"""Success media types that clients generated from the contract read as files."""
+
+
+def files(spec: dict[str, Any]) -> dict[str, Any]:
+    """Uploads and downloads as files: an upload field (``contentMediaType``
+    application/octet-stream) is ``format: binary``, and a success whose media type a
+    generator cannot type (SVG, NDJSON, zip) is also offered as ``application/octet-stream``
+    — the same bytes, which the server sends whatever the ``Accept``."""
+    for schema in spec.get("components", {}).get("schemas", {}).values():
+        for prop in schema.get("properties", {}).values():
+            if prop.get("contentMediaType") == "application/octet-stream":
+                prop["format"] = "binary"
+    for ops in spec.get("paths", {}).values():
+        for op in ops.values():
+            for code, response in op.get("responses", {}).items():
+                content = response.get("content", {})
+                if code.startswith("2") and any(t in content for t in FILE_TYPES):
+                    content.setdefault("application/octet-stream", {"schema": dict(BINARY)})
+    return spec
 
 
 def json_errors(spec: dict[str, Any]) -> dict[str, Any]:

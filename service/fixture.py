@@ -18,11 +18,10 @@ import numpy as np
 from algrasp.errors import NotOrientableError
 from algrasp.geometry.angles import to_deg
 from algrasp.pipeline import PlanRequest, plan_part
+from algrasp.planning.actions import ACTIONS
 from algrasp.planning.analysis import Analysis, Model
 from algrasp.planning.plans import Plan, make_plan
 from algrasp.sim.config import meters_per_unit
-
-ACTIONS = ("squeeze", "push_grasp")
 
 
 @dataclass(frozen=True)
@@ -60,7 +59,7 @@ def choose_plan(analysis: Analysis, min_margin_deg: float) -> tuple[Plan | None,
     compared: dict[str, Any] = {}
     for action in ACTIONS:
         try:
-            plans[action] = make_plan(analysis, action, min_margin_deg, "headline")  # type: ignore[arg-type]
+            plans[action] = make_plan(analysis, action, min_margin_deg, "headline")
             p, m = plans[action], _min_margin(plans[action])
             compared[action] = {"steps": len(p.steps), "final_orientations": len(p.final_orientations),
                                 "min_margin_deg": None if m is None else to_deg(m)}

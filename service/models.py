@@ -8,9 +8,10 @@ from __future__ import annotations
 from typing import Annotated, Any, Literal
 
 from fastapi import Query
-from pydantic import BaseModel, ConfigDict, Field, WithJsonSchema, field_validator, model_validator
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, WithJsonSchema, field_validator, model_validator
 
 from algrasp.errors import ConfigError
+from algrasp.planning.actions import ALIASES, Action
 from algrasp.planning.cells import parse_cells
 from algrasp.planning.physics import DEFAULT_PHYSICS, DEFAULT_RANGES, PARAMETERS, Physics
 from service.contract import PART_REF
@@ -104,11 +105,15 @@ class ModelOptions(_Strict):
         return {"exact": self.exact, "physics": cell.merged(None if self.physics is None else self.physics.given()).to_dict()}
 
 
+ActionName = Annotated[Action, BeforeValidator(lambda v: ALIASES.get(v, v) if isinstance(v, str) else v)]
+"""An action in a request: the one spelling, the other accepted (:mod:`algrasp.planning.actions`)."""
+
+
 class PlanBody(ModelOptions):
     """``POST /v1/plans``."""
 
     part: PartJson = Field(description="part document (conventions §5)")
-    action: Literal["squeeze", "push_grasp"] = "squeeze"
+    action: ActionName = Field("squeeze", description="squeeze or push_grasp (push-grasp is read as push_grasp)")
     min_margin_deg: float = Field(0.0, ge=0.0, lt=180.0, description="every transition tolerates this gripper error")
     optimise: bool = Field(False, description="optimise push distances and jaw timing (adds cycle_time_s)")
     gripper: dict[str, Any] | None = Field(None, description="gripper profile (SI keys of optimisation/profiles/default.yaml)")

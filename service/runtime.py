@@ -7,10 +7,11 @@ import asyncio
 import importlib.metadata
 import json
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Annotated, Any
 
 from cachetools import LRUCache
-from fastapi import Depends, Header, HTTPException, Request
+from fastapi import Depends, HTTPException, Request
+from fastapi.security import HTTPBearer
 
 from algrasp.errors import ConfigError, LimitExceededError, StorageError, TimeLimitError
 from algrasp.io.record.recorder import discard_partial
@@ -42,9 +43,15 @@ def state(request: Request) -> ServiceState:
     return request.app.state.svc  # type: ignore[no-any-return]
 
 
-def require_key(request: Request, authorization: str | None = Header(None)) -> None:
+BEARER = HTTPBearer(auto_error=False, scheme_name="bearer",
+                    description="an API key of ALGRASP_API_KEYS (needed only when keys are configured)")
+"""Declares the Bearer scheme in the OpenAPI document (Swagger's Authorize button, the
+generated client's ``AuthenticatedClient``); the key itself is checked below."""
+
+
+def require_key(request: Request, _declared: Annotated[Any, Depends(BEARER)] = None) -> None:
     """Every endpoint but ``/healthz``/``/readyz``: ``Authorization: Bearer KEY`` when keys are configured."""
-    if not check_key(authorization, state(request).settings.keys):
+    if not check_key(request.headers.get("authorization"), state(request).settings.keys):
         raise HTTPException(401, "missing or wrong API key (Authorization: Bearer KEY)", {"WWW-Authenticate": "Bearer"})
 
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field, replace
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 
@@ -21,12 +21,12 @@ from algrasp.geometry.angles import shortest_turn, to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import wrap
 from algrasp.geometry.tolerances import MAX_UNCERTAINTY_RAD, PROBE_RAD, ROUNDING, SYMMETRY_TOL_RAD, UNCERTAINTY_FLOOR_RAD
+from algrasp.planning.actions import Action
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.planner import GUARD_RAD, algorithm_a_prime, images, set_a_prime
 from algrasp.planning.setvalued import SetTransfer
 from algrasp.planning.transfer import TransferFunction
 
-Action = Literal["squeeze", "push_grasp"]
 FINAL_CLUSTER_RAD = 1e-6
 """Final orientations closer than this are one orientation in verification."""
 VERIFY_SAMPLES = 3600
@@ -60,6 +60,12 @@ class Plan:
     limits: dict[str, object] | None = None
     """How far the physics ranges may reach with a plan still existing
     (:func:`algrasp.planning.limits.limits`), when searched."""
+    analysis: Analysis | None = field(default=None, repr=False, compare=False)
+    """The analysis the plan was made from (its part and model): what lets a plan be
+    validated, optimised or re-planned without handing the part over again."""
+    execution: Any = field(default=None, repr=False, compare=False)
+    """The optimised execution (``optimisation.execution.Execution``: push distances, jaw
+    timing, cycle time), None until optimised; its fields join :meth:`to_dict`."""
 
     def run(self, phi: FloatArray) -> FloatArray:
         """World orientations after executing the plan from ``phi`` (radians), per the
@@ -102,7 +108,8 @@ class Plan:
         """The plan document (degrees): :class:`~algrasp.planning.documents.PlanDocument`'s codec."""
         from algrasp.planning.documents import PlanDocument
 
-        return PlanDocument.from_plan(self).to_json()
+        doc = PlanDocument.from_plan(self).to_json()
+        return doc if self.execution is None else self.execution.apply_to(doc)
 
 
 def _through(F: TransferFunction, steps: tuple[PlanStep, ...], phi: FloatArray) -> FloatArray:
@@ -264,7 +271,7 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0, l
     if action not in ("squeeze", "push_grasp"):
         raise ConfigError("action", f"expected squeeze or push_grasp, got {action!r}")
     if analysis.robust is None:
-        return plan_once(analysis, action, min_margin_deg)
+        return replace(plan_once(analysis, action, min_margin_deg), analysis=analysis)
     from algrasp.planning import limits as lim
 
     try:
@@ -277,8 +284,8 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0, l
         other = "; a push-grasp plan exists under these ranges" if found.get("push_grasp_orients") else ""
         raise NotOrientableError(e.reason, f"{e.message}. Under the given ranges: {found['advice']}{other}", found) from None
     if limits == "none":
-        return plan
-    return replace(plan, limits=lim.limits(analysis, action, plan_once, lim.HEADLINE if limits == "headline" else
+        return replace(plan, analysis=analysis)
+    return replace(plan, analysis=analysis, limits=lim.limits(analysis, action, plan_once, lim.HEADLINE if limits == "headline" else
                                            tuple(lim.SEARCHES), min_margin_deg))
 
 

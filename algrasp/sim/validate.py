@@ -14,7 +14,7 @@ import math
 import multiprocessing
 import time
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass, field, replace
 from typing import Any, Literal
 
 import numpy as np
@@ -61,8 +61,13 @@ class Validation:
     trajectories: tuple[list[tuple[float, ...]], ...] = ()  # per sample (t, x, y, φ, α, q_L, q_H), SI; if recorded
     cells: tuple[dict[str, Any], ...] = ()
     """Per simulated cell of the physics ranges: its values, samples and agreement."""
+    plan_document: dict[str, Any] | None = field(default=None, repr=False, compare=False)
+    """The document of the plan validated (what :meth:`to_dict` embeds by default)."""
 
-    def to_dict(self, plan_doc: dict[str, Any]) -> dict[str, Any]:
+    def to_dict(self, plan_doc: dict[str, Any] | None = None) -> dict[str, Any]:
+        """The validation document (degrees): per-sample outcomes, agreement, per-cell
+        agreement, and the plan validated (``plan_doc``, else :attr:`plan_document`)."""
+        plan_doc = plan_doc if plan_doc is not None else dict(self.plan_document or {})
         return {"plan": plan_doc, "samples": [asdict(s) for s in self.samples],
                 "agreement": self.agreement, "agreement_clear": self.agreement_clear,
                 "push_agreement": self.push_agreement, "optimised": self.optimised,
@@ -82,7 +87,8 @@ class Validation:
             v = Validation(samples, float(doc["agreement"]), float(doc["agreement_clear"]), float(doc["tolerance_deg"]),
                            doc["placement"], float(doc["sim_seconds"]), float(doc["wall_seconds"]), dict(doc["model"]),
                            doc.get("push_agreement"), bool(doc.get("optimised", False)),
-                           cells=tuple(dict(c) for c in doc.get("cells") or () if isinstance(c, dict)))
+                           cells=tuple(dict(c) for c in doc.get("cells") or () if isinstance(c, dict)),
+                           plan_document=dict(doc.get("plan") or {}))
         except KeyError as exc:
             raise PartDocumentError(f"validation.{exc.args[0]}", "missing") from None
         except (TypeError, ValueError) as exc:

@@ -80,7 +80,7 @@ def test_plan_json_and_figure(tmp_path: Path, capsys: pytest.CaptureFixture[str]
 def test_plan_push_grasp_table(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["plan", str(EXAMPLE), "--exact", "--action", "push-grasp"]) == 0
     out = capsys.readouterr().out
-    assert "3-step push-grasp plan" in out and "verified: True" in out
+    assert "3-step push_grasp plan" in out and "verified: True" in out
 
 
 def test_plan_errors(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -29,7 +29,7 @@ def test_jaws_touch_the_part(alpha_deg: float) -> None:
 
 def test_figure_labels_legend_and_holes(tmp_path: Path) -> None:
     a = analyse(PLATE, exact=True)
-    p = plan(a, "squeeze")
+    p = plan(a, action="squeeze")
     svg = plan_figure(a, p, tmp_path / "f.svg").read_text()
     for text in ("d(θ) (mm)", "θ − θ₀", "F(θ) − θ₀", "intervals Θᵢ of A′", "part orientation relative to the gripper"):
         assert text in svg, text

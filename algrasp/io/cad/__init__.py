@@ -99,7 +99,7 @@ def import_bytes(filename: str, data: bytes, layer: str | None = None, element_i
 
         _check_options(suffix, layer, element_id, pose)
         if part not in (None, 0):
-            raise ConfigError("--part", "a mesh is one part (choose a resting pose with --pose)")
+            raise ConfigError("part", "a mesh is one part (choose a resting pose with --pose)")
         return mesh_document(data, suffix[1:], name, pose, units or "mm")
     sheet, doc_units, k, source = _sheet(filename, data, layer, element_id, pose, tolerance, units)
     if part is None and len(sheet.parts) > 1:
@@ -111,7 +111,7 @@ def import_bytes(filename: str, data: bytes, layer: str | None = None, element_i
                                 + "".join(f"; {w}" for w in sheet.warnings if w.startswith("overlapping")))
     index = 0 if part is None else part
     if not 0 <= index < len(sheet.parts):
-        raise ConfigError("--part", f"no part {index}: the drawing holds {len(sheet.parts)} (0 to {len(sheet.parts) - 1})")
+        raise ConfigError("part", f"no part {index}: the drawing holds {len(sheet.parts)} (0 to {len(sheet.parts) - 1})")
     return _part_document(sheet, index, name, units or doc_units, k, source)
 
 
@@ -199,33 +199,68 @@ def _dxf(data: bytes, layer: str | None, units: str | None) -> tuple[list[Any], 
 PLAUSIBLE_PART_MM = 500.0
 """The largest part a parallel-jaw gripper cell takes (mm): a drawing whose header unit
 makes its parts larger, while millimetres make them a plausible size, is read in mm."""
+PLAUSIBLE_MIN_PART_MM = 1.0
+PLAUSIBLE_MIN_HOLE_MM = 0.5
+"""Read in mm, a drawing whose largest part is under 1 mm across, or whose smallest hole is
+under 0.5 mm, may be drawn in a larger unit (a SolidWorks part in metres under an mm
+header, a KiCad plot in inches, a cm export)."""
+RESCUE_PART_MM = 5.0
+RESCUE_HOLE_MM = 1.5
+"""A larger unit is taken when it makes the smallest hole at least this (M1.6 clearance)
+and the parts between 5 and 500 mm; tried in the order cm, in, m."""
+RESCUE_UNITS = (("cm", 10.0), ("in", 25.4), ("m", 1000.0))
 
 
 def _plausible_units(sheet: Any, units: str, k: float, source: dict[str, Any]) -> tuple[str, float]:
-    """The header's unit, unless it makes every part implausibly large and millimetres
-    would not (KiCad writes $MEASUREMENT 0 with mm content; some exporters say inches for
-    mm): then mm, and both readings are said in the warnings."""
+    """The header's unit, unless the content is implausible in it and plausible in another
+    (KiCad writes $MEASUREMENT 0 with mm content; some exporters say inches for mm, or mm
+    for metres): then the other, with both readings said in the warnings."""
+    if not sheet.parts or units not in ("in", "mm"):
+        return units, k
+    extent, hole = _sizes(sheet)
+    extent, hole = extent * k, hole * k
+    if units == "in":
+        if extent * 25.4 <= PLAUSIBLE_PART_MM or extent > PLAUSIBLE_PART_MM:
+            return units, k
+        return _reread(source, "inches", f"up to {extent:.4g} in ({extent * 25.4:.4g} mm) across", "mm", k, extent, "in")
+    if extent >= PLAUSIBLE_MIN_PART_MM and hole >= PLAUSIBLE_MIN_HOLE_MM:
+        return units, k
+    for name, to_mm in RESCUE_UNITS:
+        if RESCUE_PART_MM <= extent * to_mm <= PLAUSIBLE_PART_MM and hole * to_mm >= RESCUE_HOLE_MM:
+            return _reread(source, "millimetres", f"up to {extent:.4g} mm across with holes from {hole:.4g} mm", name, k,
+                           extent, "mm")
+    return units, k
+
+
+def _reread(source: dict[str, Any], said: str, then: str, unit: str, k: float, extent: float,
+            back: str) -> tuple[str, float]:
+    note = (f"the header says {said} (or nothing), but its parts would then be {then}: read as {unit} "
+            f"({extent:.4g} {unit}); use --units {back} if they really are {said}")
+    source["warnings"] = [*source.get("warnings", []), note][:MAX_WARNINGS]
+    return unit, k
+
+
+def _sizes(sheet: Any) -> tuple[float, float]:
+    """The largest part's extent and the smallest hole's smaller side (inf: no holes), in
+    drawing units."""
     from algrasp.io.cad.chain import ring
 
-    if units != "in" or not sheet.parts:
-        return units, k
-    extent = max(float(max(ring(outline).max(axis=0) - ring(outline).min(axis=0))) for outline, _ in sheet.parts)
-    as_mm = extent * k * 25.4
-    if as_mm <= PLAUSIBLE_PART_MM or extent * k > PLAUSIBLE_PART_MM:
-        return units, k
-    note = (f"the header says inches, but its parts would then be up to {extent * k:.4g} in ({as_mm:.4g} mm) across: "
-            f"read as millimetres ({extent * k:.4g} mm); use --units in if they really are inches")
-    source["warnings"] = [*source.get("warnings", []), note][:MAX_WARNINGS]
-    return "mm", k
+    def span(loop: Any) -> Any:
+        r = ring(loop)
+        return r.max(axis=0) - r.min(axis=0)
+
+    extent = max(float(max(span(outline))) for outline, _ in sheet.parts)
+    holes = [float(min(span(h))) for _, hs in sheet.parts for h in hs]
+    return extent, min(holes, default=math.inf)
 
 
 def _check_options(suffix: str, layer: str | None, element_id: str | None, pose: int | None) -> None:
     if layer is not None and suffix != ".dxf":
-        raise ConfigError("--layer", "only DXF drawings have layers")
+        raise ConfigError("layer", "only DXF drawings have layers")
     if element_id is not None and suffix != ".svg":
-        raise ConfigError("--id", "only SVG documents have element ids")
+        raise ConfigError("element_id", "only SVG documents have element ids")
     if pose is not None and suffix in (".dxf", ".svg"):
-        raise ConfigError("--pose", "only 3-D meshes have resting poses")
+        raise ConfigError("pose", "only 3-D meshes have resting poses")
 
 
 def import_file(path: str, **options: Any) -> dict[str, Any]:

@@ -18,6 +18,7 @@ hint, read in any language.
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -50,16 +51,22 @@ GLYPH_AREA_REL = 5e-3
 """A letter engraved in a part has less than this share of the part's area."""
 GLYPH_MIN = 4
 """At least this many small, different, non-circular loops make a line of text."""
+GLYPH_VARIETY = 0.3
+"""The least share of different shapes among the loops of a line of text."""
+GLYPH_SPREAD = 4.0
+"""A line (or a few lines) of text covers at most this many times its letters' boxes."""
 
 
 @dataclass(frozen=True)
 class Marks:
     """What a drawing says beside its geometry: one point inside each hatched region, the
-    text (insertion point, content), and whether it is annotated (dimensions)."""
+    text (insertion point, content), whether it is annotated (dimensions), and the points
+    its dimensions measure."""
 
     hatched: Sequence[tuple[float, float]] = ()
     texts: Sequence[tuple[float, float, str]] = ()
     annotated: bool = False
+    measured: Sequence[tuple[float, float]] = ()
 
 
 NO_MARKS = Marks()
@@ -153,17 +160,32 @@ def _frame_reason(lp: Loops, main: int, faces: list[int], inside: list[int], mar
         (any(lp.layer(j) != lp.layer(main) and not ENGRAVING_LAYER.search(lp.layer(j) or "") for j in inside),
          "loops on other layers inside"),
         (bool(inside) and bool(loose_text) and len(inside) >= 2, "text beside the parts"),
-        (any(lp.children(j) for j in inside), "parts with holes of their own inside"),
-        (len(inside) >= 2 and sum(lp.polys[j].area for j in inside) > FILL_SHARE * poly.area, "parts filling it"),
+        # (letters with counters inside a plate are no such parts: they are far smaller)
+        (any(lp.children(j) and lp.polys[j].area >= GLYPH_AREA_REL * poly.area for j in inside),
+         "parts with holes of their own inside"),
+        (len(inside) >= 2 and sum(lp.polys[j].area for j in inside) > FILL_SHARE * poly.area
+         and not _cutouts(lp, inside), "parts filling it"),
         (bool(inside) and bool(FRAME_LAYER.search(name)), f"layer {name!r}"),
         (len(faces) > 2 and bool(inside), "cells along it"),
     ]
     return next((why for ok, why in checks if ok), None)
 
 
+def _cutouts(lp: Loops, inside: list[int]) -> bool:
+    """Loops that look cut out of a plate, not parts nested on a sheet: no holes of their
+    own, and nearly all of a few repeated shapes (switch cut-outs of a keyboard plate,
+    a grille)."""
+    if any(lp.children(j) for j in inside):
+        return False
+    shapes: dict[tuple[int, ...], int] = {}
+    for j in inside:
+        shapes[_shape(lp.polys[j])] = shapes.get(_shape(lp.polys[j]), 0) + 1
+    return sum(n for n in shapes.values() if n >= 3) >= 0.6 * len(inside)
+
+
 def views(lp: Loops, parts: list[int], holes: dict[int, int], marks: Marks, framed: bool) -> tuple[set[int], list[str]]:
     """Loops that are other views (side, section) of a part drawn beside its plan view."""
-    if not (marks.annotated or framed) or len(parts) < 2:
+    if not marks.annotated or len(parts) < 2:  # views come with dimensions; a framed nesting sheet lines parts up too
         return set(), []
     from shapely.geometry import Point
 
@@ -188,7 +210,9 @@ def views(lp: Loops, parts: list[int], holes: dict[int, int], marks: Marks, fram
             continue
         plan = max(members, key=lambda i: (i not in hatched, holes[i], lp.polys[i].area))
         for i in members:
-            if i != plan:
+            # a side view shows no through holes (they are hidden lines); a loop with holes
+            # of its own beside the plan is another part (a front and a back plate)
+            if i != plan and (i in hatched or holes[i] == 0):
                 out.add(i)
                 kind = "section view: a hatched" if i in hatched else "side view: a"
                 said.append(f"{kind} view of the part drawn beside its plan view, set aside")
@@ -225,20 +249,93 @@ def engraving(lp: Loops, part: int, marks: Marks) -> tuple[set[int], list[str]]:
 
 
 def _glyphs(lp: Loops, part: int, kids: list[int]) -> set[int]:
-    """Small non-circular loops of at least three different shapes and similar heights:
-    a line of engraved letters. Shapes repeated three times or more (a grille of equal
-    slots, a bolt pattern) are machined features and stay holes."""
+    """The loops of ``kids`` that are small against ``part`` and form a line of engraved
+    letters (:func:`glyph_row`)."""
     area = lp.polys[part].area
     small = [j for j in kids if lp.polys[j].area < GLYPH_AREA_REL * area and not _round(lp.loops[j])]
-    shape = {j: (round(lp.polys[j].area, 6), len(lp.loops[j])) for j in small}
-    repeats = {sig: sum(1 for v in shape.values() if v == sig) for sig in shape.values()}
-    small = [j for j in small if repeats[shape[j]] < 3]
-    if len(small) < GLYPH_MIN:
-        return set()
-    heights = np.array([lp.polys[j].bounds[3] - lp.polys[j].bounds[1] for j in small])
-    med = float(np.median(heights))
-    row = [j for j, h in zip(small, heights) if med / 2 <= h <= 2 * med]
-    return set(row) if len(row) >= GLYPH_MIN and len({shape[j] for j in row}) >= 3 else set()
+    return glyph_row(lp, small)
+
+
+def glyph_row(lp: Loops, small: list[int]) -> set[int]:
+    """Non-circular loops of similar heights with varied shapes: a line of letters. A row
+    of mostly equal shapes (a grille of slots, switch cut-outs, a bolt pattern, copies on a
+    sheet) is machined features: a line of text has at least three different shapes, and
+    at least GLYPH_VARIETY of its loops differ ("100x100mm": 4 shapes in 9 letters)."""
+    out: set[int] = set()
+    for band in _by_height(lp, small):
+        for row in _words(lp, band):
+            shapes = {_shape(lp.polys[j]) for j in row}
+            if len(row) >= GLYPH_MIN and len(shapes) >= 3 and len(shapes) >= GLYPH_VARIETY * len(row) \
+                    and _compact(lp, row):
+                out |= set(row)
+    if out:  # punctuation, dots and dashes among the letters are text too
+        from shapely.geometry import box
+        from shapely.ops import unary_union
+
+        pad = float(np.median([lp.polys[j].bounds[3] - lp.polys[j].bounds[1] for j in out])) / 2
+        area = unary_union([box(*lp.polys[j].bounds).buffer(pad) for j in out])
+        out |= {j for j in small if area.covers(box(*lp.polys[j].bounds))}
+    return out
+
+
+def _words(lp: Loops, band: list[int]) -> list[list[int]]:
+    """``band`` in groups of loops standing within one letter height of each other."""
+    from shapely.geometry import box
+
+    if len(band) < GLYPH_MIN:
+        return []
+    h = float(np.median([lp.polys[j].bounds[3] - lp.polys[j].bounds[1] for j in band]))
+    boxes = {j: box(*lp.polys[j].bounds) for j in band}
+    group = {j: j for j in band}
+
+    def root(j: int) -> int:
+        while group[j] != j:
+            j = group[j]
+        return j
+
+    for n, a in enumerate(band):
+        for b in band[n + 1:]:
+            if boxes[a].distance(boxes[b]) <= h:
+                group[root(b)] = root(a)
+    words: dict[int, list[int]] = {}
+    for j in band:
+        words.setdefault(root(j), []).append(j)
+    return list(words.values())
+
+
+def _compact(lp: Loops, row: list[int]) -> bool:
+    """Letters stand close together: the hull of the row is at most GLYPH_SPREAD times the
+    area of their boxes (slots spread over a part are not a word)."""
+    from shapely.geometry import box
+    from shapely.ops import unary_union
+
+    boxes = [box(*lp.polys[j].bounds) for j in row]
+    return bool(unary_union(boxes).convex_hull.area <= GLYPH_SPREAD * sum(b.area for b in boxes))
+
+
+def _by_height(lp: Loops, loops: list[int]) -> list[list[int]]:
+    """``loops`` in bands of similar height (a gap of 1.5× between bands): letters of one
+    size apart from a grille of taller slots."""
+    ranked = sorted(loops, key=lambda j: lp.polys[j].bounds[3] - lp.polys[j].bounds[1])
+    bands: list[list[int]] = []
+    last = 0.0
+    for j in ranked:
+        h = lp.polys[j].bounds[3] - lp.polys[j].bounds[1]
+        if not bands or h > 1.5 * last:
+            bands.append([])
+        bands[-1].append(j)
+        last = h
+    return bands
+
+
+def _shape(poly: Any) -> tuple[int, int, int, int]:
+    """A loop's shape and size up to position, to about 1 %: drawn copies whose joints
+    miss by a hair (a keyboard plate's switch cut-outs) are one shape."""
+    x0, y0, x1, y1 = poly.bounds
+    size = max(x1 - x0, y1 - y0, ROUNDING)
+    unit = size / 100.0
+    return (round(50.0 * math.log(size)), round((x1 - x0) / unit), round((y1 - y0) / unit),
+            round(poly.area / (unit * unit * 100.0)))
 
 
 def _round(loop: list[Segment]) -> bool:

@@ -193,8 +193,16 @@ def _polyline(e: Any) -> list[Segment]:
 
 
 def _spline(e: Any) -> list[Segment]:
-    _normal_sign(e)
+    # A SPLINE's points are world coordinates and its normal (code 210) is optional: many
+    # writers (Fusion 360, keyboard-plate generators) leave it (0, 0, 0). Planar in XY is
+    # what matters: a normal along ±Z, or none with every control point at one height.
     bs = e.construction_tool()
+    z = e.dxf.extrusion if e.dxf.hasattr("extrusion") else (0.0, 0.0, 1.0)
+    if max(abs(float(c)) for c in z) > ROUNDING:
+        _normal_sign(e)
+    heights = [float(p[2]) for p in bs.control_points]
+    if heights and max(heights) - min(heights) > ROUNDING * max(1.0, *(abs(h) for h in heights)):
+        raise PartDocumentError(_origin(e), "not in the XY plane (its control points are at different heights)")
     ctrl = np.array([_xy(p) for p in bs.control_points])
     w = np.array(bs.weights(), float) if bs.is_rational else np.ones(len(ctrl))
     segs = nurbs_to_beziers(bs.degree, ctrl, w, np.array(bs.knots(), float), _origin(e))
@@ -210,6 +218,14 @@ def _spline(e: Any) -> list[Segment]:
 CONSTRUCTION_LINETYPE = re.compile(r"center|centre|dash|hidden|phantom|dot|divide|achs|mittel|strich|axe|axis|eje|"
                                    r"trait|punt|tratt|hidd", re.IGNORECASE)
 """Linetypes of centre, hidden and construction lines (never cut paths): set aside."""
+
+
+ANNOTATION_LAYER = re.compile(r"dimension|annotation|center ?mark|centre ?mark|center ?line|centre ?line|break ?line|"
+                              r"section ?line|view ?label|thread|hatch|bema(ss|ß)ung|mittellinie|schraffur|cotation|"
+                              r"hachure|acotaci|cota\b|quota|寸法|中心線|尺寸|标注|中心线", re.IGNORECASE)
+"""Layers a drafting template keeps for annotation (the ISO/ANSI layer sets of Inventor,
+Fusion 360 and AutoCAD drawings: "Dimension (ISO)", "Center Mark (ISO)", "Thread Lines"…):
+set aside when other layers hold the geometry."""
 
 
 def construction_line(e: Any) -> bool:
@@ -303,9 +319,19 @@ def dxf_pieces(doc: Any, layer: str | None) -> tuple[list[Piece], str, float]:
     msp = doc.modelspace()
     layers = sorted({e.dxf.layer for e in msp})
     chosen = [e for e in msp if layer is None or e.dxf.layer.lower() == layer.lower()]
+    # What the drawing's author hid (layers off or frozen: construction, old revisions) is
+    # not cut, unless the layer is asked for by name.
+    hidden = set() if layer is not None else _hidden_layers(doc)
+    shown = [e for e in chosen if e.dxf.layer.lower() not in hidden]
+    skipped: dict[str, int] = {"entity on a hidden (off or frozen) layer": len(chosen) - len(shown)} \
+        if len(shown) < len(chosen) else {}
+    notes = [e for e in shown if ANNOTATION_LAYER.search(e.dxf.layer)]
+    if notes and len(notes) < len(shown):
+        skipped["entity on an annotation layer"] = len(notes)
+        shown = [e for e in shown if not ANNOTATION_LAYER.search(e.dxf.layer)]
+    chosen = shown
     budget = [MAX_EXPANDED_SEGMENTS]  # shared by every entity of the drawing
     pieces = [p for e in chosen for p in entity_pieces(e, budget=budget)]
-    skipped: dict[str, int] = {}
     dashed = sum(1 for e in chosen if e.dxftype() not in SKIPPED and e.dxftype() != "INSERT" and construction_line(e))
     if dashed:
         skipped["centre/hidden-line entity (by linetype)"] = dashed
@@ -313,8 +339,8 @@ def dxf_pieces(doc: Any, layer: str | None) -> tuple[list[Piece], str, float]:
         if e.dxftype() in SKIPPED or e.dxftype().endswith("DIMENSION"):
             skipped[e.dxftype()] = skipped.get(e.dxftype(), 0) + 1
     if hasattr(doc, "algrasp_warnings"):
-        doc.algrasp_marks = Marks(hatch_points([e for e in chosen if e.dxftype() == "HATCH"]), text_marks(msp),
-                                  any(t.endswith("DIMENSION") for t in skipped))
+        doc.algrasp_marks = Marks(hatch_points([e for e in msp if e.dxftype() == "HATCH"]), text_marks(msp),
+                                  any(e.dxftype() == "DIMENSION" for e in msp), measured_points(msp))
     if skipped and hasattr(doc, "algrasp_warnings"):
         doc.algrasp_warnings.append("set aside (annotation, fills, construction, 3-D): "
                                     + ", ".join(f"{n} {t}" for t, n in sorted(skipped.items())))
@@ -324,6 +350,35 @@ def dxf_pieces(doc: Any, layer: str | None) -> tuple[list[Piece], str, float]:
                                 f"{where} has no outline geometry (layers: {', '.join(layers) or 'none'})")
     units, k = dxf_units(doc)
     return pieces, units, k
+
+
+def _hidden_layers(doc: Any) -> set[str]:
+    """Lower-case names of the layers switched off or frozen."""
+    out = set()
+    for entry in doc.layers:
+        try:
+            if entry.is_off() or entry.is_frozen():
+                out.add(entry.dxf.name.lower())
+        except (AttributeError, ValueError):  # a damaged LAYER entry: shown
+            continue
+    return out
+
+
+def measured_points(entities: Any) -> list[tuple[float, float]]:
+    """The points the drawing's DIMENSIONs measure (their definition points 13, 14 and 15):
+    on the geometry of the part they describe."""
+    out: list[tuple[float, float]] = []
+    for e in entities:
+        if e.dxftype() != "DIMENSION":
+            continue
+        for name in ("defpoint2", "defpoint3", "defpoint4"):
+            if e.dxf.hasattr(name):
+                v = e.dxf.get(name)
+                if math.isfinite(float(v[0])) and math.isfinite(float(v[1])):
+                    out.append((float(v[0]), float(v[1])))
+        if len(out) >= MAX_TEXT_MARKS:
+            break
+    return out
 
 
 MAX_TEXT_MARKS = 2000

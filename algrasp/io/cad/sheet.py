@@ -23,6 +23,7 @@ from algrasp.geometry.tolerances import ROUNDING, TINY
 from algrasp.io.cad.arrange import arrange
 from algrasp.io.cad.chain import Piece, Segment, _polygon, point_at, ring
 from algrasp.io.cad.clutter import NO_MARKS, Loops, Marks, engraving, frames, views
+from algrasp.io.cad.features import counterbore, loose_marks
 
 
 @dataclass
@@ -93,6 +94,7 @@ def _nest(lp: Loops, order: list[int], marks: Marks, ignored: list[str], warning
     depth: dict[int, int] = {}
     dropped: set[int] = set()
     parts: list[int] = []
+    bores = 0
     for i in order:  # by decreasing area: a loop's parent is placed before the loop
         p = lp.parent[i]
         if p in dropped:
@@ -104,10 +106,19 @@ def _nest(lp: Loops, order: list[int], marks: Marks, ignored: list[str], warning
             marked, said = engraving(lp, i, marks)
             dropped |= marked
             ignored += said
+        elif (through := counterbore(lp, i)) is not None:  # the through hole takes its place
+            lp.parent[through], bores = p, bores + 1
+            dropped.add(i)
+    if bores:
+        ignored.append(f"counterbores: {bores} round hole(s) drawn with a concentric circle around: "
+                       "the inner circle is the hole")
     holes = {i: [j for j in lp.children(i) if j not in dropped] for i in parts}
     others, said = views(lp, parts, {i: len(h) for i, h in holes.items()}, marks, framed)
     ignored += said
     parts = [i for i in parts if i not in others]
+    loose, said = loose_marks(lp, parts, marks)
+    ignored += said
+    parts = [i for i in parts if i not in loose]
     return Sheet([(_strip(lp.loops[i]), [_strip(lp.loops[j]) for j in holes[i]]) for i in parts], ignored, warnings,
                  [lp.layer(i) for i in parts])
 

@@ -20,7 +20,7 @@ PIE = Path(__file__).resolve().parents[3] / "algrasp" / "examples" / "pie-20.jso
 @pytest.mark.parametrize("exact", [True, False])
 @pytest.mark.parametrize("action", ["squeeze", "push_grasp"])
 def test_plan_documents_round_trip(exact: bool, action: str) -> None:
-    p = plan(analyse(PIE, exact=exact), action)  # type: ignore[arg-type]
+    p = plan(analyse(PIE, exact=exact), action=action)
     doc = json.loads(json.dumps(p.to_dict()))  # as written to a record or sent over HTTP
     back = PlanDocument.from_json(doc)
     assert back.to_json() == doc
@@ -35,7 +35,7 @@ def test_optimised_fields_are_kept() -> None:
     from optimisation.profile import DEFAULT_PROFILE
 
     a = analyse(PIE)
-    p = plan(a, "push_grasp")
+    p = plan(a, action="push_grasp")
     doc = json.loads(json.dumps(optimise_execution(a, p, DEFAULT_PROFILE).apply_to(p.to_dict())))
     back = PlanDocument.from_json(doc)
     assert back.to_json() == doc
@@ -49,7 +49,7 @@ def test_optimised_fields_are_kept() -> None:
     ({"intervals_deg": [[0.0]]}, "plan.intervals_deg"),
 ])
 def test_malformed_plan_documents_name_the_field(broken: dict[str, object], field: str) -> None:
-    doc = {**plan(analyse(PIE, exact=True), "squeeze").to_dict(), **broken}
+    doc = {**plan(analyse(PIE, exact=True), action="squeeze").to_dict(), **broken}
     with pytest.raises(PartDocumentError) as err:
         PlanDocument.from_json(doc)
     assert err.value.field == field

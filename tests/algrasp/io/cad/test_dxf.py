@@ -160,7 +160,7 @@ def test_clear_errors() -> None:
     assert second["name"] == "x#1" and second["source"]["part"] == 1 and len(second["boundary"]) == 3
     with pytest.raises(PartDocumentError, match="layer 'EMPTY' has no outline.*OPEN, SOLID, TWO"):
         import_bytes("x.dxf", data, layer="EMPTY")
-    with pytest.raises(ConfigError, match="--id"):
+    with pytest.raises(ConfigError, match="element_id"):
         import_bytes("x.dxf", data, element_id="a")
     with pytest.raises(PartDocumentError, match="not a readable DXF"):
         import_bytes("x.dxf", b"\x00garbage")

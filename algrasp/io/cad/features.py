@@ -1,0 +1,90 @@
+"""Drawn features that are not cuts of their own: a counterbore or thread drawn as a second
+circle around a drilled hole, letters and hairlines beside the parts.
+
+Rules on the loops of a sheet (:class:`~algrasp.io.cad.clutter.Loops`), by geometry:
+
+- **Counterbores**: a round hole holding one concentric round loop with nothing inside it
+  is a counterbore, spot face or thread drawn around the through hole: the hole is the
+  inner circle (a slug is never drawn, so the inner disc is no part).
+- **Loose letters**: loops outside every part (or in a part's window), each under
+  GLYPH_AREA_REL of the largest part, forming a line of letters (:func:`~algrasp.io.cad.clutter.glyph_row`) or filled by
+  a hatch, are text (an annotation written as outlines), not parts.
+- **Not measured**: in a drawing with dimensions, a small loop outside the parts that no
+  dimension measures and that copies no measured part (a logo, symbols, a title block's
+  drawing) is not a part.
+- **Hairlines**: a "part" over SLIVER_ASPECT times longer than wide is a line drawn as a
+  closed outline (dimension and leader lines, a border stroke), not something to grasp.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from algrasp.io.cad.clutter import GLYPH_AREA_REL, Loops, Marks, _round, glyph_row
+
+CONCENTRIC_REL = 1e-3
+"""Two circles are concentric when their centres are this share of the larger radius apart."""
+BARE_AREA_REL = 0.05
+"""An unmeasured loop under this share of the largest measured part is no part (copies of
+a measured part, dimensioned once, stay parts)."""
+SLIVER_ASPECT = 200.0
+"""A loop this many times longer than wide is a line drawn closed."""
+
+
+def counterbore(lp: Loops, hole: int) -> int | None:
+    """The through hole drawn inside the round ``hole`` (see module docs), or None."""
+    if not _round(lp.loops[hole]):
+        return None
+    kids = lp.children(hole)
+    if len(kids) != 1 or lp.children(kids[0]) or not _round(lp.loops[kids[0]]):
+        return None
+    (xa, ya), ra = _circle(lp.loops[hole])
+    (xb, yb), rb = _circle(lp.loops[kids[0]])
+    return kids[0] if ((xa - xb) ** 2 + (ya - yb) ** 2) ** 0.5 <= CONCENTRIC_REL * max(ra, rb) else None
+
+
+def _circle(loop: list[Any]) -> tuple[tuple[float, float], float]:
+    return (float(loop[0]["center"][0]), float(loop[0]["center"][1])), float(loop[0]["radius"])
+
+
+def loose_marks(lp: Loops, parts: list[int], marks: Marks) -> tuple[set[int], list[str]]:
+    """The top-level ``parts`` that are letters or hairlines (see module docs), and what
+    was set aside, said."""
+    from shapely.geometry import Point
+
+    if not parts:
+        return set(), []
+    largest = max(lp.polys[i].area for i in parts)
+    small = [i for i in parts if lp.polys[i].area < GLYPH_AREA_REL * largest]
+    letters = glyph_row(lp, [i for i in small if not _round(lp.loops[i])])
+    filled = {i for i in small if any(lp.polys[i].covers(Point(p)) for p in marks.hatched)}
+    hairlines = {i for i in parts if _aspect(lp.polys[i]) > SLIVER_ASPECT}
+    measured = {i for i in parts if lp.parent[i] is None and _measured(lp.polys[i], marks)}
+    top = max((lp.polys[i].area for i in measured), default=0.0)
+    bare = {i for i in parts if lp.parent[i] is None and i not in measured and lp.polys[i].area < BARE_AREA_REL * top
+            and not any(abs(lp.polys[i].area - lp.polys[j].area) <= 0.01 * lp.polys[j].area for j in measured)}
+    said = []
+    for found, why in ((letters, "a line of letters"), (filled - letters, "filled by a hatch"),
+                       (hairlines, "hairlines: lines drawn as closed outlines"),
+                       (bare - letters - filled - hairlines, "no dimension measures them, in a dimensioned "
+                        "drawing: logo, symbols or title-block drawing")):
+        if found:
+            said.append(f"text and marks: {len(found)} loop(s) outside the parts ({why}): not parts")
+    return letters | filled | hairlines | bare, said
+
+
+def _measured(poly: Any, marks: Marks) -> bool:
+    """Whether a dimension measures a point of ``poly`` (within 1 % of its size)."""
+    from shapely.geometry import Point
+
+    x0, y0, x1, y1 = poly.bounds
+    pad = 0.01 * max(x1 - x0, y1 - y0)
+    near = poly.buffer(pad)
+    return any(x0 - pad <= x <= x1 + pad and y0 - pad <= y <= y1 + pad and near.covers(Point(x, y))
+               for x, y in marks.measured)
+
+
+def _aspect(poly: Any) -> float:
+    x0, y0, x1, y1 = poly.bounds
+    short = min(x1 - x0, y1 - y0)
+    return float("inf") if short <= 0 else max(x1 - x0, y1 - y0) / short
