@@ -49,7 +49,7 @@ def judge(path: Path, truth: dict[str, Any]) -> tuple[str | None, float]:
     seconds = time.perf_counter() - t0
     rows = out["parts"]
     if truth["kind"] == "none":
-        return f"{len(rows)} part(s) found in a drawing with none", seconds
+        return (f"{len(rows)} part(s) found in a drawing with none" if rows else None), seconds
     if len(rows) != truth["parts"]:
         return f"{len(rows)} parts, truth {truth['parts']}", seconds
     if truth["kind"] != "part":

@@ -109,6 +109,10 @@ def import_bytes(filename: str, data: bytes, layer: str | None = None, element_i
         raise PartDocumentError("part", f"the drawing holds {len(rows)} parts ({listing}{'; …' if len(rows) > 10 else ''}); "
                                 "choose one with --part K (algrasp import FILE --list shows them)"
                                 + "".join(f"; {w}" for w in sheet.warnings if w.startswith("overlapping")))
+    if not sheet.parts:
+        kinds = "; ".join(sorted({w.split(":")[0] for w in sheet.ignored if not w.startswith("open contour")}))
+        raise PartDocumentError("drawing", "no part to cut: every closed loop was set aside"
+                                + (f" ({kinds}: see algrasp import FILE --list)" if kinds else ""))
     index = 0 if part is None else part
     if not 0 <= index < len(sheet.parts):
         raise ConfigError("part", f"no part {index}: the drawing holds {len(sheet.parts)} (0 to {len(sheet.parts) - 1})")

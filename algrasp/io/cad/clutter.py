@@ -45,6 +45,8 @@ VIEW_ALIGN_REL = 5e-3
 COPY_AREA_REL = 1e-2
 """Aligned loops whose areas agree to this share (and hole counts too) are copies of one
 part (a nesting row), not views of it."""
+NEARLY_BOX = 0.975
+"""Axis-aligned outlines filling this share of their box count as rectangles (frames)."""
 FILL_SHARE = 0.5
 """Parts filling over this share of a rectangle around them make it a sheet border."""
 GLYPH_AREA_REL = 5e-3
@@ -106,7 +108,16 @@ def _is_rectangle(loop: list[Segment], size: float) -> bool:
             dirs.append(d)
     if len(dirs) > 1 and dirs[0] == dirs[-1]:
         dirs.pop()
-    return len(dirs) == 4
+    return len(dirs) == 4 or _nearly_box(loop)
+
+
+def _nearly_box(loop: list[Segment]) -> bool:
+    """Axis-aligned lines filling their box but for a nick: a border whose offset lines
+    cross at a corner (a 2 mm square hanging off it)."""
+    from shapely.geometry import Polygon
+
+    poly = Polygon([s["start"] for s in loop]).buffer(0)
+    return bool(poly.area >= NEARLY_BOX * poly.envelope.area) if poly.area > 0 else False
 
 
 def _texts_in(poly: Any, marks: Marks) -> list[str]:
@@ -153,6 +164,8 @@ def _frame_reason(lp: Loops, main: int, faces: list[int], inside: list[int], mar
     poly = lp.polys[main]
     from shapely.geometry import Point
 
+    # letters drawn as outlines are no parts: the rules below look at the rest
+    inside = [j for j in inside if j not in glyph_row(lp, [k for k in inside if lp.polys[k].area < 0.05 * poly.area])]
     spots = [Point(x, y) for x, y, _ in marks.texts]
     loose_text = [p for p in spots if poly.covers(p) and not any(lp.polys[j].covers(p) for j in inside)]
     checks = [

@@ -6,6 +6,9 @@ Rules on the loops of a sheet (:class:`~algrasp.io.cad.clutter.Loops`), by geome
 - **Counterbores**: a round hole holding one concentric round loop with nothing inside it
   is a counterbore, spot face or thread drawn around the through hole: the hole is the
   inner circle (a slug is never drawn, so the inner disc is no part).
+- **Pockets**: a loop on a pocket layer (``pcb_pocket``) is machined part-way: no hole;
+  the holes inside it are the part's.
+- **Letters with counters**: a small hole holding loops of its own is an engraved letter.
 - **Loose letters**: loops outside every part (or in a part's window), each under
   GLYPH_AREA_REL of the largest part, forming a line of letters (:func:`~algrasp.io.cad.clutter.glyph_row`) or filled by
   a hatch, are text (an annotation written as outlines), not parts.
@@ -18,6 +21,7 @@ Rules on the loops of a sheet (:class:`~algrasp.io.cad.clutter.Loops`), by geome
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 from algrasp.io.cad.clutter import GLYPH_AREA_REL, Loops, Marks, _round, glyph_row
@@ -41,6 +45,25 @@ def counterbore(lp: Loops, hole: int) -> int | None:
     (xa, ya), ra = _circle(lp.loops[hole])
     (xb, yb), rb = _circle(lp.loops[kids[0]])
     return kids[0] if ((xa - xb) ** 2 + (ya - yb) ** 2) ** 0.5 <= CONCENTRIC_REL * max(ra, rb) else None
+
+
+POCKET_LAYER = re.compile(r"pocket|tasche|poche|bolsillo|tasca|ポケット|cavity|recess|blind", re.IGNORECASE)
+"""Layers of blind pockets (CAM: machined part-way, not through): the pocket is no hole;
+the holes drawn inside it are the part's."""
+
+
+def pocket(lp: Loops, hole: int) -> bool:
+    """Whether ``hole`` is a blind pocket (on a pocket layer, the part on another)."""
+    name = lp.layer(hole) or ""
+    parent = lp.parent[hole]
+    return bool(POCKET_LAYER.search(name)) and parent is not None and lp.layer(parent) != name
+
+
+def letter(lp: Loops, hole: int, part: int) -> bool:
+    """Whether ``hole`` is a letter engraved in ``part``: small against the part (under
+    GLYPH_AREA_REL of it) with loops of its own inside (its counters) — nobody nests a part
+    in a hole that small."""
+    return bool(lp.children(hole)) and lp.polys[hole].area < GLYPH_AREA_REL * lp.polys[part].area
 
 
 def _circle(loop: list[Any]) -> tuple[tuple[float, float], float]:

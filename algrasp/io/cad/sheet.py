@@ -23,7 +23,7 @@ from algrasp.geometry.tolerances import ROUNDING, TINY
 from algrasp.io.cad.arrange import arrange
 from algrasp.io.cad.chain import Piece, Segment, _polygon, point_at, ring
 from algrasp.io.cad.clutter import NO_MARKS, Loops, Marks, engraving, frames, views
-from algrasp.io.cad.features import counterbore, loose_marks
+from algrasp.io.cad.features import counterbore, letter, loose_marks, pocket
 
 
 @dataclass
@@ -109,6 +109,15 @@ def _nest(lp: Loops, order: list[int], marks: Marks, ignored: list[str], warning
         elif (through := counterbore(lp, i)) is not None:  # the through hole takes its place
             lp.parent[through], bores = p, bores + 1
             dropped.add(i)
+        elif pocket(lp, i):
+            for kid in lp.children(i):
+                lp.parent[kid] = p
+            dropped.add(i)
+            ignored.append(f"pocket: a loop on layer {lp.layer(i)!r} (machined part-way): not a hole")
+        elif p is not None and letter(lp, i, p):
+            dropped.add(i)
+            ignored.append("engraving: a small loop with a loop inside (a letter and its counter) inside a part: "
+                           "not a hole")
     if bores:
         ignored.append(f"counterbores: {bores} round hole(s) drawn with a concentric circle around: "
                        "the inner circle is the hole")

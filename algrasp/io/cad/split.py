@@ -27,9 +27,9 @@ from algrasp.io.cad.chain import Segment, point_at, samples
 
 PROJECT_SAMPLES = 64
 """Samples along a curve (Bezier, ellipse arc) that seed the nearest-point search."""
-PROJECT_STEPS = 40
-"""Ternary-search steps refining the nearest parameter between two samples (each step
-keeps 2/3 of the bracket: 40 steps give ~1e-7 of a sample interval)."""
+PROJECT_ROUNDS = 6
+"""Rounds refining the nearest parameter: each resamples the bracket around the nearest
+sample 33 times, keeping 1/16 of it (6 rounds: ~6e-8 of a sample interval)."""
 
 
 def t_range(s: Segment) -> tuple[float, float]:
@@ -104,7 +104,7 @@ def sub(s: Segment, t0: float, t1: float) -> Segment:
 
 def project(s: Segment, p: Any) -> tuple[float, float]:
     """The parameter of the point of the segment nearest to p, and the distance. Exact for
-    lines and circular arcs; sampled then refined (PROJECT_SAMPLES, PROJECT_STEPS) for
+    lines and circular arcs; sampled then refined (PROJECT_SAMPLES, PROJECT_ROUNDS) for
     ellipse arcs and Beziers, whose distance to a point can have several minima."""
     q = np.asarray(p, float)
     kind = s["type"]
@@ -129,20 +129,31 @@ def _project_arc(s: Segment, q: np.ndarray) -> tuple[float, float]:
     return float(best), float(np.linalg.norm(at(s, best) - q))
 
 
+def _bezier_points(s: Segment, ts: np.ndarray) -> np.ndarray:
+    """The points at parameters ``ts`` (shape (K,)) at once, shape (K, 2): de Casteljau in
+    homogeneous coordinates over all parameters together."""
+    H = np.broadcast_to(_homogeneous(s), (len(ts), *_homogeneous(s).shape)).copy()
+    t = ts[:, None, None]
+    while H.shape[1] > 1:
+        H = (1 - t) * H[:, :-1] + t * H[:, 1:]
+    return np.asarray(H[:, 0, :2] / H[:, 0, 2:3])
+
+
 def _project_sampled(s: Segment, q: np.ndarray) -> tuple[float, float]:
     t0, t1 = t_range(s)
     ts = np.linspace(t0, t1, PROJECT_SAMPLES + 1)
-    d = [float(np.linalg.norm(at(s, t) - q)) for t in ts]
-    k = int(np.argmin(d))
-    lo, hi = ts[max(k - 1, 0)], ts[min(k + 1, len(ts) - 1)]
-    for _ in range(PROJECT_STEPS):
-        m1, m2 = lo + (hi - lo) / 3, hi - (hi - lo) / 3
-        if np.linalg.norm(at(s, m1) - q) < np.linalg.norm(at(s, m2) - q):
-            hi = m2
-        else:
-            lo = m1
+    k, lo, hi = _nearest(s, q, ts)
+    for _ in range(PROJECT_ROUNDS):  # resample around the nearest sample: 16× narrower each round
+        k, lo, hi = _nearest(s, q, np.linspace(lo, hi, 33))
     t = float((lo + hi) / 2)
     return t, float(np.linalg.norm(at(s, t) - q))
+
+
+def _nearest(s: Segment, q: np.ndarray, ts: np.ndarray) -> tuple[int, float, float]:
+    """The sample of ``ts`` nearest to q and the parameters of its neighbours."""
+    pts = _bezier_points(s, ts) if s["type"] == "bezier" else np.array([at(s, t) for t in ts])
+    k = int(np.argmin(np.linalg.norm(pts - q, axis=1)))
+    return k, float(ts[max(k - 1, 0)]), float(ts[min(k + 1, len(ts) - 1)])
 
 
 def length(s: Segment) -> float:
