@@ -100,10 +100,11 @@ def _measured(poly: Any, marks: Marks) -> bool:
     """Whether a dimension measures a point of ``poly`` (within 1 % of its size)."""
     from shapely.geometry import Point
 
+    if not marks.measured:
+        return False
     x0, y0, x1, y1 = poly.bounds
     pad = 0.01 * max(x1 - x0, y1 - y0)
-    near = poly.buffer(pad)
-    return any(x0 - pad <= x <= x1 + pad and y0 - pad <= y <= y1 + pad and near.covers(Point(x, y))
+    return any(x0 - pad <= x <= x1 + pad and y0 - pad <= y <= y1 + pad and poly.distance(Point(x, y)) <= pad
                for x, y in marks.measured)
 
 

@@ -24,6 +24,8 @@ KNOWN_MISSES: dict[str, str] = {
     # drawings the importer still reads wrong (issue 32 stays open for them); strict: a fix
     # that makes one right fails here until it is taken off this list
     "batch-ae/cnlohr-mitx-laser-cut-case-case.svg": "9 parts, truth 7",
+    "batch-fl/gtips-reviung-promicro-cover-marked-a.svg": "21 parts, truth 4 (every cut drawn as a filled band: two loops each)",
+    "batch-fl/gtips-reviung-r53-2mm-450x300-sheet.dxf": "29 parts, truth 13",
     "batch-fl/iorodeo-microplate-holder-top-in.dxf": "7 parts, truth 1",
     "batch-fl2/gerald-kong-ep1000-moodlamp-front.dxf": "19 holes, truth 29",
     "batch-fl2/i4-timecube-lasercut-firebeetle-3mm.svg": "11 parts, truth 8",
