@@ -29,7 +29,6 @@ method, which imports the calling script again in each worker: a script that cal
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -183,28 +182,22 @@ def plan(source: PartSource, *, action: Action | str = "squeeze", min_margin_deg
     fields in ``plan.to_dict()``). Raises NotOrientableError (with its reason and the
     limits under which a plan exists) when no plan exists.
     """
-    act = parse_action(action)
-    if limits not in ("none", "headline", "all"):
-        raise ConfigError("limits", f"expected none, headline or all, got {limits!r}")
+    from algrasp.pipeline import PlanRequest, optimise_plan
+
     if not isinstance(optimise, bool):
         raise ConfigError("optimise", f"expected True or False, got {optimise!r}")
-    if gripper is not None and not optimise:
-        raise ConfigError("gripper", "a gripper profile needs optimise=True")
-    if not (isinstance(push_scale, (int, float)) and 0.0 < push_scale <= 10.0):
-        raise ConfigError("push_scale", f"must be in (0, 10], got {push_scale!r}")
+    # the request's options are checked where every interface's are (PlanRequest)
+    req = PlanRequest(parse_action(action), _number(min_margin_deg, "min_margin_deg"), optimise, _gripper(gripper),
+                      _number(push_scale, "push_scale"), limits=limits)
     analysis = analyse(source, exact=exact, physics=physics)
-    out = make_plan(analysis, act, _margin(min_margin_deg), "none" if analysis.robust is None else limits)
-    if not optimise:
-        return out
-    from algrasp.pipeline import optimise_plan
-
-    return optimise_plan(out, _gripper(gripper), float(push_scale))
+    out = make_plan(analysis, req.action, req.min_margin_deg, "none" if analysis.robust is None else req.limits)
+    return optimise_plan(out, req.gripper_profile, req.push_scale) if optimise else out
 
 
-def _margin(min_margin_deg: object) -> float:
-    if isinstance(min_margin_deg, bool) or not isinstance(min_margin_deg, (int, float)):
-        raise ConfigError("min_margin_deg", f"expected a number of degrees, got {min_margin_deg!r}")
-    return float(min_margin_deg)
+def _number(value: object, name: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ConfigError(name, f"expected a number, got {value!r}")
+    return float(value)
 
 
 def _gripper(gripper: GripperSource | None) -> dict[str, Any] | None:
@@ -236,9 +229,15 @@ def validate(source: PartSource, *, action: Action | str | None = None, samples:
     outcomes (``samples``), per-cell agreement (``cells``); ``to_dict()`` is the validation
     document. Worker processes: see the module docstring (``__main__`` guard).
     """
+    from algrasp.pipeline import PlanRequest
     from algrasp.sim.validate import Validation
 
-    _check_sim_options(samples, seed, placement, tolerance_deg, workers)
+    for name, value, low in (("samples", samples, 1), ("seed", seed, 0), ("workers", workers, 1)):
+        if isinstance(value, bool) or not isinstance(value, int) or value < low:
+            raise ConfigError(name, f"expected a whole number ≥ {low}, got {value!r}")
+    # placement, tolerance and the simulated cells are checked where every interface's are
+    PlanRequest(samples=samples, seed=seed, placement=placement, tolerance_deg=_number(tolerance_deg, "tolerance_deg"),
+                sim_physics=sim_physics)
     if isinstance(source, Plan) and source.analysis is not None:
         if action is not None and parse_action(action) != source.action:
             raise ConfigError("action", f"the plan given is a {source.action} plan, not {parse_action(action)}")
@@ -254,17 +253,6 @@ def validate(source: PartSource, *, action: Action | str | None = None, samples:
     out = _simulate(made, samples, seed, placement, tolerance_deg, sim_physics, workers)
     assert isinstance(out, Validation)
     return out
-
-
-def _check_sim_options(samples: object, seed: object, placement: object, tolerance_deg: object, workers: object) -> None:
-    for name, value, low in (("samples", samples, 1), ("seed", seed, 0), ("workers", workers, 1)):
-        if isinstance(value, bool) or not isinstance(value, int) or value < low:
-            raise ConfigError(name, f"expected a whole number ≥ {low}, got {value!r}")
-    if placement not in (None, "centred", "random"):
-        raise ConfigError("placement", f"expected centred, random or None (follow the physics), got {placement!r}")
-    if isinstance(tolerance_deg, bool) or not isinstance(tolerance_deg, (int, float)) \
-            or not (math.isfinite(tolerance_deg) and 0.0 < tolerance_deg < 180.0):
-        raise ConfigError("tolerance_deg", f"expected degrees in (0, 180), got {tolerance_deg!r}")
 
 
 def _simulate(made: Plan, samples: int, seed: int, placement: Literal["centred", "random"] | None,

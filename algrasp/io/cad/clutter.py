@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -204,21 +204,9 @@ def views(lp: Loops, parts: list[int], holes: dict[int, int], marks: Marks, fram
 
     hatched = {i for i in parts if any(lp.polys[i].covers(Point(p)) for p in marks.hatched)}
     box = {i: lp.polys[i].bounds for i in parts}
-    group = {i: i for i in parts}
-
-    def root(i: int) -> int:
-        while group[i] != i:
-            i = group[i]
-        return i
-
-    for n, a in enumerate(parts):
-        for b in parts[n + 1:]:
-            if _aligned(box[a], box[b]) and not _copies(lp, a, b, holes):
-                group[root(b)] = root(a)
     out: set[int] = set()
     said: list[str] = []
-    for r in {root(i) for i in parts}:
-        members = [i for i in parts if root(i) == r]
+    for members in groups(parts, lambda a, b: _aligned(box[a], box[b]) and not _copies(lp, a, b, holes)):
         if len(members) < 2:
             continue
         plan = max(members, key=lambda i: (i not in hatched, holes[i], lp.polys[i].area))
@@ -299,21 +287,27 @@ def _words(lp: Loops, band: list[int]) -> list[list[int]]:
         return []
     h = float(np.median([lp.polys[j].bounds[3] - lp.polys[j].bounds[1] for j in band]))
     boxes = {j: box(*lp.polys[j].bounds) for j in band}
-    group = {j: j for j in band}
+    return groups(band, lambda a, b: boxes[a].distance(boxes[b]) <= h)
 
-    def root(j: int) -> int:
-        while group[j] != j:
-            j = group[j]
-        return j
 
-    for n, a in enumerate(band):
-        for b in band[n + 1:]:
-            if boxes[a].distance(boxes[b]) <= h:
+def groups(items: list[int], linked: Callable[[int, int], bool]) -> list[list[int]]:
+    """``items`` in the groups that ``linked`` pairs join (transitively: union-find), each
+    in the order of ``items``, the groups in the order of their first member. O(n²) calls."""
+    group = {i: i for i in items}
+
+    def root(i: int) -> int:
+        while group[i] != i:
+            i = group[i]
+        return i
+
+    for n, a in enumerate(items):
+        for b in items[n + 1:]:
+            if linked(a, b):
                 group[root(b)] = root(a)
-    words: dict[int, list[int]] = {}
-    for j in band:
-        words.setdefault(root(j), []).append(j)
-    return list(words.values())
+    out: dict[int, list[int]] = {}
+    for i in items:
+        out.setdefault(root(i), []).append(i)
+    return list(out.values())
 
 
 def _compact(lp: Loops, row: list[int]) -> bool:

@@ -24,7 +24,7 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from algrasp.io.cad.clutter import GLYPH_AREA_REL, Loops, Marks, _round, glyph_row
+from algrasp.io.cad.clutter import COPY_AREA_REL, GLYPH_AREA_REL, Loops, Marks, _round, glyph_row
 
 CONCENTRIC_REL = 1e-3
 """Two circles are concentric when their centres are this share of the larger radius apart."""
@@ -85,7 +85,7 @@ def loose_marks(lp: Loops, parts: list[int], marks: Marks) -> tuple[set[int], li
     measured = {i for i in parts if lp.parent[i] is None and _measured(lp.polys[i], marks)}
     top = max((lp.polys[i].area for i in measured), default=0.0)
     bare = {i for i in parts if lp.parent[i] is None and i not in measured and lp.polys[i].area < BARE_AREA_REL * top
-            and not any(abs(lp.polys[i].area - lp.polys[j].area) <= 0.01 * lp.polys[j].area for j in measured)}
+            and not any(abs(lp.polys[i].area - lp.polys[j].area) <= COPY_AREA_REL * lp.polys[j].area for j in measured)}
     said = []
     for found, why in ((letters, "a line of letters"), (filled - letters, "filled by a hatch"),
                        (hairlines, "hairlines: lines drawn as closed outlines"),
