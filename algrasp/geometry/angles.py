@@ -32,6 +32,7 @@ _DEG_PER_RAD = 180.0 / math.pi
 _RAD_PER_DEG = math.pi / 180.0
 
 Angles = NDArray[np.float64] | Sequence[float]
+FloatLike = NDArray[np.float64]
 
 
 @overload
@@ -83,6 +84,43 @@ def shortest_turn(angle_rad: float, period_rad: float = TWO_PI) -> float:
     -10.0
     """
     return (angle_rad + period_rad / 2) % period_rad - period_rad / 2
+
+
+@overload
+def signed_diff(a_rad: float, b_rad: float) -> float: ...
+@overload
+def signed_diff(a_rad: FloatLike, b_rad: float | FloatLike) -> NDArray[np.float64]: ...
+@overload
+def signed_diff(a_rad: float, b_rad: FloatLike) -> NDArray[np.float64]: ...
+def signed_diff(a_rad: float | FloatLike, b_rad: float | FloatLike) -> float | NDArray[np.float64]:
+    """``a − b`` wrapped into [−π, π): how far ``a`` lies ahead of ``b`` on the circle
+    (floats or broadcasting arrays; elementwise, O(n)).
+
+    >>> round(to_deg(signed_diff(to_rad(350.0), to_rad(10.0))), 9)
+    -20.0
+    >>> to_deg(signed_diff(np.array([0.0, math.pi / 2]), 0.0)).round(9).tolist()
+    [0.0, 90.0]
+    """
+    if isinstance(a_rad, (int, float)) and isinstance(b_rad, (int, float)):
+        return (a_rad - b_rad + math.pi) % TWO_PI - math.pi
+    return (np.asarray(a_rad, dtype=float) - b_rad + np.pi) % TWO_PI - np.pi
+
+
+@overload
+def wrap_from(angle_rad: float, base_rad: float) -> float: ...
+@overload
+def wrap_from(angle_rad: FloatLike, base_rad: float | FloatLike) -> NDArray[np.float64]: ...
+@overload
+def wrap_from(angle_rad: float, base_rad: FloatLike) -> NDArray[np.float64]: ...
+def wrap_from(angle_rad: float | FloatLike, base_rad: float | FloatLike) -> float | NDArray[np.float64]:
+    """``angle`` moved by whole turns into [base, base + 2π) (floats or broadcasting arrays).
+
+    >>> round(to_deg(wrap_from(to_rad(-30.0), to_rad(90.0))), 9)
+    330.0
+    """
+    if isinstance(angle_rad, (int, float)) and isinstance(base_rad, (int, float)):
+        return base_rad + (angle_rad - base_rad) % TWO_PI
+    return base_rad + (np.asarray(angle_rad, dtype=float) - base_rad) % TWO_PI
 
 
 def wrap_deg(angle_deg: float) -> float:
