@@ -40,8 +40,9 @@ def add_physics_options(g: Any) -> None:
     for key, flags in _FLAGS.items():
         p = PARAMETERS[key]
         lo, hi = DEFAULT_RANGES[key]
-        g.add_argument(*flags, dest=f"physics_{key}", type=span, metavar="V|LO,HI",
-                       help=f"{p.help}{' in ' + p.unit if p.unit else ''} (default {lo:g},{hi:g}: {p.source})")
+        text = f"{p.help}{' in ' + p.unit if p.unit else ''} (default {lo:g},{hi:g}: {p.source})"
+        # argparse %-formats help strings: a literal "%" (the sources say "±20 %") must be doubled
+        g.add_argument(*flags, dest=f"physics_{key}", type=span, metavar="V|LO,HI", help=text.replace("%", "%%"))
     for key, text in _LENGTHS.items():
         g.add_argument(f"--{key.replace('_', '-')}", dest=f"physics_{key}", type=float, metavar="T", help=text)
     g.add_argument("--placement", dest="physics_placement", choices=[*PLACEMENTS, "random"],

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import json
 import subprocess
 import sys
@@ -95,3 +96,20 @@ def test_plan_errors(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None
     assert "unsupported format" in capsys.readouterr().err
     with pytest.raises(SystemExit):
         main(["plan", str(EXAMPLE), "--min-margin-deg", "-1"])
+
+
+def test_every_command_prints_its_help(capsys: pytest.CaptureFixture[str]) -> None:
+    """``--help`` of every subcommand prints (a help text with a bare "%" — a physics
+    source says "±20 % force accuracy" — made argparse raise TypeError)."""
+    from algrasp.cli import build_parser
+
+    parser = build_parser()
+    commands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices
+    outs = {}
+    for name in commands:
+        with pytest.raises(SystemExit) as stop:
+            main([name, "--help"])
+        assert stop.value.code == 0, name
+        outs[name] = capsys.readouterr().out
+        assert outs[name].startswith(f"usage: algrasp {name}"), name
+    assert "±20 % force accuracy" in " ".join(outs["plan"].split())
