@@ -1,105 +1,29 @@
-"""The typed HTTP contract: the part document (conventions §5) and the error body as
-pydantic models, so ``/openapi.json`` describes what the service takes and sends.
+"""The typed HTTP contract, so ``/openapi.json`` describes what the service takes and sends.
 
-The part document is still parsed by the core (``algrasp.geometry.document``), whose errors name
-the segment; these models give its JSON Schema (published at ``/v1/schemas/part`` and as
-``algrasp/schemas/part.schema.json``, which a test keeps equal to the model).
+The documents themselves (part, analysis, plan, validation, job, error) are typed once in
+:mod:`algrasp.io.documents` — the same models give the run records' schemas; here they are
+extended by what only HTTP adds (``run_id``, drawing samples) and the service's own
+responses (runs, health, jobs) are typed. The part document is still parsed by the core
+(``algrasp.geometry.document``), whose errors name the segment.
 """
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from algrasp.planning.actions import Action
-
-Point = Annotated[list[float], Field(min_length=2, max_length=2, description="[x, y] in the part's unit")]
-
-
-class _Doc(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-
-class LineSegment(_Doc):
-    type: Literal["line"]
-    start: Point
-    end: Point
-
-
-class ArcSegment(_Doc):
-    """Circular arc from ``start_deg`` to ``end_deg`` (counter-clockwise when end > start;
-    at most 360° of sweep)."""
-
-    type: Literal["arc"]
-    center: Point
-    radius: float = Field(gt=0)
-    start_deg: float
-    end_deg: float
-
-
-class EllipseArcSegment(_Doc):
-    """``center + R(rotation_deg)·(rx cos t, ry sin t)`` for t from ``start_deg`` to ``end_deg``."""
-
-    type: Literal["ellipse_arc"]
-    center: Point
-    rx: float = Field(gt=0)
-    ry: float = Field(gt=0)
-    rotation_deg: float = 0.0
-    start_deg: float
-    end_deg: float
-
-
-class BezierSegment(_Doc):
-    """Bezier curve of degree len(points) − 1 (≤ 20); ``weights`` make it rational."""
-
-    type: Literal["bezier"]
-    points: list[Point] = Field(min_length=2, max_length=21)
-    weights: list[Annotated[float, Field(gt=0)]] | None = None
-
-
-Segment = Annotated[LineSegment | ArcSegment | EllipseArcSegment | BezierSegment, Field(discriminator="type")]
-Loop = Annotated[list[Segment | Point], Field(min_length=1, description="segments in order, or polygon vertices "
-                                                                       "(one kind per loop)")]
-
-
-class PartDocument(_Doc):
-    """A planar part (conventions §5): one closed ``boundary`` (or the ``polygon``
-    shorthand), optional holes and centre of mass."""
-
-    name: str | None = None
-    units: str = "mm"
-    boundary: Loop | None = None
-    polygon: list[Point] | None = Field(None, min_length=3)
-    holes: list[Loop] = Field(default_factory=list)
-    center_of_mass: Point | None = None
-    approximate: bool | None = Field(None, description="set by mesh imports: the outline is a polygon approximation")
-    source: dict[str, Any] | None = Field(None, description="where an imported part came from (file, layer, warnings)")
-
-
-class ErrorDetail(BaseModel):
-    """What went wrong: ``type`` (``part_document_error``, ``config_error``,
-    ``limit_exceeded``, ``not_orientable``, ``time_limit_exceeded``, ``unavailable``,
-    ``storage_error``, ``too_many_requests``, ``unauthorized``, ``not_found``, …) and the
-    typed fields of that error."""
-
-    model_config = ConfigDict(extra="allow")
-
-    type: str
-    message: str
-    field: str | None = None
-    segment_index: int | None = None
-    reason: str | None = None
-    retry_after_s: float | None = None
-    stage: str | None = None
-    limit_s: float | None = None
-    errors: list[dict[str, Any]] | None = None
-
-
-class ErrorBody(BaseModel):
-    """Every error response: ``{"error": {...}}``."""
-
-    error: ErrorDetail
+from algrasp.io.documents import (
+    AnalysisDocument,
+    ErrorBody,
+    JobDocument,
+    JobProgress,
+    PartDocument,
+    PlanDocument,
+    Point,
+    ValidationDocument,
+    json_schema,
+)
 
 
 class _Open(BaseModel):
@@ -109,27 +33,12 @@ class _Open(BaseModel):
     model_config = ConfigDict(extra="allow")
 
 
-class PlanStepOut(_Open):
-    gripper_angle_deg: float = Field(description="gripper angle in the world frame, [0, 360)")
-    margin_deg: float | None = Field(description="gripper error this transition tolerates (None: the first action)")
-    push_distance: float | None = Field(None, description="push-grasp: push length (part units), with optimise")
-    duration_s: float | None = Field(None, description="with optimise: the action's duration")
+class PlanOut(PlanDocument):
+    """``POST /v1/plans``: the plan document, its run and (with validate) its validation."""
 
-
-class PlanOut(_Open):
-    """``POST /v1/plans``: the plan document (conventions §6), its run and validation."""
-
-    action: Action
-    symmetry_period_deg: float
-    intervals_deg: list[list[float]] = Field(description="Θ intervals of Algorithm A′, last to first")
-    steps: list[PlanStepOut]
-    final_orientations_deg: list[float]
-    final_uncertainty_deg: float
-    verified: bool
     model: str = Field(description="robust or exact")
     run_id: str
-    cycle_time_s: float | None = Field(None, description="with optimise")
-    validation: dict[str, Any] | None = Field(None, description="with validate: agreement and per-sample outcomes")
+    validation: ValidationDocument | None = Field(None, description="with validate: agreement and per-sample outcomes")
 
 
 class GeometryOut(_Open):
@@ -152,20 +61,12 @@ class CurvesOut(_Open):
     push_grasp_deg: list[float]
 
 
-class AnalysisOut(_Open):
-    """``POST /v1/analyses``: the part, its functions and transfer functions (and with
-    ``samples`` the drawing samples ``geometry`` and ``curves``)."""
+class AnalysisOut(AnalysisDocument):
+    """``POST /v1/analyses``: the analysis document (and with ``samples`` the drawing
+    samples ``geometry`` and ``curves``)."""
 
     geometry: GeometryOut | None = None
     curves: CurvesOut | None = None
-
-    part: dict[str, Any]
-    diameter: dict[str, Any]
-    radius: dict[str, Any]
-    squeeze: dict[str, Any]
-    push: dict[str, Any]
-    push_grasp: dict[str, Any]
-    model: str
     run_id: str
 
 
@@ -267,21 +168,8 @@ class JobsOut(_Open):
     jobs: list[dict[str, Any]]
 
 
-class ProgressOut(_Open):
-    finished: int = Field(description="parts done, failed or cancelled")
-    total: int
-
-
-class JobOut(_Open):
-    id: str
-    state: str
-    total: int
-    done: int
-    failed: int
-    cancelled: int
-    pending: int
-    parts: list[dict[str, Any]]
-    progress: ProgressOut
+ProgressOut = JobProgress
+JobOut = JobDocument
 
 
 class GripperSpecOut(_Open):
@@ -329,23 +217,9 @@ ERRORS: dict[int | str, dict[str, Any]] = {
 NOT_FOUND: dict[int | str, dict[str, Any]] = {404: _error("no such run or job"), 409: _error("the job already finished")}
 
 
-def inline(schema: dict[str, Any]) -> dict[str, Any]:
-    """A JSON schema with its ``$defs`` inlined (no references left), to embed in another."""
-    defs = schema.pop("$defs", {})
-
-    def walk(x: Any) -> Any:
-        if isinstance(x, dict):
-            if "$ref" in x and x["$ref"].startswith("#/$defs/"):
-                return walk(defs[x["$ref"].rsplit("/", 1)[-1]])
-            return {k: walk(v) for k, v in x.items()}
-        return [walk(v) for v in x] if isinstance(x, list) else x
-
-    return walk(schema)  # type: ignore[no-any-return]
-
-
 def part_schema() -> dict[str, Any]:
     """The part document's JSON Schema (draft 2020-12, no references)."""
-    return {"$schema": "https://json-schema.org/draft/2020-12/schema", **inline(PartDocument.model_json_schema())}
+    return json_schema(PartDocument)
 
 
 def typed(spec: dict[str, Any]) -> dict[str, Any]:
@@ -423,6 +297,3 @@ def components() -> dict[str, Any]:
 def media(description: str, types: dict[str, dict[str, Any]]) -> dict[int | str, dict[str, Any]]:
     """A documented 200 response in other media types (``{media type: schema}``)."""
     return {200: {"description": description, "content": {k: {"schema": v} for k, v in types.items()}}}
-
-
-BINARY = {"type": "string", "format": "binary"}

@@ -13,9 +13,10 @@ from pydantic import ValidationError
 from starlette.datastructures import UploadFile
 
 from algrasp.errors import ConfigError, LimitExceededError, PartDocumentError, UnavailableError
+from algrasp.io.documents import inline
 from algrasp.io.jsonguard import parse_json
 from service.catalogue import Entry, read_archive
-from service.contract import CancelOut, GripperSpecOut, JobCreatedOut, JobOut, JobsOut, inline, ok
+from service.contract import CancelOut, GripperSpecOut, JobCreatedOut, JobOut, JobsOut, ok
 from service.models import LIMIT, OFFSET, JobBody, JobOptions
 from service.reports import report_zip, results_jsonl
 from service.runtime import check_samples, owner, run_task, sees, who

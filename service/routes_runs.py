@@ -43,13 +43,26 @@ async def healthz(request: Request) -> dict[str, Any]:
     return {"status": "ok", "version": VERSION, "executor": svc.runner.executor.name, "auth_required": bool(svc.settings.keys)}
 
 
-@router.get("/v1/schemas/part", tags=["service"], dependencies=AUTH,
-            responses=media("JSON Schema (draft 2020-12)", {"application/schema+json": {"type": "object"}}))
-async def part_schema_endpoint() -> JSONResponse:
-    """The part document's JSON Schema (conventions §5), as in ``algrasp/schemas/part.schema.json``."""
-    from service.contract import part_schema
+@router.get("/v1/schemas", tags=["service"], dependencies=AUTH)
+async def schemas_index() -> dict[str, list[str]]:
+    """The names of the published document schemas (``/v1/schemas/{name}``)."""
+    from algrasp.io.documents import DOCUMENTS
 
-    return JSONResponse(part_schema(), media_type="application/schema+json")
+    return {"schemas": sorted(DOCUMENTS)}
+
+
+@router.get("/v1/schemas/{name}", tags=["service"], dependencies=AUTH,
+            responses=media("JSON Schema (draft 2020-12)", {"application/schema+json": {"type": "object"}}))
+async def schema_endpoint(name: str = Path(description="a document: part, analysis, plan, validation, request, "
+                                                       "run, job, error, sim-state")) -> JSONResponse:
+    """A document's JSON Schema (docs/conventions.md §4–§6), derived from the typed
+    documents the service and the run records use; ``part`` is the file
+    ``algrasp/schemas/part.schema.json``."""
+    from algrasp.io.documents import DOCUMENTS, json_schema
+
+    if name not in DOCUMENTS:
+        raise HTTPException(404, f"no schema {name!r}: one of {', '.join(sorted(DOCUMENTS))}")
+    return JSONResponse(json_schema(DOCUMENTS[name]), media_type="application/schema+json")
 
 
 @router.get("/readyz", tags=["service"], responses=ok(ReadyOut))

@@ -52,3 +52,22 @@ def test_every_operation_documents_typed_errors(server: Server) -> None:
             for code in ("422", "429", "503", "500"):
                 ref = op["responses"][code]["content"]["application/json"]["schema"]["$ref"]
                 assert ref.endswith("/ErrorBody"), (method, path, code)
+
+
+def test_every_document_schema_is_published(server: Server) -> None:
+    """``/v1/schemas/{name}``: each typed document's schema (the same one the records
+    carry); an unknown name is a 404 naming the ones there are."""
+    from algrasp.io.documents import DOCUMENTS, json_schema
+    from algrasp.io.record.schemas import TOPICS
+
+    with server.client() as c:
+        names = c.get("/v1/schemas").json()["schemas"]
+        assert names == sorted(DOCUMENTS)
+        for name in names:
+            r = c.get(f"/v1/schemas/{name}")
+            assert r.status_code == 200 and r.headers["content-type"] == "application/schema+json"
+            assert r.json() == json_schema(DOCUMENTS[name])
+        plan = c.get("/v1/schemas/plan").json()
+        missing = c.get("/v1/schemas/plans")
+    assert {k: v for k, v in TOPICS["/plan"].items() if k != "title"} == {k: v for k, v in plan.items() if k != "title"}
+    assert missing.status_code == 404 and "plan, request" in missing.json()["error"]["message"]
