@@ -11,9 +11,9 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from algrasp.geometry import shapes
 from algrasp.geometry.part import load_part
 from algrasp.planning.analysis import analyse_part
+from algrasp.testing import shapes
 
 
 def median_ms(doc: dict[str, Any], repeats: int = 7) -> float:

@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from algrasp.cli import main as algrasp
-from algrasp.geometry.shapes import bezier_blob, disk, disk_with_flats, pie, random_polygon, rectangle, regular_polygon, reuleaux
+from algrasp.testing.shapes import bezier_blob, disk, disk_with_flats, pie, random_polygon, rectangle, regular_polygon, reuleaux
 
 
 def _scaled(doc: dict[str, Any], k: float) -> dict[str, Any]:

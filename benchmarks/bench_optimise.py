@@ -13,10 +13,10 @@ import statistics
 import time
 from typing import Any
 
-from algrasp.geometry import shapes
 from algrasp.geometry.part import load_part
 from algrasp.planning.analysis import analyse_part
 from algrasp.planning.plans import make_plan
+from algrasp.testing import shapes
 from optimisation.execution import optimise_execution
 
 PARTS: list[tuple[str, dict[str, Any], str]] = [

@@ -15,10 +15,10 @@ import statistics
 import time
 from typing import Any
 
-from algrasp.geometry import shapes
 from algrasp.geometry.part import load_part
 from algrasp.planning.analysis import analyse_part
 from algrasp.planning.plans import make_plan
+from algrasp.testing import shapes
 
 
 def timed(doc: dict[str, Any], action: str = "squeeze", repeats: int = 5) -> tuple[float, float, float, int]:

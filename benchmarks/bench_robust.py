@@ -13,10 +13,10 @@ import time
 from typing import Any
 
 from algrasp.errors import NotOrientableError
-from algrasp.geometry import shapes
 from algrasp.geometry.arcforms import document, fig11_outline
 from algrasp.planning.analysis import EXACT, ROBUST, Model, analyse_document
 from algrasp.planning.plans import make_plan
+from algrasp.testing import shapes
 
 
 def median_ms(doc: dict[str, Any], model: Model, plan: bool, repeats: int = 15) -> float:

@@ -16,7 +16,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from algrasp.geometry.shapes import random_polygon, rectangle
+from algrasp.testing.shapes import random_polygon, rectangle
 from service.launch import start_server
 
 

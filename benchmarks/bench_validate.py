@@ -20,11 +20,11 @@ import json
 import time
 from pathlib import Path
 
-from algrasp.geometry import shapes
 from algrasp.geometry.arcforms import document, fig11_outline
 from algrasp.planning.analysis import EXACT, ROBUST, analyse_document
 from algrasp.planning.plans import make_plan
 from algrasp.sim.validate import validate_plan
+from algrasp.testing import shapes
 
 FRAME = json.loads((Path(__file__).parent / "data" / "landrs-battery-plate.json").read_text())
 

@@ -8,12 +8,12 @@ import math
 import numpy as np
 import pytest
 
-from algrasp.geometry import shapes
 from algrasp.geometry.bank import POINT_ROWS, coefficient_stack
 from algrasp.geometry.curves import Piece, horner_rows
 from algrasp.geometry.hull import unit
 from algrasp.geometry.part import load_part
 from algrasp.geometry.segments import loop_polyline
+from algrasp.testing import shapes
 
 
 def _de_casteljau_point(points: np.ndarray, weights: np.ndarray, t: float | np.ndarray) -> np.ndarray:

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from algrasp.cli import main
-from algrasp.geometry import shapes
+from algrasp.testing import shapes
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "algrasp" / "examples" / "pie-20.json"
 

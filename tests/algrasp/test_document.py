@@ -8,9 +8,9 @@ from typing import Any
 import pytest
 
 from algrasp.errors import LimitExceededError, PartDocumentError
-from algrasp.geometry import shapes
 from algrasp.geometry.limits import Limits
 from algrasp.geometry.part import load_part
+from algrasp.testing import shapes
 
 SQUARE = [[0, 0], [1, 0], [1, 1], [0, 1]]
 

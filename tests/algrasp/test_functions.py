@@ -8,9 +8,9 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-from algrasp.geometry import shapes
 from algrasp.geometry.part import load_part
 from algrasp.planning.analysis import analyse_part
+from algrasp.testing import shapes
 from tests.algrasp.helpers import diameter_of_points, match_angles, squeeze_by_flow, wrapped_close
 
 DEG = math.pi / 180

@@ -9,9 +9,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from algrasp.geometry import shapes
 from algrasp.geometry.part import load_part
 from algrasp.planning.analysis import analyse_part
+from algrasp.testing import shapes
 
 
 def test_pie_area_centroid_perimeter() -> None:

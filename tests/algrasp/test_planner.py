@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from algrasp.errors import NotOrientableError
-from algrasp.geometry import shapes
 from algrasp.geometry.part import load_part
 from algrasp.planning.analysis import Analysis, analyse_part
 from algrasp.planning.plans import Plan, _clusters, make_plan, verify
+from algrasp.testing import shapes
 
 GRID = 36000  # 0.01° grid for the independent simulation
 

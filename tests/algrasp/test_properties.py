@@ -12,9 +12,9 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from algrasp.geometry import shapes
 from algrasp.geometry.part import load_part
 from algrasp.planning.analysis import Analysis, analyse_part
+from algrasp.testing import shapes
 from tests.algrasp.helpers import match_angles
 
 # ALGRASP_HYPOTHESIS_EXAMPLES raises the example count for a deeper local run (1,500 per

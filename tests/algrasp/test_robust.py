@@ -185,7 +185,7 @@ def test_more_friction_never_shortens_the_guarantee() -> None:
 
 def test_constant_width_part_is_refused_with_why() -> None:
     from algrasp.errors import NotOrientableError
-    from algrasp.geometry import shapes
+    from algrasp.testing import shapes
 
     with pytest.raises(NotOrientableError) as e:
         make_plan(analyse_document(shapes.disk(), IDEAL), "squeeze")

@@ -12,10 +12,10 @@ import yaml
 
 from algrasp.cli import main
 from algrasp.errors import ConfigError
-from algrasp.geometry import shapes
 from algrasp.geometry.part import load_part
 from algrasp.planning.analysis import analyse_part
 from algrasp.planning.plans import make_plan
+from algrasp.testing import shapes
 from optimisation.execution import Execution, optimise_execution
 from optimisation.profile import DEFAULT_PROFILE, DEFAULT_PROFILE_PATH, GripperProfile, load_profile, profile_from_dict
 

@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from algrasp.geometry import shapes
 from algrasp.geometry.part import load_part
 from algrasp.planning.analysis import analyse_part
 from algrasp.planning.deadband import mean_radius
+from algrasp.testing import shapes
 from optimisation.push import push_distances, push_model
 
 TOL, BAND = math.radians(0.5), math.radians(2.0)

@@ -10,8 +10,8 @@ from typing import Any
 
 import pytest
 
-from algrasp.geometry.shapes import rectangle
 from algrasp.io.record.replay import read_record
+from algrasp.testing.shapes import rectangle
 from tests.service.conftest import Server, wait_job
 
 

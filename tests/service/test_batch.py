@@ -12,7 +12,7 @@ from typing import Any
 import pytest
 
 from algrasp.cli import main
-from algrasp.geometry.shapes import rectangle, regular_polygon
+from algrasp.testing.shapes import rectangle, regular_polygon
 from service.catalogue import read_archive, read_catalogue
 from service.store import Store
 
@@ -106,7 +106,7 @@ def test_a_batch_part_is_analysed_once_and_each_action_planned_once(tmp_path: Pa
     import algrasp.planning.plans
     import service.fixture
     import service.work
-    from algrasp.geometry.shapes import rectangle
+    from algrasp.testing.shapes import rectangle
     from service.work import design_task
 
     calls = {"analyse": 0, "plan": 0}

@@ -18,7 +18,7 @@ from pathlib import Path
 import psutil
 import pytest
 
-from algrasp.geometry.shapes import rectangle
+from algrasp.testing.shapes import rectangle
 from service.launch import free_port
 from service.store import Store
 from tests.service.conftest import start_server, wait_job

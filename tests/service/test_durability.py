@@ -15,7 +15,7 @@ from pathlib import Path
 import httpx
 import psutil
 
-from algrasp.geometry.shapes import rectangle
+from algrasp.testing.shapes import rectangle
 from service.store import Store
 from tests.service.conftest import Server, start_server
 

@@ -16,7 +16,7 @@ import httpx
 import psutil
 import pytest
 
-from algrasp.geometry.shapes import bezier_blob
+from algrasp.testing.shapes import bezier_blob
 from tests.service.conftest import start_server
 
 SQUARE = {"name": "sq", "units": "mm", "boundary": [[0, 0], [4, 0], [4, 3], [0, 3]]}

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from algrasp.geometry.shapes import rectangle
+from algrasp.testing.shapes import rectangle
 from service.launch import free_port
 from service.store import Outcome, Store
 from tests.service.conftest import start_server, wait_job

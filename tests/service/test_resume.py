@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from algrasp.geometry.shapes import rectangle
+from algrasp.testing.shapes import rectangle
 from service.store import Store
 from tests.service.conftest import start_server, wait_job
 

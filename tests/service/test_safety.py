@@ -35,7 +35,7 @@ def test_keys_are_required(keyed: Server, tmp_path: Path) -> None:
 
 
 def test_time_limits_kill_the_work_and_the_service_goes_on(tmp_path: Path) -> None:
-    from algrasp.geometry.shapes import bezier_blob, rectangle
+    from algrasp.testing.shapes import bezier_blob, rectangle
 
     s = start_server(tmp_path, ALGRASP_ANALYSIS_TIME_LIMIT_S="0.2")
     try:

@@ -100,7 +100,7 @@ def test_the_client_of_the_rate_limit_is_the_normalised_key() -> None:
 
 
 def test_the_cost_of_a_request_is_estimated_from_its_size() -> None:
-    from algrasp.geometry.shapes import bezier_blob
+    from algrasp.testing.shapes import bezier_blob
     from service.admission import FAST_COST, estimated_cost
 
     square = {"polygon": [[0, 0], [1, 0], [1, 1], [0, 1]]}
@@ -116,7 +116,7 @@ def test_costly_analyses_do_not_hold_the_cheap_plans(tmp_path: Path) -> None:
     the costly analyses are still in flight (an ordering of events, not a time bound)."""
     import threading
 
-    from algrasp.geometry.shapes import bezier_blob
+    from algrasp.testing.shapes import bezier_blob
 
     s = start_server(tmp_path)
     try:

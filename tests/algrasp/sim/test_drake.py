@@ -9,13 +9,13 @@ import pytest
 
 pytest.importorskip("pydrake")
 
-from algrasp.geometry import shapes  # noqa: E402
 from algrasp.geometry.part import load_part  # noqa: E402
 from algrasp.planning.analysis import analyse_part  # noqa: E402
 from algrasp.planning.plans import make_plan  # noqa: E402
 from algrasp.sim.config import SimConfig, execution_schedule, schedule  # noqa: E402
 from algrasp.sim.model import PlanarGripperSim  # noqa: E402
 from algrasp.sim.validate import validate_plan  # noqa: E402
+from algrasp.testing import shapes  # noqa: E402
 
 pytestmark = pytest.mark.sim
 RECT = shapes.rectangle(10.0, 4.0)

@@ -15,10 +15,10 @@ pytest.importorskip("pydrake")
 from pydrake.geometry import SceneGraph  # noqa: E402
 from pydrake.multibody.plant import CalcContactFrictionFromSurfaceProperties, CoulombFriction  # noqa: E402
 
-from algrasp.geometry import shapes  # noqa: E402
 from algrasp.geometry.part import load_part  # noqa: E402
 from algrasp.sim.config import OPEN_CLEARANCE_M, SimConfig, schedule  # noqa: E402
 from algrasp.sim.model import PlanarGripperSim  # noqa: E402
+from algrasp.testing import shapes  # noqa: E402
 
 pytestmark = pytest.mark.sim
 

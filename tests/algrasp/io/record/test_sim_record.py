@@ -12,7 +12,7 @@ from mcap.reader import make_reader
 pytest.importorskip("pydrake")
 
 from algrasp.cli import main  # noqa: E402
-from algrasp.geometry import shapes  # noqa: E402
+from algrasp.testing import shapes  # noqa: E402
 from tests.algrasp.io.record.test_records import check_record  # noqa: E402
 
 pytestmark = pytest.mark.sim
