@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from typing import Any, Literal
 
 from algrasp.errors import ConfigError
@@ -68,8 +69,10 @@ class PlanRequest:
             return self.placement
         return "random" if not self.exact and self.model.physics.placement == "any" else "centred"
 
-    @property
+    @cached_property
     def model(self) -> Model:
+        """The model of these options, built once (a request passes through the shell as
+        this object: the service's worker gets it pickled with its model)."""
         return Model.from_options({"exact": self.exact, "physics": self.physics})
 
     def record_options(self) -> dict[str, Any]:
@@ -95,8 +98,13 @@ class PlanOutcome:
     validation: Any = None
     plan_doc: dict[str, Any] = field(default_factory=dict)
 
-    def validation_doc(self) -> dict[str, Any] | None:
-        return None if self.validation is None else self.validation.to_dict(self.plan_doc)
+    def validation_doc(self, with_plan: bool = True) -> dict[str, Any] | None:
+        """The validation document; ``with_plan`` False leaves the plan out (the record
+        and the HTTP response carry it beside, not inside)."""
+        if self.validation is None:
+            return None
+        doc: dict[str, Any] = self.validation.to_dict(self.plan_doc) if with_plan else self.validation.to_dict(with_plan=False)
+        return doc
 
 
 def plan_part(doc: dict[str, Any], req: PlanRequest, rec: Any, sim_workers: int = 2, record_sim: bool = True,
@@ -163,6 +171,6 @@ def _record_validation(rec: Any, out: PlanOutcome) -> None:
     from algrasp.sim.geometry import jaw_size_m, part_geometry
 
     geom = part_geometry(out.analysis.part, DEFAULT_SIM)
-    doc = out.validation_doc()
+    doc = out.validation_doc(with_plan=False)
     assert doc is not None
     rec.validation(doc, out.validation.trajectories, geom.outline_m, jaw_size_m(geom))

@@ -12,7 +12,7 @@ from __future__ import annotations
 import asyncio
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager, suppress
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 from cachetools import LRUCache
 from fastapi import APIRouter, Depends, FastAPI, File, Form, Query, Request, UploadFile
@@ -26,12 +26,15 @@ from service.catalogue import canonical_hash
 from service.contract import ERRORS, IMPORTED, NOT_FOUND, AnalysisOut, PlanOut, ok, typed
 from service.executor import make_executor
 from service.jobs import JobRunner, RunnerConfig
-from service.middleware import Metrics, MetricsMiddleware, RequestGuard, install_error_handlers
+from service.middleware import Metrics, MetricsMiddleware, ParsedJsonRoute, RequestGuard, install_error_handlers
 from service.models import PartJson, PlanBody
 from service.runtime import AUTH, VERSION, ServiceState, check_samples, encoded, require_key, run_task, state, who
 from service.settings import Settings
 from service.store import Store
 from service.work import analysis_task, import_task, plan_task
+
+if TYPE_CHECKING:  # the planning stack loads in the route, on first use
+    from algrasp.pipeline import PlanRequest
 
 SLOW_NICENESS = 5
 """The slow pool's workers (and the job pool's) run at this OS niceness: on a loaded
@@ -43,11 +46,15 @@ def _cheap(body: PlanBody) -> bool:
     return not body.optimise and body.validate_ is None and estimated_cost(body.part) <= FAST_COST
 
 
-def _limits(svc: ServiceState, body: PlanBody) -> None:
+def _plan_request(svc: ServiceState, body: PlanBody) -> PlanRequest:
+    """The request's options, checked before any work is queued and built once: the
+    worker gets this object (with its model), not the body to parse again."""
     check_samples(svc.settings, body.validate_, "validate.samples")
     from algrasp.pipeline import PlanRequest
 
-    PlanRequest(**body.request(svc.settings.cell_physics))  # the request's own checks, before any work is queued
+    req = PlanRequest(**body.request(svc.settings.cell_physics))
+    _ = req.model  # built here, pickled with the request
+    return req
 
 
 def build_state(settings: Settings, metrics: Metrics) -> ServiceState:
@@ -119,7 +126,7 @@ def create_app(settings: Settings | None = None, warmup: dict[str, Any] | None =
     return app
 
 
-router = APIRouter()
+router = APIRouter(route_class=ParsedJsonRoute)
 
 
 async def _adopt_jobs(svc: ServiceState) -> None:
@@ -191,13 +198,12 @@ async def plans(request: Request, body: PlanBody) -> Response:
     from algrasp.io.record.recorder import new_run_id
 
     svc = state(request)
-    _limits(svc, body)
+    req = _plan_request(svc, body)
     key = canonical_hash(["plan", VERSION, body.model_dump(by_alias=True)])
     limit = svc.settings.plan_time_limit_s + (svc.settings.validation_time_limit_s if body.validate_ else 0.0)
 
     async def compute() -> Any:
-        request_kw = body.request(svc.settings.cell_physics)
-        return await run_task(svc, "fast" if _cheap(body) else "slow", who(request), plan_task, body.part, request_kw,
+        return await run_task(svc, "fast" if _cheap(body) else "slow", who(request), plan_task, body.part, req,
                               str(svc.settings.log_dir), svc.settings.sim_workers, timeout_s=limit, stage="plan",
                               run_id=new_run_id())
 

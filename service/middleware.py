@@ -8,12 +8,13 @@ import asyncio
 import hmac
 import json
 import time
-from collections.abc import Awaitable, Callable
+from collections.abc import Awaitable, Callable, Coroutine
 from typing import Any
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
-from fastapi.responses import JSONResponse
+from fastapi.responses import JSONResponse, Response
+from fastapi.routing import APIRoute
 from prometheus_client import CollectorRegistry, Counter, Gauge, Histogram
 from sqlalchemy.exc import SQLAlchemyError
 from starlette.exceptions import HTTPException as StarletteHTTPException
@@ -67,6 +68,27 @@ SINGLE_HEADERS = frozenset({b"content-type", b"content-length", b"transfer-encod
 """Headers a request may carry at most once (RFC 9110 §5.3: they are not lists)."""
 
 
+PARSED_JSON = "algrasp.parsed_json"
+"""The ASGI scope key of the JSON body as the guard parsed it (:class:`ParsedJsonRoute`
+hands it to the framework, so a body is parsed once)."""
+
+
+class ParsedJsonRoute(APIRoute):
+    """A route whose JSON body is the one :class:`RequestGuard` already parsed: FastAPI
+    reads ``Request.json()``, which answers from ``_json`` when it is set (Starlette's
+    cache), instead of decoding the bytes a second time."""
+
+    def get_route_handler(self) -> Callable[[Request], Coroutine[Any, Any, Response]]:
+        handler = super().get_route_handler()
+
+        async def route(request: Request) -> Response:
+            if PARSED_JSON in request.scope:
+                request._json = request.scope[PARSED_JSON]
+            return await handler(request)
+
+        return route
+
+
 class RequestGuard:
     """Every request body is read whole before the app sees it: over ``max_bytes``
     (declared or streamed, chunked included) → 413; a JSON body must pass
@@ -109,7 +131,7 @@ class RequestGuard:
             from algrasp.io.jsonguard import parse_json
 
             try:
-                await asyncio.to_thread(parse_json, body) if len(body) > 65_536 else parse_json(body)
+                scope[PARSED_JSON] = await asyncio.to_thread(parse_json, body) if len(body) > 65_536 else parse_json(body)
             except AlgraspError as exc:
                 return await _send_error(send, 422, exc)
         sent = False

@@ -17,11 +17,12 @@ from algrasp.io.documents import inline
 from algrasp.io.jsonguard import parse_json
 from service.catalogue import Entry, read_archive
 from service.contract import CancelOut, GripperSpecOut, JobCreatedOut, JobOut, JobsOut, ok
+from service.middleware import ParsedJsonRoute
 from service.models import LIMIT, OFFSET, JobBody, JobOptions
 from service.reports import report_zip, results_jsonl
 from service.runtime import check_samples, owner, run_task, sees, who
 
-router = APIRouter(prefix="/v1/jobs", tags=["jobs"])
+router = APIRouter(prefix="/v1/jobs", tags=["jobs"], route_class=ParsedJsonRoute)
 JOB_ID = r"^[0-9a-f]{32}$"
 RESULTS_PAGE = 1000
 """Parts per page of ``GET /v1/jobs/{id}/results`` (jsonl) by default: ~3 MB."""
@@ -65,7 +66,7 @@ async def _entries(request: Request, max_parts: int, max_bytes: int) -> tuple[li
     if not ctype.startswith("application/json"):
         raise ConfigError("content-type", "send application/json (parts) or multipart/form-data (archive)")
     try:
-        body = JobBody.model_validate_json(await request.body())
+        body = JobBody.model_validate(await request.json())  # the guard's parse (ParsedJsonRoute), not a second one
     except ValidationError as exc:
         raise _validation(exc, "body") from None
     if len(body.parts) > max_parts:

@@ -24,12 +24,13 @@ from algrasp.errors import AlgraspError
 from service.catalogue import canonical_hash
 from service.contract import BINARY, HealthOut, PlaybackOut, ReadyOut, RunDetailOut, RunsOut, media, ok
 from service.executor import ping
+from service.middleware import ParsedJsonRoute
 from service.models import LIMIT, OFFSET
 from service.runtime import AUTH, VERSION, ServiceState, index_run, run_task, sees, state, who
 from service.store import cause
 from service.work import figure_task
 
-router = APIRouter()
+router = APIRouter(route_class=ParsedJsonRoute)
 RUN_ID = r"^[0-9]{8}T[0-9]{6}Z-[0-9a-f]{8}$"
 MIN_FREE_BYTES = 50_000_000
 """Below this much free space in the record directory the service is not ready."""

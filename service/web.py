@@ -20,12 +20,13 @@ from fastapi.responses import FileResponse
 from fastapi.staticfiles import StaticFiles
 
 from service.contract import ERRORS, ExamplesOut, LayoutOut, ok
+from service.middleware import ParsedJsonRoute
 from service.runtime import AUTH
 
 STATIC = Path(__file__).with_name("static")
 LAYOUT = STATIC / "foxglove-layout.json"
 EXAMPLES = Path(str(files("algrasp") / "examples"))
-router = APIRouter()
+router = APIRouter(route_class=ParsedJsonRoute)
 
 
 @cache

@@ -8,10 +8,13 @@ from __future__ import annotations
 
 import tempfile
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from algrasp.errors import AlgraspError, StorageError
 from algrasp.io.record.session import Recording, recording
+
+if TYPE_CHECKING:  # the planning stack loads in the worker, on first use
+    from algrasp.pipeline import PlanRequest
 
 TaskResult = tuple[dict[str, Any] | None, dict[str, Any], AlgraspError | None]
 
@@ -50,12 +53,12 @@ def analysis_task(doc: dict[str, Any], record_dir: str, options: dict[str, Any] 
     return {**out, "run_id": rec.run_id}, _run_row(rec, "analyze", doc, None, None), None
 
 
-def plan_task(doc: dict[str, Any], request: dict[str, Any], record_dir: str, sim_workers: int,
+def plan_task(doc: dict[str, Any], req: PlanRequest, record_dir: str, sim_workers: int,
               run_id: str | None = None) -> TaskResult:
-    """``POST /v1/plans``: the plan document (+ ``validation`` when asked for)."""
-    from algrasp.pipeline import PlanRequest, plan_part
+    """``POST /v1/plans``: the plan document (+ ``validation`` when asked for). ``req`` is
+    the request's options as the route checked them (built once, pickled with its model)."""
+    from algrasp.pipeline import plan_part
 
-    req = PlanRequest(**request)
     command = "validate" if req.samples else "plan"
     try:
         with recording(True, Path(record_dir), command, doc, req.record_options(), run_id) as rec:
@@ -64,9 +67,8 @@ def plan_task(doc: dict[str, Any], request: dict[str, Any], record_dir: str, sim
         raise  # no run to report: the record could not be written
     except AlgraspError as exc:
         return None, _run_row(rec, command, doc, req.action, exc), exc
-    v = out.validation_doc()
-    response = {**out.plan_doc, "run_id": rec.run_id,
-                "validation": None if v is None else {k: x for k, x in v.items() if k != "plan"}}
+    v = out.validation_doc(with_plan=False)
+    response = {**out.plan_doc, "run_id": rec.run_id, "validation": v}
     return response, _run_row(rec, command, doc, req.action, None, out.plan_doc, None if v is None else v["agreement"]), None
 
 

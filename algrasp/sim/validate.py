@@ -1,7 +1,7 @@
 """Validate a plan in Drake from many initial orientations, in parallel worker processes.
 
 Workers are spawned once per process lifetime (``ValidationPool``) and keep their
-pydrake import and built diagrams (keyed by part document and parameters), since
+pydrake import and built diagrams (keyed by the part and the parameters), since
 importing pydrake costs about a second. Orientations are world orientations φ of the
 part (conventions §2) before and after the whole plan.
 """
@@ -12,6 +12,7 @@ import hashlib
 import json
 import math
 import multiprocessing
+import pickle
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, dataclass, field, replace
@@ -21,6 +22,7 @@ import numpy as np
 
 from algrasp.errors import SimulationError, UnavailableError
 from algrasp.geometry.angles import to_deg, to_rad
+from algrasp.geometry.part import Part
 from algrasp.geometry.tolerances import SYMMETRY_TOL_RAD
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.plans import Plan
@@ -64,11 +66,12 @@ class Validation:
     plan_document: dict[str, Any] | None = field(default=None, repr=False, compare=False)
     """The document of the plan validated (what :meth:`to_dict` embeds by default)."""
 
-    def to_dict(self, plan_doc: dict[str, Any] | None = None) -> dict[str, Any]:
+    def to_dict(self, plan_doc: dict[str, Any] | None = None, with_plan: bool = True) -> dict[str, Any]:
         """The validation document (degrees): per-sample outcomes, agreement, per-cell
-        agreement, and the plan validated (``plan_doc``, else :attr:`plan_document`)."""
-        plan_doc = plan_doc if plan_doc is not None else dict(self.plan_document or {})
-        return {"plan": plan_doc, "samples": [asdict(s) for s in self.samples],
+        agreement, and (``with_plan``) the plan validated (``plan_doc``, else
+        :attr:`plan_document`)."""
+        plan = {"plan": plan_doc if plan_doc is not None else dict(self.plan_document or {})} if with_plan else {}
+        return {**plan, "samples": [asdict(s) for s in self.samples],
                 "agreement": self.agreement, "agreement_clear": self.agreement_clear,
                 "push_agreement": self.push_agreement, "optimised": self.optimised,
                 "tolerance_deg": self.tolerance_deg, "placement": self.placement,
@@ -98,9 +101,13 @@ class Validation:
 
 @dataclass(frozen=True)
 class SimTask:
-    """One simulation run; picklable for the worker processes."""
+    """One simulation run; picklable for the worker processes. ``part`` is the part as
+    planned (not its document: a worker re-parsing it would redo the parent's work, and
+    with other load options might simulate another part); ``key`` names the (part,
+    config) pair a worker keeps one simulator for."""
 
-    doc: dict[str, Any]
+    part: Part
+    key: str
     cfg: SimConfig
     schedule: SimSchedule
     alpha0: float
@@ -123,19 +130,20 @@ def _warm() -> None:
     exit_with_parent()
 
 
-def _key(doc: dict[str, Any], cfg: SimConfig) -> str:
-    return hashlib.sha256(json.dumps([doc, asdict(cfg)], sort_keys=True).encode()).hexdigest()
+def sim_key(part: Part, cfg: SimConfig) -> str:
+    """The name of a (part, config) pair: its pickled bytes' digest (computed once per
+    validation, in the parent)."""
+    return hashlib.sha256(pickle.dumps(part) + json.dumps(asdict(cfg), sort_keys=True).encode()).hexdigest()
 
 
 def simulate_one(task: SimTask) -> tuple[float, list[float], float, list[tuple[float, ...]]]:
     """Run one sample (in a worker or in-process): final φ (rad), φ at each push end,
     simulated seconds and (if recorded) trajectory samples."""
-    from algrasp.geometry.part import load_part
     from algrasp.sim.model import PlanarGripperSim
 
-    key = _key(task.doc, task.cfg)
+    key = task.key
     if key not in _SIMS:
-        _SIMS[key] = PlanarGripperSim(load_part(task.doc), task.cfg)
+        _SIMS[key] = PlanarGripperSim(task.part, task.cfg)
     sch = task.schedule
     try:
         phi, pushed, traj = _SIMS[key].run(list(sch.phases), task.phi0, task.offset_m, task.alpha0, sch.half_open_m,
@@ -233,7 +241,8 @@ def validate_plan(analysis: Analysis, plan: Plan, samples: int = 36, seed: int =
     sch = sim_schedule or default_schedule(plan, geom, cfg, push_m)
     offsets = rng.uniform(-0.5, 0.5, samples) * (sch.half_open_m - geom.reach_m) if placement == "random" \
         else np.zeros(samples)
-    tasks = [SimTask(dict(analysis.part.source_document), cfg, sch, plan.steps[0].gripper_angle, float(p), float(o),
+    key = sim_key(analysis.part, cfg)
+    tasks = [SimTask(analysis.part, key, cfg, sch, plan.steps[0].gripper_angle, float(p), float(o),
                      placement == "centred", record) for p, o in zip(phi0, offsets)]
     t0 = time.perf_counter()
     results = ValidationPool.shared(workers).map(tasks) if workers > 1 else [_task(t) for t in tasks]

@@ -21,7 +21,9 @@ class Recording:
         self.record_path: str | None = str(recorder.path) if recorder else None
         self._t0 = time.perf_counter()
         if recorder:
-            recorder.summary.update({"command": command, "part_name": part.get("name"), "action": options.get("action"),
+            name = part.get("name")  # a malformed part's "name" may be anything: the summary keeps a string or None
+            recorder.summary.update({"command": command, "part_name": name if isinstance(name, str) else None,
+                                     "action": options.get("action"),
                                      "steps": None, "agreement": None, "cycle_time_s": None})
             recorder.write("/request", {"run_id": self.run_id, "command": command, "part": part, "options": options})
 
@@ -41,9 +43,10 @@ class Recording:
                                       "timings_s": {k: float(v) for k, v in doc.get("timings_s", {}).items()}})
 
     def validation(self, doc: dict[str, Any], trajectories: Any, outline_m: Any, jaw_size_m: tuple[float, float]) -> None:
-        """The validation document (without its plan) and every simulated trajectory."""
+        """The validation document (without its plan: that is on ``/plan``) and every
+        simulated trajectory."""
         if self._rec:
-            self._rec.write("/validation", {k: v for k, v in doc.items() if k != "plan"})
+            self._rec.write("/validation", doc)
             self._rec.summary.update({"agreement": doc["agreement"]})
             self._rec.summary["timings_s"]["validation"] = float(doc["wall_seconds"])
             self._rec.trajectories(outline_m, jaw_size_m, list(trajectories))
