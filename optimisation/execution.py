@@ -30,7 +30,7 @@ from functools import partial
 
 import numpy as np
 
-from algrasp.geometry.angles import shortest_turn, to_deg, to_rad
+from algrasp.geometry.angles import TWO_PI, shortest_turn, to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.units import meters_per_unit
 from algrasp.planning.analysis import Analysis
@@ -207,7 +207,7 @@ def _turns(angles: list[float], period: float) -> tuple[list[float], list[float]
     (π for a squeeze: the jaws trade places), so the gripper turns the shortest way to an
     angle equivalent to the plan's (the trajectory's angles may differ from the plan's by
     multiples of the period)."""
-    at = angles[-1] % (2 * math.pi)
+    at = angles[-1] % TWO_PI
     starts, turns = [], []
     for a in angles:
         turn = shortest_turn(a - at, period)

@@ -36,7 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from algrasp.errors import AlgraspError
-from algrasp.geometry.angles import TWO_PI, to_deg
+from algrasp.geometry.angles import TWO_PI, to_deg, wrap_deg
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.hull import unit
 from algrasp.planning.analysis import Analysis
@@ -198,11 +198,11 @@ def push_distances(model: PushModel, analysis: Analysis, intervals: list[tuple[f
     out = []
     for interval, g in zip(intervals, groups):
         if not g:
-            start = float(to_deg(interval[0]) % 360.0)
+            start = wrap_deg(to_deg(interval[0]))
             out.append(PushResult(0.0, 0.0, start, start, 0, tol_deg, band_deg))
             continue
         d, bound, worst = next(solved)
         f = min(g, key=lambda b: abs(b.far - worst)).fixed_point
-        out.append(PushResult(d, bound, float(to_deg(worst) % 360.0), float(to_deg(f) % 360.0), len(g),
+        out.append(PushResult(d, bound, wrap_deg(to_deg(worst)), wrap_deg(to_deg(f)), len(g),
                               tol_deg, band_deg))
     return out

@@ -12,6 +12,7 @@ from __future__ import annotations
 import asyncio
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager, suppress
+from pathlib import PurePath
 from typing import TYPE_CHECKING, Annotated, Any
 
 from cachetools import LRUCache
@@ -226,12 +227,13 @@ async def imports(request: Request, file: Annotated[UploadFile, File(description
     polygon), ready for ``/v1/plans``; ``part`` chooses one of several parts on a sheet,
     ``list=true`` returns ``{"parts": [...], "ignored", "warnings"}`` instead. Only the file
     name's suffix is used."""
-    from algrasp.io.cad import CAD_SUFFIXES, is_cad
+    from algrasp.io.cad.readers import is_cad, supported
 
     svc = state(request)
     name = (file.filename or "upload").replace("\\", "/").rsplit("/", 1)[-1].encode("utf-8", "replace").decode()
     if not is_cad(name):
-        raise ConfigError("file", f"unsupported file type: use {', '.join(CAD_SUFFIXES)}")
+        raise ConfigError("file", f"unsupported file type {PurePath(name).suffix or '(none)'}: use "
+                          f"{supported(('drawing', 'mesh'))} (a part document goes to /v1/plans as JSON)")
     options = {k: v for k, v in (("layer", layer), ("element_id", id), ("pose", pose), ("part", part)) if v is not None}
     if list_parts:
         options["list_parts"] = True

@@ -20,9 +20,9 @@ from pathlib import Path, PurePosixPath
 from typing import Any
 
 from algrasp.errors import AlgraspError, LimitExceededError, PartDocumentError
+from algrasp.io.cad.readers import PART_SUFFIXES, supported
 
 Entry = tuple[str, dict[str, Any], dict[str, Any] | None]  # (name, document, error or None)
-PART_SUFFIXES = (".json", ".dxf", ".svg", ".stl", ".obj", ".ply", ".off", ".glb")
 """Part files a catalogue may hold: part documents and CAD files (imported with default
 options: every DXF layer, every SVG shape, a mesh's most probable pose)."""
 
@@ -118,7 +118,7 @@ def _read_archive(data: bytes, max_parts: int, max_bytes: int) -> list[Entry]:
         if len(out) > max_parts:
             raise LimitExceededError("archive", f"more than {max_parts} parts (part files and the parts on their sheets)")
     if not out:
-        raise PartDocumentError("archive", f"no part files ({', '.join(PART_SUFFIXES)}) in the archive")
+        raise PartDocumentError("archive", f"no part files ({supported()}) in the archive")
     return out
 
 
@@ -130,7 +130,7 @@ def read_catalogue(path: Path, max_parts: int, max_bytes: int) -> list[Entry]:
         raise PartDocumentError("CATALOGUE", f"no such directory or archive: {path}")
     files = sorted(p for p in path.rglob("*") if p.is_file() and p.suffix.lower() in PART_SUFFIXES)
     if not files:
-        raise PartDocumentError("CATALOGUE", f"no part files ({', '.join(PART_SUFFIXES)}) in {path}")
+        raise PartDocumentError("CATALOGUE", f"no part files ({supported()}) in {path}")
     if len(files) > max_parts:
         raise LimitExceededError("CATALOGUE", f"more than {max_parts} part files")
     out = [e for p in files for e in _entries(p.name, p.read_bytes())]

@@ -27,11 +27,14 @@ def read_part_file(path: str | Path, **import_options: Any) -> dict[str, Any]:
     """The part document in ``path``: a ``.json`` part document (size-limited), or a
     drawing/mesh imported with ``import_options`` (``layer``, ``element_id``, ``pose``,
     ``part``, ``tolerance``, ``units``)."""
-    from algrasp.io.cad import import_file, is_cad
+    from algrasp.io.cad import import_file
+    from algrasp.io.cad.readers import file_type, is_cad, suffix_of, unsupported
 
     p = Path(path)
     if is_cad(p.name):
         return import_file(str(p), **import_options)
+    if suffix_of(p.name) and file_type(p.name) is None:  # no suffix: read as a JSON document
+        raise unsupported(p.name, "PART")
     if not p.is_file():
         raise PartDocumentError("PART", f"no such file: {path}")
     if p.stat().st_size > DEFAULT_LIMITS.max_document_bytes:

@@ -17,7 +17,7 @@ from typing import Any, Literal
 import numpy as np
 
 from algrasp.errors import ConfigError, NotOrientableError
-from algrasp.geometry.angles import shortest_turn, to_deg, to_rad
+from algrasp.geometry.angles import shortest_turn, signed_diff, to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import wrap
 from algrasp.geometry.tolerances import MAX_UNCERTAINTY_RAD, PROBE_RAD, ROUNDING, SYMMETRY_TOL_RAD, UNCERTAINTY_FLOOR_RAD
@@ -89,7 +89,7 @@ class Plan:
     def nearest_final(self, phi: FloatArray) -> FloatArray:
         """The claimed final orientation nearest to each φ (radians, [0, 2π))."""
         want = np.array(self.final_orientations)
-        diff = (np.asarray(phi)[..., None] - want + np.pi) % (2 * np.pi) - np.pi
+        diff = signed_diff(np.asarray(phi, dtype=float)[..., None], want)
         return np.asarray(want[np.argmin(np.abs(diff), axis=-1)])
 
     def trace(self, phi0: float) -> list[float]:
@@ -232,7 +232,7 @@ def verify(plan: Plan, samples: int = VERIFY_SAMPLES) -> bool:
     want = np.array(plan.final_orientations)
     if len(clusters) != len(want):
         return False
-    off = np.abs((clusters[:, None] - want + np.pi) % (2 * np.pi) - np.pi)
+    off = np.abs(signed_diff(clusters[:, None], want))
     return bool((off.min(axis=1) <= FINAL_CLUSTER_RAD).all())
 
 
@@ -434,5 +434,5 @@ def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SA
     lo, hi = replace(plan, steps=plan.steps[1:]).run_set(lo, hi)
     mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
     want = np.array(plan.final_orientations)
-    off = np.min(np.abs((mid[:, None] - want + np.pi) % (2 * np.pi) - np.pi), axis=1)
+    off = np.min(np.abs(signed_diff(mid[:, None], want)), axis=1)
     return bool(np.all(off + half <= plan.final_uncertainty + FINAL_CLUSTER_RAD))

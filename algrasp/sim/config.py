@@ -29,6 +29,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from algrasp.geometry.angles import signed_diff
 from algrasp.geometry.tolerances import TIME_ROUNDING_S
 from algrasp.geometry.units import UNIT_TO_M, meters_per_unit  # noqa: F401 - re-exported for the adapter
 from algrasp.planning.physics import DEFAULT_PHYSICS, Physics
@@ -218,7 +219,7 @@ def schedule(angles: list[float], action: str, half_open_m: float, push_m: float
         t += duration
 
     for k, alpha in enumerate(angles):
-        target = g + (alpha - g + math.pi) % (2 * math.pi) - math.pi  # shortest turn
+        target = g + signed_diff(alpha, g)  # the shortest turn
         add(max(abs(target - g) / cfg.rotate_speed_rad_s, 0.05), (g, target), (-W, -W), (W, W), k)
         g = target
         if action == "squeeze":

@@ -21,7 +21,7 @@ from typing import Any, Literal
 import numpy as np
 
 from algrasp.errors import SimulationError, UnavailableError
-from algrasp.geometry.angles import to_deg, to_rad
+from algrasp.geometry.angles import to_deg, to_rad, wrap_deg
 from algrasp.geometry.part import Part
 from algrasp.geometry.tolerances import SYMMETRY_TOL_RAD
 from algrasp.planning.analysis import Analysis
@@ -210,7 +210,7 @@ class ValidationPool:
 
 
 def _wrap_deg(x: float) -> float:
-    return float(to_deg(x) % 360.0)
+    return wrap_deg(to_deg(x))
 
 
 def _near_unstable(plan: Plan, phi0: float) -> bool:

@@ -15,15 +15,18 @@ from typing import Any, TypeVar
 
 from algrasp.errors import AlgraspError, ConfigError, LimitExceededError, PartDocumentError
 from algrasp.geometry.limits import DEFAULT_LIMITS
+from algrasp.io.cad.readers import (  # noqa: F401 - CAD_SUFFIXES, is_cad: the package's entry points
+    CAD_SUFFIXES,
+    DRAWING_SUFFIXES,
+    MESH_SUFFIXES,
+    file_type,
+    is_cad,
+    unsupported,
+)
 
 T = TypeVar("T")
 MAX_WARNINGS = 20
 """Warnings kept in a document's ``source`` (ezdxf may log hundreds on a damaged file)."""
-CAD_SUFFIXES = (".dxf", ".svg", ".stl", ".obj", ".ply", ".off", ".glb")
-
-
-def is_cad(filename: str) -> bool:
-    return PurePath(filename).suffix.lower() in CAD_SUFFIXES
 
 
 def _scale(seg: dict[str, Any], k: float) -> dict[str, Any]:
@@ -41,17 +44,14 @@ def _scale(seg: dict[str, Any], k: float) -> dict[str, Any]:
     return out
 
 
-_READERS = {".dxf": "ezdxf", ".svg": "svgelements", ".stl": "trimesh", ".obj": "trimesh", ".ply": "trimesh",
-            ".off": "trimesh", ".glb": "trimesh"}
-
-
-def _need_cad_extra(suffix: str) -> None:
-    """A clear error when the reader of ``suffix`` is not installed (the ``cad`` extra)."""
+def _need_cad_extra(filename: str) -> None:
+    """A clear error when the reader of ``filename``'s type is not installed (the ``cad`` extra)."""
     import importlib.util
 
-    reader = _READERS.get(suffix)
-    if reader is not None and importlib.util.find_spec(reader) is None:
-        raise ConfigError("FILE", f"reading {suffix} files needs {reader}: pip install 'algrasp[cad]'")
+    t = file_type(filename)
+    if t is not None and t.library is not None and importlib.util.find_spec(t.library) is None:
+        reader = t.library
+        raise ConfigError("FILE", f"reading {t.description}s needs {reader}: pip install 'algrasp[cad]'")
 
 
 LIBRARY_FAULTS = (ValueError, TypeError, AttributeError, LookupError, RuntimeError, ArithmeticError, AssertionError,
@@ -93,8 +93,10 @@ def import_bytes(filename: str, data: bytes, layer: str | None = None, element_i
     (meshes carry none: default mm)."""
     suffix = PurePath(filename).suffix.lower()
     name = PurePath(filename).stem
-    _need_cad_extra(suffix)
-    if suffix in (".stl", ".obj", ".ply", ".off", ".glb"):
+    _need_cad_extra(filename)
+    if not is_cad(filename):
+        raise unsupported(filename, "FILE", ("drawing", "mesh"))
+    if suffix in MESH_SUFFIXES:
         from algrasp.io.cad.mesh import mesh_document
 
         _check_options(suffix, layer, element_id, pose)
@@ -124,7 +126,7 @@ def import_all_parts(filename: str, data: bytes) -> list[dict[str, Any]]:
     """Every part of a DXF/SVG sheet as its own document (``FILE#K`` when there are
     several), read once; a mesh or a one-part drawing gives one document. For catalogues."""
     suffix = PurePath(filename).suffix.lower()
-    if suffix not in (".dxf", ".svg"):
+    if suffix not in DRAWING_SUFFIXES:
         return [import_bytes(filename, data)]
     sheet, doc_units, k, source = _sheet(filename, data, None, None, None, None, None)
     name = PurePath(filename).stem
@@ -174,8 +176,8 @@ def _sheet(filename: str, data: bytes, layer: str | None, element_id: str | None
         pieces, doc_units, k = svg_pieces(data, element_id), "mm", 1.0
         marks = Marks()
         source = {"format": "svg", "id": element_id}
-    else:
-        raise PartDocumentError("FILE", f"unsupported file type {suffix or '(none)'}: use .json, {', '.join(CAD_SUFFIXES)}")
+    else:  # a mesh or anything else: only drawings are sheets
+        raise unsupported(filename, "FILE", ("drawing",))
     for p in pieces:  # a transform can overflow (SVG scale(1e308) scale(1e308))
         if not all(math.isfinite(c) for e in (False, True) for c in point_at(p.segment, e)):
             raise PartDocumentError(p.origin, "coordinates overflow to infinity (an extreme scale or transform?)")
@@ -263,7 +265,7 @@ def _check_options(suffix: str, layer: str | None, element_id: str | None, pose:
         raise ConfigError("layer", "only DXF drawings have layers")
     if element_id is not None and suffix != ".svg":
         raise ConfigError("element_id", "only SVG documents have element ids")
-    if pose is not None and suffix in (".dxf", ".svg"):
+    if pose is not None and suffix in DRAWING_SUFFIXES:
         raise ConfigError("pose", "only 3-D meshes have resting poses")
 
 

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from algrasp.errors import LimitExceededError, PartDocumentError
-from algrasp.geometry.angles import to_deg
+from algrasp.geometry.angles import TWO_PI, to_deg
 from algrasp.geometry.limits import DEFAULT_LIMITS
 from algrasp.geometry.tolerances import ROUNDING
 from algrasp.io.cad.chain import Piece, Segment, check_bounded
@@ -155,7 +155,7 @@ def _ellipse(e: Any) -> Segment:
     major = e.dxf.major_axis
     rx = math.hypot(major[0], major[1])
     t0, t1 = float(e.dxf.start_param), float(e.dxf.end_param)
-    sweep = (t1 - t0) % (2 * math.pi) or 2 * math.pi
+    sweep = (t1 - t0) % TWO_PI or TWO_PI
     # minor axis = extrusion × major · ratio: with −Z the parameter runs clockwise
     return {"type": "ellipse_arc", "center": _xy(e.dxf.center), "rx": rx, "ry": rx * float(e.dxf.ratio),
             "rotation_deg": to_deg(math.atan2(major[1], major[0])),
