@@ -17,17 +17,14 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
 from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.curves import FloatArray, Piece, bernstein_matrix, horner_rows
+from algrasp.geometry.gauss import HullFeature
 from algrasp.geometry.tolerances import ROUNDING_FINE
-
-if TYPE_CHECKING:
-    from algrasp.geometry.hull import HullFeature
 
 IntArray = NDArray[np.intp]
 X, Y, W, TX, TY, DTX, DTY = range(7)

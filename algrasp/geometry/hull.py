@@ -17,14 +17,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 
 from algrasp.errors import GeometryError
 from algrasp.geometry.angles import TWO_PI, to_deg
 from algrasp.geometry.bank import FeatureTable, unit_vectors
-from algrasp.geometry.curves import FloatArray, Piece
+from algrasp.geometry.curves import FloatArray
+from algrasp.geometry.gauss import HullFeature
 from algrasp.geometry.hull_loop import (
     Contact,
     Loop,
@@ -42,30 +43,6 @@ def unit(psi: FloatArray | float) -> FloatArray:
     if np.ndim(psi) == 0:
         return np.array([np.cos(psi), np.sin(psi)])
     return unit_vectors(np.asarray(psi, dtype=float))
-
-
-@dataclass(frozen=True, eq=False)
-class HullFeature:
-    """One feature of the hull over the normal range ``[psi0, psi1]`` (radians).
-
-    ``kind`` is "point" (a vertex: ``center``), "circle" (an arc: ``center``,
-    ``radius``, ``piece`` between ``s0`` and ``s1``) or "curve" (``piece`` between
-    ``s0`` and ``s1``).
-    """
-
-    kind: Literal["point", "circle", "curve"]
-    psi0: float
-    psi1: float
-    center: tuple[float, float] = (0.0, 0.0)
-    radius: float = 0.0
-    piece: Piece | None = None
-    s0: float = 0.0
-    s1: float = 1.0
-
-    @property
-    def point_like(self) -> bool:
-        """Whether the support point is ``center + radius·u(ψ)`` (closed forms apply)."""
-        return self.kind != "curve"
 
 
 @dataclass(frozen=True, eq=False)
