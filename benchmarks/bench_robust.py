@@ -44,6 +44,27 @@ def main() -> None:
     for name, doc in cases:
         row = [median_ms(doc, m, p) for p in (False, True) for m in (EXACT, ROBUST)]
         print(f"{name:30s} {row[0]:15.2f} {row[1]:16.2f} {row[2]:13.2f} {row[3]:14.2f}   {_steps(doc)}")
+    _refusals()
+
+
+def _refusals() -> None:
+    """A refusal under the default ranges carries every limit (the advice): one limit
+    search per range, each probe one robust analysis and plan."""
+    triangle = {"name": "triangle", "boundary": [{"type": "line", "start": [0, 0], "end": [3, 0]},
+                                                 {"type": "line", "start": [3, 0], "end": [1, 2]},
+                                                 {"type": "line", "start": [1, 2], "end": [0, 0]}]}
+    print(f"\n{'refused plan (with its limits)':30s} {'median ms':>10s}")
+    for name, doc, action in (("triangle, squeeze", triangle, "squeeze"),
+                              ("random 5-gon, squeeze", shapes.random_polygon(5, 3), "squeeze"),
+                              ("random 5-gon, push-grasp", shapes.random_polygon(5, 3), "push_grasp")):
+        a = analyse_document(doc, ROBUST)
+        times = []
+        for _ in range(5):
+            t = time.perf_counter()
+            with contextlib.suppress(NotOrientableError):
+                make_plan(a, action)
+            times.append(time.perf_counter() - t)
+        print(f"{name:30s} {1000 * statistics.median(times):10.1f}")
 
 
 def _steps(doc: dict[str, Any]) -> str:

@@ -75,8 +75,24 @@ Planner = Callable[[Analysis, Any, float], Any]
 does not import the planner that reports its limits."""
 
 
-def plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float) -> bool:
-    """Whether a robust plan of ``action`` exists for the part under ``physics``."""
+Known = dict[Physics, bool]
+"""Probes already made in one :func:`limits` call: the searches share their start (the
+given ranges, which a refused plan has already tried) and often their easy ends."""
+
+
+def plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float,
+                known: Known | None = None) -> bool:
+    """Whether a robust plan of ``action`` exists for the part under ``physics``
+    (looked up in, and added to, ``known``)."""
+    if known is not None and physics in known:
+        return known[physics]
+    exists = _plan_exists(analysis, physics, action, planner, margin_deg)
+    if known is not None:
+        known[physics] = exists
+    return exists
+
+
+def _plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float) -> bool:
     try:
         robust = robust_analysis(analysis.part, analysis.diameter, analysis.radius, physics, analysis.tol)
         planner(replace(analysis, robust=robust), action, margin_deg)
@@ -86,12 +102,12 @@ def plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Plan
 
 
 def search_limit(analysis: Analysis, physics: Physics, action: str, s: Search, planner: Planner,
-                 margin_deg: float = 0.0) -> dict[str, Any]:
+                 margin_deg: float = 0.0, known: Known | None = None) -> dict[str, Any]:
     """``{"value": v, "bounded": bool}``: the last value toward the hard end at which a
     plan exists (``bounded`` False when even the hard end allows one); value None when
     not even the easy end does."""
     def ok(v: float) -> bool:
-        return plan_exists(analysis, _with(physics, s, v), action, planner, margin_deg)
+        return plan_exists(analysis, _with(physics, s, v), action, planner, margin_deg, known)
 
     cur, hard = _current(physics, s, analysis), s.hard(physics, analysis)
     good, bad = (cur, hard) if ok(cur) else (s.easy(physics, analysis), cur)
@@ -111,17 +127,21 @@ def search_limit(analysis: Analysis, physics: Physics, action: str, s: Search, p
 
 
 def limits(analysis: Analysis, action: str, planner: Planner, names: tuple[str, ...] = tuple(SEARCHES),
-           margin_deg: float = 0.0) -> dict[str, Any]:
+           margin_deg: float = 0.0, refused: bool | None = None) -> dict[str, Any]:
     """The named limits for ``action`` under the analysis's physics (robust model only),
-    with a sentence for the engineer under ``"advice"``."""
+    with a sentence for the engineer under ``"advice"``. ``refused``: whether planning
+    under the given ranges has already failed (True) or succeeded (False), so no probe
+    repeats it."""
     assert analysis.robust is not None
     physics = analysis.robust.physics
-    out: dict[str, Any] = {n: search_limit(analysis, physics, action, SEARCHES[n], planner, margin_deg) for n in names}
+    known: Known = {} if refused is None else {physics: not refused}
+    out: dict[str, Any] = {n: search_limit(analysis, physics, action, SEARCHES[n], planner, margin_deg, known)
+                           for n in names}
     stuck = all(out[n]["value"] is None for n in names)
     if physics.placement == "any" and action == "squeeze" and stuck:
         out["placement_centred"] = plan_exists(analysis, replace(physics, placement="centred"), action, planner, margin_deg)
     if stuck and not out.get("placement_centred"):
-        out["ideal_cell"] = _in_ideal_cell(analysis, physics, action, planner, margin_deg)
+        out["ideal_cell"] = _in_ideal_cell(analysis, physics, action, planner, margin_deg, known)
     out["advice"] = advice(action, out, analysis.part.units)
     return out
 
@@ -129,16 +149,17 @@ def limits(analysis: Analysis, action: str, planner: Planner, names: tuple[str, 
 IDEAL_SEARCHES = ("jaw_friction_max", "profile_tolerance_max")
 
 
-def _in_ideal_cell(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float) -> dict[str, Any]:
+def _in_ideal_cell(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float,
+                   known: Known) -> dict[str, Any]:
     """When no single range helps: whether the part is orientable in the ideal cell at the
     middle of the ranges (centred, frictionless jaws, exact part, exact centre of mass),
     and there how much jaw friction and profile tolerance it tolerates."""
     mid = {k: (0.5 * sum(getattr(physics, k)),) * 2 for k in ("support_friction", "part_mass_kg", "grip_force_n")}
     ideal = physics.with_values(**mid, jaw_friction=(0.0, 0.0), profile_tolerance=0.0, com_tolerance=0.0,
                                 placement="centred")
-    if not plan_exists(analysis, ideal, action, planner, margin_deg):
+    if not plan_exists(analysis, ideal, action, planner, margin_deg, known):
         return {"orientable": False}
-    return {"orientable": True, **{n: search_limit(analysis, ideal, action, SEARCHES[n], planner, margin_deg)
+    return {"orientable": True, **{n: search_limit(analysis, ideal, action, SEARCHES[n], planner, margin_deg, known)
                                    for n in IDEAL_SEARCHES}}
 
 

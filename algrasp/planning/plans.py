@@ -277,7 +277,7 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0, l
     try:
         plan = plan_once(analysis, action, min_margin_deg)
     except NotOrientableError as e:
-        found = lim.limits(analysis, action, plan_once, margin_deg=min_margin_deg)
+        found = lim.limits(analysis, action, plan_once, margin_deg=min_margin_deg, refused=True)
         if action == "squeeze":
             found["push_grasp_orients"] = lim.plan_exists(analysis, analysis.robust.physics, "push_grasp", plan_once,
                                                           min_margin_deg)
@@ -285,8 +285,8 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0, l
         raise NotOrientableError(e.reason, f"{e.message}. Under the given ranges: {found['advice']}{other}", found) from None
     if limits == "none":
         return replace(plan, analysis=analysis)
-    return replace(plan, analysis=analysis, limits=lim.limits(analysis, action, plan_once, lim.HEADLINE if limits == "headline" else
-                                           tuple(lim.SEARCHES), min_margin_deg))
+    wanted = lim.HEADLINE if limits == "headline" else tuple(lim.SEARCHES)
+    return replace(plan, analysis=analysis, limits=lim.limits(analysis, action, plan_once, wanted, min_margin_deg, refused=False))
 
 
 def plan_once(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -> Plan:

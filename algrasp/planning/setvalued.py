@@ -26,6 +26,7 @@ and K copies, all in vectorised passes.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -212,6 +213,19 @@ def _samples(f: SupportPairFunction, x: FloatArray, kink: np.ndarray, T: float) 
     return np.stack([g[:n], g_end], axis=1), np.stack([v[:n], v_end], axis=1)
 
 
+@functools.lru_cache(maxsize=8)
+def _sampled(f: SupportPairFunction, value_tol: float) -> tuple[float, FloatArray, np.ndarray, FloatArray, FloatArray]:
+    """Symmetry, cell nodes and samples of f: all that does not depend on the dead band,
+    so the probes of a limit search (one part, many physics) compute them once. Keyed on
+    the function object (compared by identity); the arrays are read-only."""
+    T = tolerant_symmetry(f, value_tol)
+    x, kink = _nodes(f, T)
+    g, v = _samples(f, x, kink, T)
+    for a in (x, kink, g, v):
+        a.setflags(write=False)
+    return T, x, kink, g, v
+
+
 def _permissions(g: FloatArray, v: FloatArray, stall: tuple[float, float], sigma: float,
                  jaw_friction: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(right, left, rest) possible, each OR-ed over the last two axes (samples, copies).
@@ -368,9 +382,7 @@ def set_transfer(f: SupportPairFunction, stall: tuple[float, float], sigma: floa
     than ``shallow`` deep may be left either way (:func:`shallow_basins`). Raises NotOrientableError when the part may turn
     without end. O((c + b)·K·log) for c grid cells, b breakpoints, K symmetric copies."""
     P = f.period
-    T = tolerant_symmetry(f, value_tol)
-    x, kink = _nodes(f, T)
-    g, v = _samples(f, x, kink, T)
+    T, x, kink, g, v = _sampled(f, value_tol)
     right, left, rest = _permissions(g, v, stall, sigma, jaw_friction)
     err = value_tol if value_err is None else value_err
     # A drawn minimum shallower than the manufacturing tolerance may be no minimum of the
