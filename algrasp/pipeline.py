@@ -107,6 +107,21 @@ class PlanOutcome:
         return doc
 
 
+WARM_UP_PART: dict[str, Any] = {"name": "warm-up", "boundary": [
+    {"type": "line", "start": [0.0, 0.0], "end": [3.0, 0.0]}, {"type": "line", "start": [3.0, 0.0], "end": [1.0, 2.0]},
+    {"type": "line", "start": [1.0, 2.0], "end": [0.0, 0.0]}]}
+"""A 3 × 2 triangle: its robust analysis and push-grasp plan take the paths of every
+plan request."""
+
+
+def warm_up() -> None:
+    """Analyse and plan :data:`WARM_UP_PART` once, so that a new worker's first request
+    pays no first-use costs (lazy imports, numpy's first calls). ~20–50 ms."""
+    import algrasp.planning.limits  # noqa: F401  (a refusal's searches)
+
+    make_plan(analyse_document(WARM_UP_PART), "push_grasp")
+
+
 def plan_part(doc: dict[str, Any], req: PlanRequest, rec: Any, sim_workers: int = 2, record_sim: bool = True,
               analysis: Analysis | None = None, plan: Plan | None = None) -> PlanOutcome:
     """Analyse, plan, optionally optimise and validate one part document; feed ``rec``

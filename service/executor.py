@@ -41,11 +41,12 @@ def _warm(niceness: int = 0) -> None:
 
         os.nice(niceness)
     # The imports every task needs, once per worker (numpy, the core, the optimiser).
-    import algrasp.pipeline  # noqa: F401
     import optimisation.execution  # noqa: F401
     from algrasp.lifecycle import exit_with_parent
+    from algrasp.pipeline import warm_up
 
     exit_with_parent()
+    warm_up()  # the first request is then as fast as the next
 
 
 def _call(payload: bytes) -> Any:

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from functools import cached_property, lru_cache
 
 import numpy as np
+from numpy.polynomial import legendre
 
 from algrasp.geometry.angles import to_deg
 from algrasp.geometry.curves import (
@@ -31,7 +32,7 @@ from algrasp.geometry.tolerances import PARAM_END
 def gauss_legendre_01(n: int, panels: int) -> tuple[FloatArray, FloatArray]:
     """Nodes and weights of composite n-point Gauss-Legendre on [0, 1] (``panels`` panels).
     Cached: the arrays are read-only and shared."""
-    nodes, wts = np.polynomial.legendre.leggauss(n)
+    nodes, wts = legendre.leggauss(n)
     edges = np.linspace(0.0, 1.0, panels + 1)
     t = np.concatenate([(a + b) / 2 + (b - a) / 2 * nodes for a, b in zip(edges[:-1], edges[1:])])
     w = np.concatenate([(b - a) / 2 * wts for a, b in zip(edges[:-1], edges[1:])])

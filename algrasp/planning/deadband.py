@@ -21,6 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.polynomial import legendre  # at import, not on first use inside the first analysis
 
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.part import Part
@@ -98,7 +99,7 @@ def mean_radius(part: Part) -> float:
 def _distance_integral(pts: FloatArray) -> float:
     """⅓ ∮ |p| (x dy − y dx) over the closed polyline ``pts`` (N, 2)."""
     d = np.roll(pts, -1, axis=0) - pts
-    t, w = np.polynomial.legendre.leggauss(6)
+    t, w = legendre.leggauss(6)
     t, w = 0.5 * (t + 1.0), 0.5 * w
     p = pts[:, None, :] + d[:, None, :] * t[None, :, None]
     rho = np.hypot(p[..., 0], p[..., 1])

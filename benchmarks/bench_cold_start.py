@@ -1,0 +1,52 @@
+"""Cold start (issue 34): the first analysis + plans in a fresh process against the same
+work warm, for the default model (robust, default ranges).
+
+Target: first call within 3× of a warm one. Each row is the median over fresh processes
+(imports are timed apart: they are paid once per process, before any part arrives).
+"""
+
+from __future__ import annotations
+
+import json
+import statistics
+import subprocess
+import sys
+
+from algrasp.pipeline import WARM_UP_PART
+from algrasp.testing import shapes
+
+PROBE = """
+import json, sys, time
+t = time.perf_counter()
+from algrasp.errors import NotOrientableError
+from algrasp.planning.analysis import analyse_document
+from algrasp.planning.plans import make_plan
+imported = time.perf_counter() - t
+doc = json.loads(sys.argv[1])
+def once():
+    a = analyse_document(doc)
+    for action in ("push_grasp", "squeeze"):
+        try:
+            make_plan(a, action)
+        except NotOrientableError:
+            pass
+times = []
+for _ in range(8):
+    t = time.perf_counter(); once(); times.append(time.perf_counter() - t)
+print(json.dumps([imported, times[0], sorted(times[1:])[3]]))
+"""
+
+
+def main() -> None:
+    cases = [("triangle (3 lines)", WARM_UP_PART), ("rectangle", shapes.rectangle(3.0, 1.0)),
+             ("random 7-gon", shapes.random_polygon(7, 4)), ("50 cubic Bezier segments", shapes.bezier_blob(50, 2))]
+    print(f"{'part':28s} {'imports ms':>11s} {'first ms':>9s} {'warm ms':>8s} {'first/warm':>11s}  (median of 5 processes)")
+    for name, doc in cases:
+        rows = [json.loads(subprocess.run([sys.executable, "-c", PROBE, json.dumps(doc)], capture_output=True,
+                                          text=True, check=True).stdout) for _ in range(5)]
+        imp, first, warm = (1000 * statistics.median(r[i] for r in rows) for i in range(3))
+        print(f"{name:28s} {imp:11.0f} {first:9.1f} {warm:8.1f} {first / warm:10.2f}×")
+
+
+if __name__ == "__main__":
+    main()
