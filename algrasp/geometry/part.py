@@ -93,7 +93,14 @@ def load_part(doc: Mapping[str, Any], tol: Tolerances = DEFAULT_TOLERANCES, limi
     moments = loop_moments(boundary, origin)
     if abs(moments[0]) <= tol.zero_area_rel * size * size:
         raise PartDocumentError(field, f"the boundary encloses zero area ({moments[0]:.3g})")
-    _check_simple(boundary, holes, field)
+    try:
+        _check_simple(boundary, holes, field)
+    except PartDocumentError:
+        if not recognised:
+            raise
+        # The arcs read into a dense polygon cross where its vertices did not: the
+        # drawing is analysed as drawn (a simple polygon is never refused for our reading).
+        return load_part(doc, tol, limits, snap=False)
     if moments[0] < 0.0:
         boundary = [s.reversed() for s in reversed(boundary)]
         moments = -moments

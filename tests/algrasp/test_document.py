@@ -109,3 +109,15 @@ def test_hole_outside_boundary() -> None:
 def test_valid_documents_load() -> None:
     for doc in (shapes.pie(), shapes.disk(), shapes.reuleaux(), shapes.bezier_blob(6), shapes.disk_with_flats()):
         load_part(doc)
+
+
+def test_a_simple_polygon_whose_arc_reading_would_cross_is_analysed_as_drawn() -> None:
+    # 10,000 jittered vertices: runs of them read as arcs, and two neighbouring arcs cross
+    # (segments 8972/8973) where the drawn edges do not. Shapely, independently, finds the
+    # drawn polygon simple; the robust reading must then keep the drawing, not refuse it.
+    import shapely
+
+    doc = shapes.random_polygon(10_000, 1)
+    assert shapely.Polygon(doc["polygon"]).is_valid
+    part = load_part(doc, snap=True)
+    assert len(part.boundary) == 10_000 and part.recognised == ()
