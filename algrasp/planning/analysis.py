@@ -17,7 +17,7 @@ from algrasp.errors import ConfigError, NotOrientableError
 from algrasp.geometry.functions import SupportPairFunction, analyse, wrap
 from algrasp.geometry.part import Part, load_part
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES, SYMMETRY_TOL_RAD, Tolerances
-from algrasp.planning.deadband import DEFAULT_PHYSICS, DeadBand, Physics, dead_band
+from algrasp.planning.deadband import DEFAULT_PHYSICS, DeadBand, PartTerms, Physics, dead_band, part_terms
 from algrasp.planning.documents import AnalysisDocument, FunctionDocument, SetTransferDocument, TransferDocument
 from algrasp.planning.physics import IDEAL_CELL
 from algrasp.planning.placement import off_centre_squeeze
@@ -77,6 +77,8 @@ class RobustAnalysis:
     push: SetTransfer | None
     push_grasp: SetTransfer | None
     reasons: dict[str, str]
+    terms: PartTerms | None = None
+    """The part's own dead-band terms, for analyses of the same part under other physics."""
 
     def to_dict(self) -> dict[str, object]:
         out: dict[str, object] = {"physics": self.physics.to_dict(), "dead_band": self.band.to_dict()}
@@ -159,11 +161,13 @@ def analyse_document(doc: Mapping[str, Any], model: Model = ROBUST, tol: Toleran
 
 
 def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, physics: Physics,
-                    tol: Tolerances) -> RobustAnalysis:
+                    tol: Tolerances, terms: PartTerms | None = None) -> RobustAnalysis:
     """Dead band and set-valued squeeze, push and push-grasp functions over the physics
     ranges; with ``placement="any"`` the squeeze starts with a partial push by either jaw
-    (push-grasps are unaffected: the pushing jaw meets the part first by design)."""
-    band = dead_band(part, physics, tol)
+    (push-grasps are unaffected: the pushing jaw meets the part first by design).
+    ``terms``: the part's dead-band terms when already known (another analysis of it)."""
+    terms = part_terms(part, tol) if terms is None else terms
+    band = dead_band(part, physics, tol, terms)
     # Creep: the weakest holding case holds nothing, so motion is possible wherever f slopes.
     stall = (0.0 if physics.creep else band.stall_lo, band.stall_hi)
     reasons: dict[str, str] = {}
@@ -188,4 +192,4 @@ def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, 
         funcs["squeeze"] = None if pu is None else off_centre_squeeze(sq, pu, tol.angle_rad)
         if pu is None:
             reasons["squeeze"] = f"off-centre placement starts a squeeze with a push, and {reasons['push']}"
-    return RobustAnalysis(physics, band, funcs["squeeze"], funcs["push"], funcs["push_grasp"], reasons)
+    return RobustAnalysis(physics, band, funcs["squeeze"], funcs["push"], funcs["push_grasp"], reasons, terms)

@@ -25,7 +25,7 @@ from numpy.polynomial import legendre  # at import, not on first use inside the 
 
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.part import Part
-from algrasp.geometry.recognise import drawing_error
+from algrasp.geometry.recognise import DrawingError, drawing_error
 from algrasp.geometry.segments import loop_polyline
 from algrasp.geometry.tolerances import Tolerances
 from algrasp.geometry.units import meters_per_unit
@@ -128,10 +128,25 @@ def nominal_size(part: Part) -> float:
     return float(np.max(chord[:, 0] * np.cos(psi) + chord[:, 1] * np.sin(psi)))
 
 
-def dead_band(part: Part, physics: Physics, tol: Tolerances) -> DeadBand:
-    """The part's dead band under the physics ranges. O(n)."""
-    rbar = mean_radius(part)
-    err = drawing_error(part.boundary, tol)
+@dataclass(frozen=True)
+class PartTerms:
+    """What the dead band takes from the part alone (not from the physics): r̄ (part units)
+    and the drawing's own error. Computed once per analysis and reused by the probes of a
+    limit search, which vary only the physics."""
+
+    mean_radius: float
+    error: DrawingError
+
+
+def part_terms(part: Part, tol: Tolerances) -> PartTerms:
+    """:class:`PartTerms` of the part. O(n)."""
+    return PartTerms(mean_radius(part), drawing_error(part.boundary, tol))
+
+
+def dead_band(part: Part, physics: Physics, tol: Tolerances, terms: PartTerms | None = None) -> DeadBand:
+    """The part's dead band under the physics ranges. O(n), O(1) given ``terms``."""
+    terms = part_terms(part, tol) if terms is None else terms
+    rbar, err = terms.mean_radius, terms.error
     floor = profile_floor(part, physics)
     sigma = max(err.slope, floor) if physics.shape_tolerance is None else max(physics.shape_tolerance, floor)
     eps_c = COM_TOLERANCE_REL * part.size if physics.com_tolerance is None else physics.com_tolerance

@@ -94,7 +94,8 @@ def plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Plan
 
 def _plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float) -> bool:
     try:
-        robust = robust_analysis(analysis.part, analysis.diameter, analysis.radius, physics, analysis.tol)
+        terms = None if analysis.robust is None else analysis.robust.terms
+        robust = robust_analysis(analysis.part, analysis.diameter, analysis.radius, physics, analysis.tol, terms)
         planner(replace(analysis, robust=robust), action, margin_deg)
     except NotOrientableError:
         return False
