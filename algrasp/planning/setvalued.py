@@ -166,7 +166,8 @@ def _shift_bound(v: FloatArray, ks: np.ndarray) -> FloatArray:
     amp = np.abs(c) * np.where(np.arange(len(c)) == 0, 1.0, 2.0)  # one-sided spectrum
     top = np.argsort(amp)[::-1][:SCREEN_HARMONICS]
     rest = 2.0 * float(amp.sum() - amp[top].sum())
-    return np.asarray(np.abs(np.exp(2j * np.pi * np.outer(1.0 / ks, top)) - 1.0) @ amp[top] + rest)
+    # |e^{2πij/k} − 1| = 2|sin(πj/k)|: real arithmetic, a third of the complex exp's cost.
+    return np.asarray(2.0 * np.abs(np.sin(np.pi * np.outer(1.0 / ks, top))) @ amp[top] + rest)
 
 
 def _nodes(f: SupportPairFunction, T: float) -> tuple[FloatArray, np.ndarray]:
