@@ -5,7 +5,8 @@ function accepts what the others return — a part document (mapping), a path (`
 part document, drawing or mesh), a :class:`Drawing`, a :class:`Part`, an
 :class:`Analysis` or a :class:`Plan` — and options are keyword-only. Angles inside the
 returned objects are radians; their ``to_dict()`` documents use degrees
-(docs/conventions.md §1), as the CLI's ``--json`` and the HTTP API do.
+(docs/conventions.md §1), as the CLI's ``--json`` and the HTTP API do. A wrong argument
+is a :class:`~algrasp.errors.ConfigError` naming it (``field``).
 
 >>> from algrasp import analyse, load_part, plan
 >>> square = {"name": "square", "boundary": [[0, 0], [4, 0], [4, 4], [0, 4]]}
@@ -48,9 +49,20 @@ class Drawing:
     """A drawing (DXF, SVG) or mesh imported as one part: its part document (exact
     curves; a mesh gives an approximate polygon) and what the import noticed.
 
-    Attributes:
-        document: the part document (lengths in ``units``; ``source`` says where from).
-        warnings: what was assumed or set aside (units read, gaps closed, clutter).
+    Attributes
+    ----------
+    document : Mapping[str, Any]
+        The part document (lengths in ``units``; ``source`` says where from).
+    warnings : tuple of str
+        What was assumed or set aside (units read, gaps closed, clutter).
+    name, units : str
+        The document's ``name`` (``""`` if none) and length unit (default ``"mm"``).
+
+    Examples
+    --------
+    >>> d = Drawing({"name": "r", "units": "mm", "boundary": [[0, 0], [4, 0], [4, 2], [0, 2]]})
+    >>> d.name, d.units, d.warnings, load_part(d).area
+    ('r', 'mm', (), 8.0)
     """
 
     document: Mapping[str, Any]
@@ -81,10 +93,37 @@ _KINDS = "a part document (mapping), a path, a Drawing, a Part, an Analysis or a
 
 
 def import_drawing(path: str | Path, **options: Any) -> Drawing:
-    """The :class:`Drawing` of a DXF/SVG drawing or a mesh. ``options``: ``layer``,
-    ``element_id``, ``pose``, ``part`` (one of several parts on a sheet), ``tolerance``,
-    ``units`` — as ``algrasp import``. Raises PartDocumentError naming the entity (and the
-    parts to choose from)."""
+    """The :class:`Drawing` of a DXF/SVG drawing or a mesh (the ``cad`` extra).
+
+    Parameters
+    ----------
+    path : str or Path
+        The drawing (``.dxf``, ``.svg``) or mesh (``.stl``, …).
+    **options
+        As ``algrasp import``: ``layer``, ``element_id``, ``pose``, ``part`` (one of
+        several parts on a sheet), ``tolerance``, ``units``.
+
+    Returns
+    -------
+    Drawing
+        Its part document and warnings.
+
+    Raises
+    ------
+    PartDocumentError
+        Naming the entity (and the parts to choose from).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> with tempfile.TemporaryDirectory() as tmp:
+    ...     svg = pathlib.Path(tmp, "plate.svg")
+    ...     _ = svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="40mm" height="20mm" '
+    ...                        'viewBox="0 0 40 20"><rect width="40" height="20"/></svg>')
+    ...     plate = import_drawing(svg)
+    >>> plate.name, plate.units, len(plate.document["boundary"]), load_part(plate).area
+    ('plate', 'mm', 4, 800.0)
+    """
     from algrasp.io.cad import import_file
 
     if not isinstance(path, (str, Path)):
@@ -94,7 +133,27 @@ def import_drawing(path: str | Path, **options: Any) -> Drawing:
 
 
 def document(source: PartSource, **import_options: Any) -> dict[str, Any]:
-    """The part document of ``source`` (a new dict). ``import_options`` apply to drawings."""
+    """The part document of ``source`` (a new dict).
+
+    Parameters
+    ----------
+    source : PartSource
+        A part document, a path (``.json``, drawing or mesh), a :class:`Drawing`, a
+        :class:`Part`, an :class:`Analysis` or a :class:`Plan`.
+    **import_options
+        Apply to drawings (as :func:`import_drawing`).
+
+    Returns
+    -------
+    dict
+        The part document.
+
+    Examples
+    --------
+    >>> rect = {"name": "r", "boundary": [[0, 0], [4, 0], [4, 2], [0, 2]]}
+    >>> document(plan(rect, exact=True)) == rect
+    True
+    """
     if isinstance(source, Mapping):
         return dict(source)
     if isinstance(source, Drawing):
@@ -119,8 +178,38 @@ def _part_of(source: object) -> Part:
 def load_part(source: PartSource, *, exact: bool = False, **import_options: Any) -> Part:
     """A validated :class:`Part` (exact geometry, area, centre of mass, convex hull), read
     as the model reads it: by default (the robust model) runs of polygon vertices that
-    tessellate circular arcs become the arcs (``Part.recognised`` says so); ``exact``
-    keeps every drawn segment. Complexity: O(N log N) in the number of segments."""
+    tessellate circular arcs become the arcs (``Part.recognised`` says so).
+    Complexity: O(N log N) in the number of segments.
+
+    Parameters
+    ----------
+    source : PartSource
+        The part (as :func:`document`); a :class:`Part` without options is returned as it is.
+    exact : bool, default False
+        Keep every drawn segment (the paper's exact model).
+    **import_options
+        Apply to drawings (as :func:`import_drawing`).
+
+    Returns
+    -------
+    Part
+        Counter-clockwise, lengths in the document's ``units``.
+
+    Raises
+    ------
+    PartDocumentError
+        Naming the malformed field (``boundary[3].radius``) or the invalid loop.
+
+    Examples
+    --------
+    >>> part = load_part({"name": "r", "boundary": [[0, 0], [4, 0], [4, 2], [0, 2]]})
+    >>> part.area, part.center_of_mass, len(part.boundary), part.units
+    (8.0, (2.0, 1.0), 4, 'mm')
+    >>> load_part({"name": "r", "boundary": [[0, 0], [1, 0]]})
+    Traceback (most recent call last):
+    ...
+    algrasp.errors.PartDocumentError: boundary: a polygon needs at least 3 vertices, got 2
+    """
     if isinstance(source, Part) and not import_options:
         return source
     return _load_part(document(source, **import_options), snap=not exact)
@@ -130,6 +219,20 @@ def model(exact: bool = False, physics: PhysicsSource = None) -> Model:
     """The robust model over the cell's physics ranges (docs/conventions.md §8) or, with
     ``exact``, the paper's frictionless one.
 
+    Parameters
+    ----------
+    exact : bool, default False
+        The paper's exact frictionless model (the CLI's ``--exact``).
+    physics : PhysicsSource
+        A :class:`Physics`, or physics keys (numbers or ``[lo, hi]``) over the cell
+        ``$ALGRASP_CELL`` names (default: the real cell).
+
+    Returns
+    -------
+    Model
+
+    Examples
+    --------
     >>> model(physics={"jaw_friction": [0, 0.2]}).physics.jaw_friction
     (0.0, 0.2)
     """
@@ -152,10 +255,28 @@ def model_of(analysis: Analysis) -> Model:
 
 def analyse(source: PartSource, *, exact: bool | None = None, physics: PhysicsSource = None) -> Analysis:
     """Diameter and radius functions, squeeze and push-grasp transfer functions and both
-    shortest plans' inputs (:class:`Analysis`). Milliseconds for polygons, tens of
-    milliseconds for curved parts. An :class:`Analysis` or :class:`Plan` given is kept
-    when no model is asked for, and re-analysed under the model asked for otherwise
-    (``exact`` None: as the source was made, else the robust model)."""
+    shortest plans' inputs. Milliseconds for polygons, tens of milliseconds for curved parts.
+
+    Parameters
+    ----------
+    source : PartSource
+        The part (as :func:`document`). An :class:`Analysis` or :class:`Plan` given is kept
+        when no model is asked for, and re-analysed under the model asked for otherwise.
+    exact : bool or None
+        The paper's exact model; None: as the source was made, else the robust model.
+    physics : PhysicsSource
+        The robust model's physics ranges (as :func:`model`).
+
+    Returns
+    -------
+    Analysis
+
+    Examples
+    --------
+    >>> a = analyse({"name": "r", "boundary": [[0, 0], [4, 0], [4, 2], [0, 2]]}, exact=True)
+    >>> a.squeeze_orientable, a.robust is None, a.to_dict()["squeeze"]["symmetry_period_deg"]
+    (True, True, 180.0)
+    """
     made = source.analysis if isinstance(source, Plan) else source
     if isinstance(made, Analysis):
         if exact is None and physics is None:
@@ -175,12 +296,41 @@ def plan(source: PartSource, *, action: Action | str = "squeeze", min_margin_deg
     """The shortest plan (Algorithm A′) that brings the part from any orientation to as
     few as its symmetry allows, holding in every cell of the physics ranges.
 
-    ``action``: ``squeeze`` or ``push_grasp`` (``push-grasp`` is read as ``push_grasp``);
-    ``min_margin_deg``: every transition tolerates that much gripper error; ``limits``:
-    which physics limits to search (``plan.limits``); ``optimise``: push distances, jaw
-    timing and cycle time for the ``gripper`` profile (CasADi; ``plan.execution``, and its
-    fields in ``plan.to_dict()``). Raises NotOrientableError (with its reason and the
-    limits under which a plan exists) when no plan exists.
+    Parameters
+    ----------
+    source : PartSource
+        The part (as :func:`analyse`, which keeps an analysis or plan given unless another
+        model is asked for).
+    action : {"squeeze", "push_grasp"}
+        ``push-grasp`` is read as ``push_grasp``.
+    min_margin_deg : float, default 0
+        Every transition tolerates that much gripper error (degrees).
+    exact, physics
+        The model (as :func:`analyse`).
+    limits : {"headline", "none", "all"}
+        Which physics limits to search (``plan.limits``; robust model only).
+    optimise : bool, default False
+        Push distances, jaw timing and cycle time for the ``gripper`` profile (CasADi;
+        ``plan.execution``, and its fields in ``plan.to_dict()``).
+    gripper : mapping, path, GripperProfile or None
+        The profile's keys, a YAML/JSON file or a profile; None: the default profile.
+    push_scale : float, default 1
+        Scales the optimised push distances.
+
+    Returns
+    -------
+    Plan
+
+    Raises
+    ------
+    NotOrientableError
+        No plan exists (with its reason and the limits under which a plan exists).
+
+    Examples
+    --------
+    >>> p = plan({"name": "r", "boundary": [[0, 0], [4, 0], [4, 2], [0, 2]]}, exact=True)
+    >>> [s["gripper_angle_deg"] for s in p.to_dict()["steps"]], p.to_dict()["final_orientations_deg"]
+    ([45.0, 0.0], [0.0, 180.0])
     """
     from algrasp.pipeline import PlanRequest, optimise_plan
 
@@ -220,14 +370,50 @@ def validate(source: PartSource, *, action: Action | str | None = None, samples:
              optimise: bool | None = None, gripper: GripperSource | None = None, exact: bool | None = None,
              physics: PhysicsSource = None, sim_physics: str = "nominal", workers: int = 2) -> Any:
     """Simulate the plan in Drake from ``samples`` start orientations in each cell
-    ``sim_physics`` names (``nominal``, ``corners``, ``random``, ``KEY=VALUE,...``; needs
-    the ``sim`` extra). A :class:`Plan` given is validated as it is (its action, model and
-    execution); anything else is planned first (``action`` default squeeze, ``optimise``
-    default False). ``placement`` None follows the physics.
+    ``sim_physics`` names (needs the ``sim`` extra). Worker processes: see the module
+    docstring (``__main__`` guard).
 
-    Returns a :class:`~algrasp.sim.validate.Validation`: ``agreement``, per-sample
-    outcomes (``samples``), per-cell agreement (``cells``); ``to_dict()`` is the validation
-    document. Worker processes: see the module docstring (``__main__`` guard).
+    Parameters
+    ----------
+    source : PartSource
+        A :class:`Plan` is validated as it is (its action, model and execution); anything
+        else is planned first (``action`` default squeeze, ``optimise`` default False).
+    action, optimise, gripper, exact, physics
+        As :func:`plan`. With a :class:`Plan`, ``action`` must be its own; ``exact`` or
+        ``physics`` given (or ``optimise`` for a plan not optimised) plan it again.
+    samples, seed : int, default 36 and 0
+        Start orientations per cell, and the seed of the random starts (and placements).
+    placement : {"centred", "random"} or None
+        Where the jaws meet the part; None follows the physics.
+    tolerance_deg : float, default 1
+        A sample agrees within this (degrees) plus the plan's final uncertainty.
+    sim_physics : str, default "nominal"
+        ``nominal``, ``corners``, ``random`` or ``KEY=VALUE,...``.
+    workers : int, default 2
+        Simulation worker processes.
+
+    Returns
+    -------
+    Validation
+        ``agreement``, per-sample outcomes (``samples``), per-cell agreement (``cells``);
+        ``to_dict()`` is the validation document.
+
+    Raises
+    ------
+    SimulationError
+        The physics engine could not simulate the part (``detail``: the engine's message).
+
+    Examples
+    --------
+    Simulating needs Drake (the ``sim`` extra), so that line is not run as a test:
+
+    >>> rect = {"name": "r", "boundary": [[0, 0], [4, 0], [4, 2], [0, 2]]}
+    >>> validate(rect, samples=2, workers=1).agreement  # doctest: +SKIP
+    1.0
+    >>> validate(rect, samples=0)
+    Traceback (most recent call last):
+    ...
+    algrasp.errors.ConfigError: samples: expected a whole number ≥ 1, got 0
     """
     from algrasp.pipeline import PlanRequest
     from algrasp.sim.validate import Validation

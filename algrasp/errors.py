@@ -2,22 +2,40 @@
 
 Every error a user can cause derives from :class:`AlgraspError`; the CLI and the
 service map these (and only these) to clean messages and exit codes / HTTP statuses.
-Each subclass carries typed fields so callers never parse messages.
+Each subclass carries typed fields so callers never parse messages; ``to_dict()`` is the
+error document (``{"type": kind, "message": ..., **fields}``) the service answers with.
 """
 
 from __future__ import annotations
 
 
 class AlgraspError(Exception):
-    """Base class of every error algrasp raises on purpose."""
+    """Base class of every error algrasp raises on purpose.
+
+    Attributes
+    ----------
+    message : str
+        What went wrong, for a person (also ``str(err)``).
+    kind : str
+        The error document's ``type``.
+    http_status : int
+        The HTTP status of this error: 422 (the request's fault) unless a subclass says otherwise.
+    exit_code : int
+        The CLI's exit status for this error: 2 unless a subclass says otherwise.
+    public_fields : tuple of str
+        Typed fields a subclass reports in :meth:`to_dict` (those that are not None).
+
+    Examples
+    --------
+    >>> err = AlgraspError("it went wrong")
+    >>> err.to_dict(), err.http_status, err.exit_code
+    ({'type': 'algrasp_error', 'message': 'it went wrong'}, 422, 2)
+    """
 
     kind = "algrasp_error"
     http_status = 422
-    """The HTTP status of this error (the request's fault unless a subclass says otherwise)."""
     exit_code = 2
-    """The CLI's exit status for this error."""
     public_fields: tuple[str, ...] = ()
-    """Typed fields a subclass reports in :meth:`to_dict` (those that are not None)."""
 
     def __init__(self, message: str) -> None:
         super().__init__(message)
@@ -45,8 +63,22 @@ def _rebuild(cls: type[AlgraspError], message: str, fields: dict[str, object]) -
 class PartDocumentError(AlgraspError):
     """The part document is malformed or describes an invalid part.
 
-    ``field`` is a JSON-path-like location (``boundary[3].radius``); ``segment_index``
-    is the index of the offending segment when there is one.
+    Attributes
+    ----------
+    field : str
+        A JSON-path-like location (``boundary[3].radius``).
+    problem : str
+        What is wrong there (the message is ``"field: problem"``).
+    segment_index : int or None
+        The index of the offending segment when there is one.
+    http_status, exit_code : int
+        422 and 2.
+
+    Examples
+    --------
+    >>> err = PartDocumentError("boundary[3].radius", "must be positive", 3)
+    >>> str(err), err.segment_index, sorted(err.to_dict())
+    ('boundary[3].radius: must be positive', 3, ['field', 'message', 'segment_index', 'type'])
     """
 
     kind = "part_document_error"
@@ -60,19 +92,63 @@ class PartDocumentError(AlgraspError):
 
 
 class LimitExceededError(PartDocumentError):
-    """A document or request exceeds a configured size limit."""
+    """A document or request exceeds a configured size limit.
+
+    Attributes
+    ----------
+    field, problem, segment_index
+        As :class:`PartDocumentError`.
+    http_status, exit_code : int
+        422 and 2.
+
+    Examples
+    --------
+    >>> err = LimitExceededError("boundary", "more than 100000 segments")
+    >>> err.to_dict()["type"], isinstance(err, PartDocumentError)
+    ('limit_exceeded', True)
+    """
 
     kind = "limit_exceeded"
 
 
 class GeometryError(AlgraspError):
-    """The exact geometry could not be computed to the required accuracy."""
+    """The exact geometry could not be computed to the required accuracy.
+
+    Attributes
+    ----------
+    message : str
+        Which computation failed.
+    http_status, exit_code : int
+        422 and 2.
+
+    Examples
+    --------
+    >>> GeometryError("the hull did not close").to_dict()
+    {'type': 'geometry_error', 'message': 'the hull did not close'}
+    """
 
     kind = "geometry_error"
 
 
 class NotOrientableError(AlgraspError):
-    """No plan of the requested kind can orient the part (``reason`` says why)."""
+    """No plan of the requested kind can orient the part (``reason`` says why).
+
+    Attributes
+    ----------
+    reason : str
+        Why, as a word: ``constant_width``, ``no_step``, ``dead_band``, ``margin_too_large``,
+        ``uncertain``, ``verification_failed``.
+    limits : dict or None
+        The physics limits under which a plan exists (``algrasp.planning.limits``), if searched.
+    http_status, exit_code : int
+        422 and 2.
+
+    Examples
+    --------
+    >>> err = NotOrientableError("constant_width", "the part has constant width")
+    >>> err.reason, err.limits, err.to_dict()["type"]
+    ('constant_width', None, 'not_orientable')
+    """
 
     kind = "not_orientable"
     public_fields = ("reason", "limits")
@@ -81,11 +157,26 @@ class NotOrientableError(AlgraspError):
         super().__init__(message)
         self.reason = reason
         self.limits = limits
-        """The physics limits under which a plan exists (``algrasp.planning.limits``), if searched."""
 
 
 class ConfigError(AlgraspError):
-    """A configuration or request option is invalid (``field`` names it)."""
+    """A configuration or request option is invalid (``field`` names it).
+
+    Attributes
+    ----------
+    field : str
+        The option (``min_margin_deg``, ``physics.jaw_friction``).
+    problem : str
+        What is wrong with it (the message is ``"field: problem"``).
+    http_status, exit_code : int
+        422 and 2.
+
+    Examples
+    --------
+    >>> err = ConfigError("samples", "expected a whole number ≥ 1, got 0")
+    >>> err.field, str(err)
+    ('samples', 'samples: expected a whole number ≥ 1, got 0')
+    """
 
     kind = "config_error"
     public_fields = ("field",)
@@ -129,7 +220,20 @@ class RecordError(AlgraspError):
 
 
 class SimulationError(AlgraspError):
-    """The physics engine could not simulate the part (``detail``: the engine's message)."""
+    """The physics engine could not simulate the part.
+
+    Attributes
+    ----------
+    detail : str
+        The engine's message; the error's message adds the hint given, if any.
+    http_status, exit_code : int
+        422 and 2.
+
+    Examples
+    --------
+    >>> str(SimulationError("contact solver diverged", "try a smaller time step"))
+    'the simulation failed: contact solver diverged; try a smaller time step'
+    """
 
     kind = "simulation_error"
 
@@ -139,7 +243,22 @@ class SimulationError(AlgraspError):
 
 
 class TimeLimitError(AlgraspError):
-    """A stage of a request ran past its time limit (``stage``, ``limit_s``)."""
+    """A stage of a request ran past its time limit.
+
+    Attributes
+    ----------
+    stage : str
+        The stage (``import``, ``analysis``, ``plan``, …).
+    limit_s : float
+        Its time limit (seconds).
+    http_status, exit_code : int
+        422 and 2.
+
+    Examples
+    --------
+    >>> TimeLimitError("plan", 2.0).to_dict()
+    {'type': 'time_limit_exceeded', 'message': 'plan took longer than its 2 s time limit', 'stage': 'plan', 'limit_s': 2.0}
+    """
 
     kind = "time_limit_exceeded"
     public_fields = ("stage", "limit_s")
@@ -152,7 +271,23 @@ class TimeLimitError(AlgraspError):
 
 class UnavailableError(AlgraspError):
     """The service cannot take or finish the request now (full queues, a lost worker,
-    storage faults); the same request may succeed later (``retry_after_s``)."""
+    storage faults); the same request may succeed later.
+
+    Attributes
+    ----------
+    reason : str
+        Why, as a word: ``queue_full``, ``no_workers``, ``worker_lost``, ``shutting_down``, ``scheduler``.
+    retry_after_s : float
+        When to try again (seconds; the HTTP ``Retry-After`` header).
+    http_status, exit_code : int
+        503 and 3.
+
+    Examples
+    --------
+    >>> err = UnavailableError("queue_full", "the queue is full", retry_after_s=5.0)
+    >>> err.to_dict()["retry_after_s"], err.http_status, err.exit_code
+    (5.0, 503, 3)
+    """
 
     kind = "unavailable"
     http_status = 503
@@ -173,7 +308,22 @@ class TooManyRequestsError(UnavailableError):
 
 
 class StorageError(UnavailableError):
-    """The record directory or the database cannot be written (disk full, read-only):
-    ``reason`` names which."""
+    """The record directory or the database cannot be written (disk full, read-only).
+
+    Attributes
+    ----------
+    reason : str
+        Which: ``records`` or ``database``.
+    retry_after_s : float
+        When to try again (seconds).
+    http_status, exit_code : int
+        503 and 3.
+
+    Examples
+    --------
+    >>> err = StorageError("records", "the record directory is full")
+    >>> err.reason, err.to_dict()["type"], err.http_status
+    ('records', 'storage_error', 503)
+    """
 
     kind = "storage_error"

@@ -33,21 +33,40 @@ _TESSELLATION_TURN_RAD = to_rad(2.0)  # only for the simplicity check, never for
 
 @dataclass(frozen=True)
 class Part:
-    """A validated planar part.
+    """A validated planar part, as :func:`load_part` makes it (lengths in ``units``).
 
-    Attributes:
-        name, units: from the document (units default "mm").
-        boundary: segments of the outer loop, counter-clockwise.
-        holes: segment loops of the holes, each clockwise.
-        area: area of boundary minus holes (unit²).
-        center_of_mass: given, or the area centroid (unit).
-        com_given: whether the document gave the centre of mass.
-        size: diagonal of the bounding box of all control points (unit).
-        hull: the exact convex hull of the boundary.
-        source_document: the document as given (for records and replay).
-        polar_moment: ∬ |p − c|² dA over the region, about the centre of mass (unit⁴);
-            times the areal density it is the rotational inertia.
-        recognised: what the robust model read into the drawing (tessellated arcs).
+    Attributes
+    ----------
+    name, units : str
+        From the document (units default ``"mm"``).
+    boundary : tuple of Segment
+        Segments of the outer loop, counter-clockwise.
+    holes : tuple of tuple of Segment
+        Segment loops of the holes, each clockwise.
+    area : float
+        Area of boundary minus holes (unit²).
+    center_of_mass : tuple of float
+        Given, or the area centroid (unit).
+    com_given : bool
+        Whether the document gave the centre of mass.
+    size : float
+        Diagonal of the bounding box of all control points (unit).
+    hull : ConvexHull
+        The exact convex hull of the boundary.
+    source_document : Mapping[str, Any]
+        The document as given (for records and replay).
+    polar_moment : float
+        ∬ |p − c|² dA over the region, about the centre of mass (unit⁴); times the areal
+        density it is the rotational inertia.
+    recognised : tuple of str
+        What the robust model read into the drawing (tessellated arcs).
+
+    Examples
+    --------
+    >>> from algrasp import load_part
+    >>> part = load_part({"name": "r", "boundary": [[0, 0], [4, 0], [4, 2], [0, 2]]})
+    >>> part.area, part.center_of_mass, part.com_given, round(part.polar_moment, 6), part.hull.perimeter
+    (8.0, (2.0, 1.0), False, 13.333333, 12.0)
     """
 
     name: str

@@ -14,36 +14,63 @@ from dataclasses import dataclass
 class Tolerances:
     """Tolerances used by parsing, geometry and the transfer functions.
 
-    Attributes:
-        closure_rel: largest gap between consecutive segments, relative to part size
-            (conventions §5: 1e-6).
-        zero_length_rel: a segment shorter than this (relative) is zero-length.
-        zero_area_rel: a region whose area is below this times size² has zero area.
-        concentric_rel: two centres closer than this (relative) coincide; decides
-            regions of constant diameter/radius between circular arcs and vertices.
-        angle_rad: two orientations closer than this are the same (breakpoints,
-            merging steps, symmetry checks of structure).
-        value_rel: relative tolerance on function values (symmetry of values).
-        root_grid_rad: largest spacing of the sign-change grid used to isolate
-            critical points on curved pieces (two extrema closer than this could merge).
-        hull_sample_turn_rad: largest turn of the tangent between hull samples of a
-            curve piece before exact refinement.
-        sliver_rad: hull features and monotone runs narrower than this are rounding
-            slivers (e.g. a curve cut a hair from its end) and are absorbed by their
-            neighbours; far below any mechanically meaningful angle.
-        circle_fit_rel: a rational Bezier whose points lie this close (relative) to one
-            circle *is* that circle's arc (rounding of written control points).
-        arc_approximation_rel: a polynomial Bezier within this (relative to the radius)
-            of a circle approximates an arc (a cubic 90° arc is 2.7e-4 off).
-        tessellation_turn_rad: polygon vertices turning at most this much, in runs of at
-            least ``tessellation_min_run``, are a tessellated curve (64-gon: 5.6°).
-        snap_turn_rad: polygon vertices turning at most this much (all the same way, in
-            runs of at least ``tessellation_min_run``, on one circle) tessellate an arc and
-            become it in the robust model (a 48-gon turns 7.5°, a 64-gon 5.6°).
-        position_rel: a part smaller than this times its distance from the origin is
-            refused (its analysis would be rounding noise: 1e-7 leaves 9 digits).
-        symmetry_value_rel: values of d or r that agree within this (relative to size),
-            plus the drawing's own value error, are equal when judging symmetry.
+    ``_rel`` values are relative to the part's size (the diagonal of its bounding box)
+    unless their entry says otherwise; ``_rad`` values are radians. :data:`DEFAULT_TOLERANCES`
+    holds the defaults.
+
+    Parameters
+    ----------
+    closure_rel : float
+        Largest gap between consecutive segments, relative to part size (conventions §5: 1e-6).
+    position_rel : float
+        A part smaller than this times its distance from the origin is refused (its
+        analysis would be rounding noise: 1e-7 leaves 9 digits).
+    zero_length_rel : float
+        A segment shorter than this (relative) is zero-length.
+    zero_area_rel : float
+        A region whose area is below this times size² has zero area.
+    concentric_rel : float
+        Two centres closer than this (relative) coincide; decides regions of constant
+        diameter/radius between circular arcs and vertices.
+    angle_rad : float
+        Two orientations closer than this are the same (breakpoints, merging steps,
+        symmetry checks of structure).
+    value_rel : float
+        Relative tolerance on function values (symmetry of values).
+    root_grid_rad : float
+        Largest spacing of the sign-change grid used to isolate critical points on curved
+        pieces (two extrema closer than this could merge).
+    hull_sample_turn_rad : float
+        Largest turn of the tangent between hull samples of a curve piece before exact refinement.
+    sliver_rad : float
+        Hull features and monotone runs narrower than this are rounding slivers (e.g. a
+        curve cut a hair from its end) and are absorbed by their neighbours; far below any
+        mechanically meaningful angle.
+    circle_fit_rel : float
+        A rational Bezier whose points lie this close (relative) to one circle *is* that
+        circle's arc (rounding of written control points).
+    arc_approximation_rel : float
+        A polynomial Bezier within this (relative to the radius) of a circle approximates
+        an arc (a cubic 90° arc is 2.7e-4 off).
+    tessellation_turn_rad : float
+        Polygon vertices turning at most this much (12°), in runs of at least
+        ``tessellation_min_run``, are a tessellated curve (64-gon: 5.6°).
+    tessellation_min_run : int
+        The shortest run of vertices read as a tessellation (3).
+    snap_turn_rad : float
+        Polygon vertices turning at most this much (7.5°; all the same way, in runs of at
+        least ``tessellation_min_run``, on one circle) tessellate an arc and become it in
+        the robust model (a 48-gon turns 7.5°, a 64-gon 5.6°).
+    symmetry_value_rel : float
+        Values of d or r that agree within this (relative to size), plus the drawing's own
+        value error, are equal when judging symmetry.
+
+    Examples
+    --------
+    >>> DEFAULT_TOLERANCES.closure_rel, DEFAULT_TOLERANCES.tessellation_min_run
+    (1e-06, 3)
+    >>> Tolerances(closure_rel=1e-4).closure_rel, Tolerances() == DEFAULT_TOLERANCES
+    (0.0001, True)
     """
 
     closure_rel: float = 1e-6

@@ -29,7 +29,23 @@ from algrasp.planning.transfer import TransferFunction, from_runs
 class Model:
     """Which model a request analyses and plans with: the robust model of conventions
     §7 (default: dead band from ``physics``, tessellated arcs recognised) or the paper's
-    exact frictionless model (``exact``, the CLI's ``--exact``)."""
+    exact frictionless model (``exact``, the CLI's ``--exact``).
+
+    Parameters
+    ----------
+    exact : bool, default False
+        The paper's exact frictionless model.
+    physics : Physics, default DEFAULT_PHYSICS
+        The cell's physics ranges: what robust plans hold for, and what validation
+        simulates (in either model).
+
+    Examples
+    --------
+    >>> Model().exact, Model(exact=True).to_options()
+    (False, {'exact': True})
+    >>> Model.from_options({"physics": {"jaw_friction": 0.3}}).physics.jaw_friction
+    (0.3, 0.3)
+    """
 
     exact: bool = False
     physics: Physics = field(default_factory=lambda: DEFAULT_PHYSICS)
@@ -91,6 +107,37 @@ class RobustAnalysis:
 
 @dataclass(frozen=True, eq=False)
 class Analysis:
+    """Everything the paper derives from one part, as :func:`algrasp.analyse` (or
+    :func:`analyse_part`) makes it. Angles in radians; ``to_dict()`` is the ``algrasp
+    analyze --json`` object, in degrees.
+
+    Attributes
+    ----------
+    part : Part
+        The part analysed.
+    diameter, radius : SupportPairFunction
+        d(θ) (period π) and r(θ) (period 2π, about the centre of mass), with their extrema
+        and constant intervals (part units).
+    squeeze, push, push_grasp : TransferFunction
+        Γ, p and Γ∘p (conventions §3): steps and ramps over one period.
+    tol : Tolerances
+        The tolerances used.
+    robust : RobustAnalysis or None
+        Dead band and set-valued functions of the robust model (conventions §7); None: the
+        paper's exact frictionless model (``--exact``).
+    squeeze_orientable : bool
+        False for parts of constant width: Γ has no step (paper §4, conventions §6).
+
+    Examples
+    --------
+    >>> from algrasp import load_part
+    >>> a = analyse_part(load_part({"name": "r", "boundary": [[0, 0], [4, 0], [4, 2], [0, 2]]}))
+    >>> round(a.diameter(0.0), 9), a.squeeze_orientable, [e.kind for e in a.radius.extrema][:2]
+    (2.0, True, ['min', 'max'])
+    >>> [step["fixed_point_deg"] for step in a.to_dict()["squeeze"]["steps"]]
+    [90.0, 0.0]
+    """
+
     part: Part
     diameter: SupportPairFunction
     radius: SupportPairFunction
@@ -99,7 +146,6 @@ class Analysis:
     push_grasp: TransferFunction
     tol: Tolerances
     robust: RobustAnalysis | None = None
-    """None: the paper's exact frictionless model (``--exact``)."""
 
     @property
     def squeeze_orientable(self) -> bool:

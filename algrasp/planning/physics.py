@@ -114,15 +114,50 @@ def _length(name: str, value: Any) -> float | None:
 @dataclass(frozen=True)
 class Physics:
     """The cell's physics: each range field is ``(lo, hi)`` in SI units (numbers are
-    accepted and become ``(v, v)``); lengths are in the part's units.
+    accepted and become ``(v, v)``); lengths are in the part's units. Every bound is checked
+    (:data:`PARAMETERS`); :data:`DEFAULT_PHYSICS` is the real cell of conventions §8.
 
-    Attributes:
-        com_tolerance: radius of the centre-of-mass disk (part units); None: 1 % of size.
-        shape_tolerance: σ, slope error per jaw (part units per radian); None: the
-            drawing's own error, never below the manufacturing profile tolerance.
-        profile_tolerance: the manufacturing floor of σ (part units, taken per radian);
-            None: ISO 2768-1 class f for the part's size.
-        placement: ``centred`` (both jaws touch together) or ``any`` offset.
+    Parameters
+    ----------
+    support_friction : (float, float)
+        Coulomb friction μ_s between part and support (default 0.2–0.45).
+    jaw_friction : (float, float)
+        Coulomb friction μ_j between part and jaws, both jaws, pushing too (default 0–0.1).
+    part_mass_kg : (float, float)
+        Part mass (kg; default 0.01–0.05).
+    grip_force_n : (float, float)
+        Grip (and push) force of the jaw servo (N; default 1.6–2.4).
+    gravity_m_s2 : (float, float)
+        Gravity (m/s²; default 9.81).
+    com_tolerance : float or None
+        Radius of the centre-of-mass disk (part units); None: 1 % of size.
+    shape_tolerance : float or None
+        σ, slope error per jaw (part units per radian); None: the drawing's own error,
+        never below the manufacturing profile tolerance.
+    profile_tolerance : float or None
+        The manufacturing floor of σ (part units, taken per radian); None: ISO 2768-1
+        class f for the part's size.
+    placement : {"any", "centred"}
+        ``centred`` (both jaws touch together) or ``any`` offset.
+    creep : bool
+        Whether a part may creep downhill where friction could hold it (vibration of a real
+        cell, the regularised friction of the simulation): then rest is never certain short
+        of a minimum, and a plan's uncertainty covers every dead zone down to its minimum.
+
+    Raises
+    ------
+    ConfigError
+        Naming the field (``physics.<key>``) out of its bounds.
+
+    Examples
+    --------
+    >>> p = Physics(jaw_friction=0.2)
+    >>> p.jaw_friction, p.exact_cell, DEFAULT_PHYSICS.placement, p.to_dict()["grip_force_n"]
+    ((0.2, 0.2), False, 'any', [1.6, 2.4])
+    >>> Physics(part_mass_kg=-1)
+    Traceback (most recent call last):
+    ...
+    algrasp.errors.ConfigError: physics.part_mass_kg: must be in [0, 1000], got -1
     """
 
     support_friction: Span = DEFAULT_RANGES["support_friction"]
@@ -135,9 +170,6 @@ class Physics:
     profile_tolerance: float | None = None
     placement: Placement = "any"
     creep: bool = True
-    """Whether a part may creep downhill where friction could hold it (vibration of a real
-    cell, the regularised friction of the simulation): then rest is never certain short of
-    a minimum, and a plan's uncertainty covers every dead zone down to its minimum."""
 
     def __post_init__(self) -> None:
         for name in PARAMETERS:

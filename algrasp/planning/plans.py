@@ -40,7 +40,54 @@ class PlanStep:
 
 @dataclass(frozen=True, eq=False)
 class Plan:
-    """A verified plan. Angles in radians; ``to_dict`` gives the JSON plan document."""
+    """A verified plan. Angles in radians; ``to_dict`` gives the JSON plan document (degrees).
+
+    Attributes
+    ----------
+    action : {"squeeze", "push_grasp"}
+        The action every step takes.
+    transfer : TransferFunction
+        The action's transfer function F the plan was built on.
+    symmetry_period : float
+        The symmetry period T of F (radians).
+    intervals : tuple of (float, float)
+        Θ₁ … Θ_N of Algorithm A′, lifted (radians).
+    steps : tuple of PlanStep
+        In execution order: ``gripper_angle`` (radians, world; the last is 0) and
+        ``margin`` (radians; None for the first action).
+    final_orientations : tuple of float
+        Where the plan leaves the part (world, [0, 2π)).
+    verified : bool
+        Whether running the actions' functions from every start leaves the part exactly at
+        ``final_orientations`` (within ``final_uncertainty``): :func:`verify`, :func:`verify_set`.
+    timings_s : dict of str to float
+        Seconds spent planning and verifying.
+    bounds : SetTransfer or None
+        The set-valued function the plan was built on (None: the exact model).
+    final_uncertainty : float
+        Half-width (radians) of the interval around each final orientation in which the
+        part is guaranteed to end (conventions §7); 0 in the exact model.
+    robust : dict or None
+        Physics and dead band used (JSON-ready), None in the exact model.
+    limits : dict or None
+        How far the physics ranges may reach with a plan still existing
+        (:func:`algrasp.planning.limits.limits`), when searched.
+    analysis : Analysis or None
+        The analysis the plan was made from (its part and model): what lets a plan be
+        validated, optimised or re-planned without handing the part over again.
+    execution : Execution or None
+        The optimised execution (``optimisation.execution.Execution``: push distances, jaw
+        timing, cycle time), None until optimised; its fields join :meth:`to_dict`.
+
+    Examples
+    --------
+    >>> from algrasp import plan
+    >>> p = plan({"name": "r", "boundary": [[0, 0], [4, 0], [4, 2], [0, 2]]}, exact=True)
+    >>> p.action, p.verified, p.final_orientations, [s.gripper_angle for s in p.steps]
+    ('squeeze', True, (0.0, 3.141592653589793), [0.7853981633974483, 0.0])
+    >>> p.run(np.array([0.3, 2.0])).tolist(), p.to_dict()["final_orientations_deg"]
+    ([0.0, 3.141592653589793], [0.0, 180.0])
+    """
 
     action: Action
     transfer: TransferFunction
@@ -51,21 +98,11 @@ class Plan:
     verified: bool
     timings_s: dict[str, float] = field(default_factory=dict)
     bounds: SetTransfer | None = None
-    """The set-valued function the plan was built on (None: the exact model)."""
     final_uncertainty: float = 0.0
-    """Half-width (radians) of the interval around each final orientation in which the
-    part is guaranteed to end (conventions §7); 0 in the exact model."""
     robust: dict[str, object] | None = None
-    """Physics and dead band used (JSON-ready), None in the exact model."""
     limits: dict[str, object] | None = None
-    """How far the physics ranges may reach with a plan still existing
-    (:func:`algrasp.planning.limits.limits`), when searched."""
     analysis: Analysis | None = field(default=None, repr=False, compare=False)
-    """The analysis the plan was made from (its part and model): what lets a plan be
-    validated, optimised or re-planned without handing the part over again."""
     execution: Any = field(default=None, repr=False, compare=False)
-    """The optimised execution (``optimisation.execution.Execution``: push distances, jaw
-    timing, cycle time), None until optimised; its fields join :meth:`to_dict`."""
 
     def run(self, phi: FloatArray) -> FloatArray:
         """World orientations after executing the plan from ``phi`` (radians), per the

@@ -50,6 +50,49 @@ class Sample:
 
 @dataclass(frozen=True)
 class Validation:
+    """A plan simulated in Drake from many starts, as :func:`algrasp.validate` makes it
+    (angles in degrees, as in the validation document ``to_dict()`` gives).
+
+    Attributes
+    ----------
+    samples : tuple of Sample
+        Per start: ``initial_deg``, ``predicted_deg`` and ``simulated_deg`` (world φ),
+        ``agrees``, ``near_unstable``, ``offset_mm`` (jaw placement) and, for push-grasps,
+        the first push (``pushed_deg``, ``push_predicted_deg``, ``push_agrees``).
+    agreement : float
+        Fraction of samples that end within ``tolerance_deg`` plus the plan's final
+        uncertainty of a claimed orientation.
+    agreement_clear : float
+        The same over samples not within 2° of an unstable equilibrium.
+    tolerance_deg : float
+        The agreement tolerance (degrees).
+    placement : {"centred", "random"}
+        Where the jaws met the part.
+    sim_seconds, wall_seconds : float
+        Simulated time (summed over samples) and wall time taken (seconds).
+    model : dict
+        The simulation's configuration (SI) and the part's geometry in it.
+    push_agreement : float or None
+        Fraction of clear samples whose first push ends within tolerance (push-grasps).
+    optimised : bool
+        Whether the plan's optimised execution was simulated.
+    trajectories : tuple of list
+        Per sample (t, x, y, φ, α, q_L, q_H), SI; if recorded.
+    cells : tuple of dict
+        Per simulated cell of the physics ranges: its values, samples and agreement.
+    plan_document : dict or None
+        The document of the plan validated (what :meth:`to_dict` embeds by default).
+
+    Examples
+    --------
+    >>> doc = {"samples": [{"initial_deg": 10.0, "predicted_deg": 0.0, "simulated_deg": 0.02, "agrees": True,
+    ...                     "near_unstable": False, "offset_mm": 0.0}], "agreement": 1.0, "agreement_clear": 1.0,
+    ...        "tolerance_deg": 1.0, "placement": "centred", "sim_seconds": 1.5, "wall_seconds": 0.9, "model": {}}
+    >>> v, plan_doc = Validation.from_dict(doc)
+    >>> v.agreement, v.samples[0].simulated_deg, plan_doc, v.to_dict(with_plan=False)["sim_seconds"]
+    (1.0, 0.02, {}, 1.5)
+    """
+
     samples: tuple[Sample, ...]
     agreement: float
     agreement_clear: float
@@ -62,9 +105,7 @@ class Validation:
     optimised: bool = False
     trajectories: tuple[list[tuple[float, ...]], ...] = ()  # per sample (t, x, y, φ, α, q_L, q_H), SI; if recorded
     cells: tuple[dict[str, Any], ...] = ()
-    """Per simulated cell of the physics ranges: its values, samples and agreement."""
     plan_document: dict[str, Any] | None = field(default=None, repr=False, compare=False)
-    """The document of the plan validated (what :meth:`to_dict` embeds by default)."""
 
     def to_dict(self, plan_doc: dict[str, Any] | None = None, with_plan: bool = True) -> dict[str, Any]:
         """The validation document (degrees): per-sample outcomes, agreement, per-cell
