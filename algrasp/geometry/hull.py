@@ -17,16 +17,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
 from algrasp.errors import GeometryError
 from algrasp.geometry.angles import TWO_PI, to_deg
 from algrasp.geometry.bank import FeatureTable, unit_vectors
-from algrasp.geometry.curves import FloatArray
+from algrasp.geometry.curves import FloatArray, Piece
 from algrasp.geometry.gauss import HullFeature
 from algrasp.geometry.hull_loop import (
+    Candidates,
     Contact,
     Loop,
     build_loop,
@@ -107,16 +107,41 @@ class ConvexHull:
 
 # --------------------------------------------------------------------------- the walk
 
-_Element = tuple[Any, ...]  # ("edge", a, b) | ("curve", pid, s, e) | ("point", (x, y))
+@dataclass(frozen=True, slots=True)
+class EdgeElement:
+    """A straight edge of the hull from ``a`` to ``b`` (counter-clockwise)."""
+
+    a: tuple[float, float]
+    b: tuple[float, float]
 
 
-def _link(ma: list[tuple[int, int]], mb: list[tuple[int, int]]) -> int:
-    """Piece joining consecutive hull points along the curve, or -1 for a straight edge."""
+@dataclass(frozen=True, slots=True)
+class CurveElement:
+    """Piece ``piece`` of the loop between parameters ``s`` and ``e``."""
+
+    piece: int
+    s: float
+    e: float
+
+
+@dataclass(frozen=True, slots=True)
+class PointElement:
+    """A corner of the hull at ``xy``."""
+
+    xy: tuple[float, float]
+
+
+Element = EdgeElement | CurveElement | PointElement
+"""One element of the hull boundary, in counter-clockwise order."""
+
+
+def _link(ma: list[tuple[int, int]], mb: list[tuple[int, int]]) -> int | None:
+    """Piece joining consecutive hull points along the curve, or None for a straight edge."""
     for pa, ja in ma:
         for pb, jb in mb:
             if pa == pb and jb > ja:
                 return pa
-    return -1
+    return None
 
 
 def _dedupe(path: list[int]) -> list[int]:
@@ -127,65 +152,68 @@ def _dedupe(path: list[int]) -> list[int]:
     return out
 
 
-def _stretch(loop: Loop, path: list[int], cin: Contact, cout: Contact) -> list[_Element]:
+def _stretch(loop: Loop, path: list[int], cin: Contact, cout: Contact) -> list[Element]:
     """Elements from the end contact of one edge to the start contact of the next."""
     path = _dedupe(path)
-    if cin[1] >= 0 and (not path or path[0] != cin[1]):
-        path.insert(0, cin[1])
-    if cout[1] >= 0 and (not path or path[-1] != cout[1]):
-        path.append(cout[1])
-    if not path:
-        return [("point", loop.vertex_list[cin[0]])]
-    elems: list[_Element] = []
-    if cin[0] >= 0:
-        elems.append(("point", loop.vertex_list[cin[0]]))
+    if cin.piece is not None and (not path or path[0] != cin.piece):
+        path.insert(0, cin.piece)
+    if cout.piece is not None and (not path or path[-1] != cout.piece):
+        path.append(cout.piece)
+    if not path:  # then cin is a vertex
+        return [PointElement(contact_xy(loop, cin))]
+    elems: list[Element] = []
+    if cin.vertex is not None:
+        elems.append(PointElement(loop.vertex_list[cin.vertex]))
     for idx, pid in enumerate(path):
         if idx > 0:
-            elems.append(("point", loop.vertex_list[loop.start_vertex[pid]]))
-        s = cin[2] if idx == 0 and cin[1] == pid else 0.0
-        e = cout[2] if idx == len(path) - 1 and cout[1] == pid else 1.0
-        elems.append(("curve", pid, s, e))
-    if cout[0] >= 0:
-        elems.append(("point", loop.vertex_list[cout[0]]))
+            elems.append(PointElement(loop.vertex_list[loop.start_vertex[pid]]))
+        s = cin.t if idx == 0 and cin.piece == pid else 0.0
+        e = cout.t if idx == len(path) - 1 and cout.piece == pid else 1.0
+        elems.append(CurveElement(pid, s, e))
+    if cout.vertex is not None:
+        elems.append(PointElement(loop.vertex_list[cout.vertex]))
     return elems
 
 
-def _elements(loop: Loop, order: list[int], links: list[int], contacts: list[Contact], size: float) -> list[_Element]:
+def _elements(loop: Loop, order: list[int], links: list[int | None], cand: Candidates, size: float) -> list[Element]:
     h = len(order)
-    edge_at = [i for i in range(h) if links[i] < 0]
+    edge_at = [i for i in range(h) if links[i] is None]
     if not edge_at:
-        path = _dedupe([links[i] for i in range(h)])
+        path = _dedupe([pid for pid in links if pid is not None])
         if len(path) > 1 and path[0] == path[-1]:
             path.pop()
-        return _stretch(loop, path, (loop.start_vertex[path[0]], -1, 0.0), (loop.start_vertex[path[0]], -1, 0.0))[1:]
+        start = Contact(vertex=loop.start_vertex[path[0]])
+        return _stretch(loop, path, start, start)[1:]
     solved = []
     for i in edge_at:
-        a, b = contacts[order[i]], contacts[order[(i + 1) % h]]
+        a, b = cand.contact(order[i]), cand.contact(order[(i + 1) % h])
         solved.append(verified_edge(loop, a, b, size) if loop.pieces else (a, b))
-    elems: list[_Element] = []
+    elems: list[Element] = []
     for k, i in enumerate(edge_at):
         nxt = edge_at[(k + 1) % len(edge_at)]
         span = range(i + 1, nxt if nxt > i else nxt + h)
-        path = [links[j % h] for j in span]
+        path = [pid for j in span if (pid := links[j % h]) is not None]  # none is: edges end a span
         cout = solved[(k + 1) % len(edge_at)][0]
         elems.extend(_stretch(loop, path, solved[k][1], cout))
-        elems.append(("edge", contact_xy(loop, cout), contact_xy(loop, solved[(k + 1) % len(edge_at)][1])))
+        elems.append(EdgeElement(contact_xy(loop, cout), contact_xy(loop, solved[(k + 1) % len(edge_at)][1])))
     return elems
 
 
-def _element_normals(loop: Loop, elems: list[_Element]) -> list[tuple[float, float]]:
+def _own_normals(loop: Loop, el: Element) -> tuple[float, float] | None:
+    """Normal range (ψ₀, ψ₁) of an edge (its normal) or a curve (its end normals); None for a point."""
+    if isinstance(el, EdgeElement):
+        psi = math.atan2(el.a[0] - el.b[0], el.b[1] - el.a[1])
+        return psi, psi
+    if isinstance(el, CurveElement):
+        p = loop.pieces[el.piece]
+        return float(p.normal_angle(el.s)), float(p.normal_angle(el.e))
+    return None
+
+
+def _element_normals(loop: Loop, elems: list[Element]) -> list[tuple[float, float]]:
     """Normal range (ψ₀, ψ₁) of each element: an edge's normal, a curve's end normals;
     a point spans from the element before it to the one after (cyclically). O(m)."""
-    raw: list[tuple[float, float] | None] = []
-    for el in elems:
-        if el[0] == "edge":
-            psi = math.atan2(el[1][0] - el[2][0], el[2][1] - el[1][1])
-            raw.append((psi, psi))
-        elif el[0] == "curve":
-            p = loop.pieces[el[1]]
-            raw.append((float(p.normal_angle(el[2])), float(p.normal_angle(el[3]))))
-        else:
-            raw.append(None)
+    raw = [_own_normals(loop, el) for el in elems]
     ranges = [r for r in raw if r is not None]
     before: list[tuple[float, float]] = []  # the nearest range before each element
     last = ranges[-1]
@@ -201,10 +229,20 @@ def _element_normals(loop: Loop, elems: list[_Element]) -> list[tuple[float, flo
     return out
 
 
-def _features(loop: Loop, elems: list[_Element], tol: Tolerances) -> list[HullFeature]:
+def _feature(el: PointElement | CurveElement, a: float, b: float, pieces: tuple[Piece, ...]) -> HullFeature:
+    """The feature of element ``el`` over the normals [a, b]."""
+    if isinstance(el, PointElement):
+        return HullFeature("point", a, b, (float(el.xy[0]), float(el.xy[1])), 0.0, None, 0.0, 1.0)
+    p = pieces[el.piece]
+    if p.circle is not None:
+        return HullFeature("circle", a, b, (p.circle[0], p.circle[1]), p.circle[2], p, el.s, el.e)
+    return HullFeature("curve", a, b, (0.0, 0.0), 0.0, p, el.s, el.e)
+
+
+def _features(loop: Loop, elems: list[Element], tol: Tolerances) -> list[HullFeature]:
     normals = _element_normals(loop, elems)
-    specs: list[tuple[Any, ...]] = []  # HullFeature's fields, psi1 still the element's own
-    level = normals[0][0]
+    kept: list[tuple[PointElement | CurveElement, float]] = []  # the elements with features, and their first normals
+    level = last = normals[0][0]
     for el, (a, b) in zip(elems, normals):
         # Around a convex loop the normal only advances, by less than π at a corner; a
         # small apparent step back is a contact resolved within the length tolerance
@@ -212,22 +250,16 @@ def _features(loop: Loop, elems: list[_Element], tol: Tolerances) -> list[HullFe
         a = level + max((a - level + math.pi) % TWO_PI - math.pi, 0.0)
         b = a + max((b - a + math.pi) % TWO_PI - math.pi, 0.0)
         level = b
-        if el[0] == "edge" or b - a <= tol.sliver_rad:
+        if isinstance(el, EdgeElement) or b - a <= tol.sliver_rad:
             continue
-        if el[0] == "point":
-            specs.append(("point", a, b, (float(el[1][0]), float(el[1][1])), 0.0, None, 0.0, 1.0))
-            continue
-        p = loop.pieces[el[1]]
-        if p.circle is not None:
-            specs.append(("circle", a, b, (p.circle[0], p.circle[1]), p.circle[2], p, el[2], el[3]))
-        else:
-            specs.append(("curve", a, b, (0.0, 0.0), 0.0, p, el[2], el[3]))
-    total = specs[-1][2] - specs[0][1]
+        kept.append((el, a))
+        last = b
+    total = last - kept[0][1]
     if abs(total - TWO_PI) > HULL_TURN_RAD:
         raise GeometryError(f"hull normals cover {to_deg(total):.6f}° instead of 360°")
     # Tile S¹ exactly: each range ends where the next begins.
-    ends = [f[1] for f in specs[1:]] + [specs[0][1] + TWO_PI]
-    return [HullFeature(k, a, e, c, r, p, s0, s1) for (k, a, _, c, r, p, s0, s1), e in zip(specs, ends)]
+    ends = [a for _, a in kept[1:]] + [kept[0][1] + TWO_PI]
+    return [_feature(el, a, e, loop.pieces) for (el, a), e in zip(kept, ends)]
 
 
 def hull_order(pts: FloatArray) -> list[int]:
@@ -262,20 +294,20 @@ def exact_hull(boundary: list[Segment], size: float, tol: Tolerances) -> ConvexH
     piece), plus O(E·n) for verifying E straight edges against n pieces.
     """
     loop = build_loop(boundary, size)
-    pts, members, contacts = candidate_points(loop, tol)
-    order = hull_order(pts)
+    cand = candidate_points(loop, tol)
+    order = hull_order(cand.points)
     if len(order) < 3:  # a cusp or a sliver drawn as a curve
-        raise GeometryError(f"boundary: the convex hull is degenerate ({len(pts)} candidate points): is the part "
+        raise GeometryError(f"boundary: the convex hull is degenerate ({len(cand.points)} candidate points): is the part "
                             "a sliver or a curve with a cusp?")
     h = len(order)
-    links = [_link(members[order[i]], members[order[(i + 1) % h]]) for i in range(h)]
-    elems = _elements(loop, order, links, contacts, size)
+    links = [_link(cand.members(order[i]), cand.members(order[(i + 1) % h])) for i in range(h)]
+    elems = _elements(loop, order, links, cand, size)
     feats = _features(loop, elems, tol)
-    edges = tuple((e[1], e[2]) for e in elems if e[0] == "edge")
+    edges = tuple((e.a, e.b) for e in elems if isinstance(e, EdgeElement))
     table = FeatureTable.build(feats)
     perimeter = math.fsum(math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in edges)
     perimeter += sum(f.radius * (f.psi1 - f.psi0) for f in feats if f.kind == "circle")
     if any(f.kind == "curve" for f in feats):
         # Composite Gauss-Legendre (8 panels × 24 nodes) converges to rounding on these arcs.
         perimeter += float(np.sum(table.curve_lengths(*gauss_legendre_01(24, 8))))
-    return ConvexHull(tuple(feats), edges, perimeter, table)  # type: ignore[arg-type]
+    return ConvexHull(tuple(feats), edges, perimeter, table)

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
+from typing import NamedTuple
 
 import numpy as np
 
@@ -140,14 +141,29 @@ def _samples(coef: FloatArray, max_turn: float) -> tuple[IntArray, FloatArray]:
 
 # --------------------------------------------------------------------------- contacts
 
-Contact = tuple[int, int, float]  # (vertex id or -1, piece id or -1, parameter)
+
+@dataclass(frozen=True, slots=True)
+class Contact:
+    """Where a hull edge touches the loop: vertex ``vertex`` of the loop, or piece
+    ``piece`` at parameter ``t`` (exactly one of ``vertex`` and ``piece`` is set)."""
+
+    vertex: int | None = None
+    piece: int | None = None
+    t: float = 0.0
+
+    @property
+    def piece_id(self) -> int:
+        """:attr:`piece`, for a contact on a piece."""
+        if self.piece is None:
+            raise ValueError(f"{self} is not on a piece")
+        return self.piece
 
 
 def contact_xy(loop: Loop, c: Contact) -> tuple[float, float]:
     """The point of contact ``c``: a vertex, or a piece at its parameter."""
-    if c[0] >= 0:
-        return loop.vertex_list[c[0]]
-    x, y = loop.pieces[c[1]].point(c[2]).tolist()
+    if c.vertex is not None:
+        return loop.vertex_list[c.vertex]
+    x, y = loop.pieces[c.piece_id].point(c.t).tolist()
     return x, y
 
 
@@ -165,13 +181,45 @@ def _vertex_tangent(loop: Loop, a: FloatArray, pid: int, t_guess: float, size: f
     return min(roots, key=lambda t: abs(t - t_guess))
 
 
-def _frame(p: Piece, t: float) -> tuple[float, float, float, float, float, float, float]:
-    """Point (x, y), tangent numerator (tx, ty), its derivative and W at t, in floats."""
+class _Frame(NamedTuple):
+    """A piece at one parameter, in floats: point, tangent numerator T, its derivative T′, weight W."""
+
+    x: float
+    y: float
+    tx: float
+    ty: float
+    dtx: float
+    dty: float
+    w: float
+
+
+def _frame(p: Piece, t: float) -> _Frame:
+    """The :class:`_Frame` of piece ``p`` at ``t``."""
     X, Y, W, _, _ = p.lists
     TX, TY, dTX, dTY = p.tangent_lists
     w = horner_float(W, t)
-    return (horner_float(X, t) / w, horner_float(Y, t) / w, horner_float(TX, t), horner_float(TY, t),
-            horner_float(dTX, t), horner_float(dTY, t), w)
+    return _Frame(horner_float(X, t) / w, horner_float(Y, t) / w, horner_float(TX, t), horner_float(TY, t),
+                  horner_float(dTX, t), horner_float(dTY, t), w)
+
+
+def _newton_step(a: _Frame, b: _Frame) -> tuple[float, float] | None:
+    """The Newton step (ds, dt) of :func:`_bitangent` at frames a, b; None when singular."""
+    ex, ey = b.x - a.x, b.y - a.y
+    f1, f2 = a.tx * ey - a.ty * ex, b.tx * ey - b.ty * ex
+    j11, j12 = a.dtx * ey - a.dty * ex, (a.tx * b.ty - a.ty * b.tx) / (b.w * b.w)
+    j21, j22 = -(b.tx * a.ty - b.ty * a.tx) / (a.w * a.w), b.dtx * ey - b.dty * ex
+    det = j11 * j22 - j12 * j21
+    if det == 0.0 or not math.isfinite(det):
+        return None
+    return (f1 * j22 - f2 * j12) / det, (j11 * f2 - j21 * f1) / det
+
+
+def _tangent_residual(a: _Frame, b: _Frame) -> float:
+    """How far the line a→b is from tangent to both pieces, with unit tangents (as the length tolerance)."""
+    ex, ey = b.x - a.x, b.y - a.y
+    r1 = abs(a.tx * ey - a.ty * ex) / math.hypot(a.tx, a.ty)
+    r2 = abs(b.tx * ey - b.ty * ex) / math.hypot(b.tx, b.ty)
+    return max(r1, r2)
 
 
 def _bitangent(loop: Loop, fa: int, sa: float, fb: int, sb: float) -> tuple[float, float] | None:
@@ -181,28 +229,15 @@ def _bitangent(loop: Loop, fa: int, sa: float, fb: int, sb: float) -> tuple[floa
     pa, pb = loop.pieces[fa], loop.pieces[fb]
     s, t = sa, sb
     for _ in range(40):
-        ax, ay, tax, tay, dax, day, wa = _frame(pa, s)
-        bx, by, tbx, tby, dbx, dby, wb = _frame(pb, t)
-        ex, ey = bx - ax, by - ay
-        f1, f2 = tax * ey - tay * ex, tbx * ey - tby * ex
-        j11, j12 = dax * ey - day * ex, (tax * tby - tay * tbx) / (wb * wb)
-        j21, j22 = -(tbx * tay - tby * tax) / (wa * wa), dbx * ey - dby * ex
-        det = j11 * j22 - j12 * j21
-        if det == 0.0 or not math.isfinite(det):
+        step = _newton_step(_frame(pa, s), _frame(pb, t))
+        if step is None:
             break
-        ds, dt = (f1 * j22 - f2 * j12) / det, (j11 * f2 - j21 * f1) / det
+        ds, dt = step
         s, t = s - ds, t - dt
         if abs(ds) + abs(dt) < ROUNDING_FINE:
             break
-    # Judge the residual with unit tangents, as the hull's length tolerance does.
-    if math.isfinite(s) and math.isfinite(t):
-        ax, ay, tax, tay, _, _, _ = _frame(pa, s)
-        bx, by, tbx, tby, _, _, _ = _frame(pb, t)
-        ex, ey = bx - ax, by - ay
-        r1 = abs(tax * ey - tay * ex) / math.hypot(tax, tay)
-        r2 = abs(tbx * ey - tby * ex) / math.hypot(tbx, tby)
-        if max(r1, r2) <= ROUNDING:
-            return s, t
+    if math.isfinite(s) and math.isfinite(t) and _tangent_residual(_frame(pa, s), _frame(pb, t)) <= ROUNDING:
+        return s, t
     return _alternating_bitangent(loop, fa, sa, fb, sb)
 
 
@@ -224,28 +259,33 @@ def _alternating_bitangent(loop: Loop, fa: int, sa: float, fb: int, sb: float) -
 
 def _snap(loop: Loop, c: Contact) -> Contact:
     """A contact at a piece end becomes the vertex there."""
-    if c[0] >= 0:
+    if c.piece is None:
         return c
-    if c[2] <= ROUNDING:
-        return (loop.start_vertex[c[1]], -1, 0.0)
-    if c[2] >= 1.0 - ROUNDING:
-        return (loop.end_vertex[c[1]], -1, 0.0)
+    if c.t <= ROUNDING:
+        return Contact(vertex=loop.start_vertex[c.piece])
+    if c.t >= 1.0 - ROUNDING:
+        return Contact(vertex=loop.end_vertex[c.piece])
     return c
+
+
+def _tangent_from(loop: Loop, v: int, c: Contact, size: float) -> Contact:
+    """Contact on ``c``'s piece of the tangent from vertex ``v`` (or the nearest end of the piece)."""
+    t = _vertex_tangent(loop, loop.vertices[v], c.piece_id, c.t, size)
+    return _snap(loop, Contact(piece=c.piece_id, t=t if t is not None else float(round(c.t))))
 
 
 def _solve_edge(loop: Loop, a: Contact, b: Contact, size: float) -> tuple[Contact, Contact]:
     """Exact tangent contacts of the straight edge from near ``a`` to near ``b``."""
-    if a[0] < 0 and b[0] < 0:
-        st = _bitangent(loop, a[1], a[2], b[1], b[2])
+    if a.piece is not None and b.piece is not None:
+        st = _bitangent(loop, a.piece, a.t, b.piece, b.t)
         if st is not None and -PARAM_END <= st[0] <= 1 + PARAM_END and -PARAM_END <= st[1] <= 1 + PARAM_END:
-            return _snap(loop, (-1, a[1], min(max(st[0], 0.0), 1.0))), _snap(loop, (-1, b[1], min(max(st[1], 0.0), 1.0)))
-        a = _snap(loop, (-1, a[1], float(np.clip(round(a[2]), 0, 1))))
-    if a[0] >= 0 and b[0] < 0:
-        t = _vertex_tangent(loop, loop.vertices[a[0]], b[1], b[2], size)
-        return a, _snap(loop, (-1, b[1], t)) if t is not None else _snap(loop, (-1, b[1], float(round(b[2]))))
-    if a[0] < 0 and b[0] >= 0:
-        t = _vertex_tangent(loop, loop.vertices[b[0]], a[1], a[2], size)
-        return (_snap(loop, (-1, a[1], t)) if t is not None else _snap(loop, (-1, a[1], float(round(a[2]))))), b
+            s, t = (min(max(x, 0.0), 1.0) for x in st)
+            return _snap(loop, Contact(piece=a.piece, t=s)), _snap(loop, Contact(piece=b.piece, t=t))
+        a = _snap(loop, Contact(piece=a.piece, t=float(np.clip(round(a.t), 0, 1))))
+    if a.vertex is not None and b.vertex is None:
+        return a, _tangent_from(loop, a.vertex, b, size)
+    if a.vertex is None and b.vertex is not None:
+        return _tangent_from(loop, b.vertex, a, size), b
     return a, b
 
 
@@ -255,7 +295,7 @@ def _worst_outside(loop: Loop, a: FloatArray, b: FloatArray) -> tuple[float, Con
     n = np.array([e[1], -e[0]]) / np.hypot(*e)
     dv = (loop.vertices - a) @ n
     iv = int(np.argmax(dv))
-    worst, where = float(dv[iv]), (iv, -1, 0.0)
+    worst, where = float(dv[iv]), Contact(vertex=iv)
     cps, offsets = loop.control_points
     if not len(cps):
         return worst, where
@@ -267,21 +307,21 @@ def _worst_outside(loop: Loop, a: FloatArray, b: FloatArray) -> tuple[float, Con
         t = p.support_param(n)
         val = float((p.point(t) - a) @ n)
         if val > worst:
-            worst, where = val, (-1, int(k), t)
+            worst, where = val, Contact(piece=int(k), t=t)
     return worst, where
 
 
 def _slide(loop: Loop, a: Contact, b: Contact, psi_edge: float) -> tuple[Contact, Contact] | None:
     """Move a vertex contact onto the curve ending (starting) there when the edge would
     turn back against that curve's end tangent — the true tangency is just inside it."""
-    if a[0] >= 0:
+    if a.vertex is not None:
         for k, v in enumerate(loop.end_vertex):
-            if v == a[0] and _ahead(float(loop.pieces[k].normal_angle(1.0)), psi_edge):
-                return (-1, k, 1.0 - SLIDE_PARAM), b
-    if b[0] >= 0:
+            if v == a.vertex and _ahead(float(loop.pieces[k].normal_angle(1.0)), psi_edge):
+                return Contact(piece=k, t=1.0 - SLIDE_PARAM), b
+    if b.vertex is not None:
         for k, v in enumerate(loop.start_vertex):
-            if v == b[0] and _ahead(psi_edge, float(loop.pieces[k].normal_angle(0.0))):
-                return a, (-1, k, SLIDE_PARAM)
+            if v == b.vertex and _ahead(psi_edge, float(loop.pieces[k].normal_angle(0.0))):
+                return a, Contact(piece=k, t=SLIDE_PARAM)
     return None
 
 
@@ -320,18 +360,35 @@ def verified_edge(loop: Loop, a: Contact, b: Contact, size: float) -> tuple[Cont
     raise GeometryError(f"could not resolve a hull edge near ({pa[0]:.6g}, {pa[1]:.6g})")
 
 
-def candidate_points(loop: Loop, tol: Tolerances) -> tuple[FloatArray, list[list[tuple[int, int]]], list[Contact]]:
-    """Exact curve points to locate the hull: vertices, then samples of every piece.
+@dataclass(frozen=True, eq=False)
+class Candidates:
+    """Exact curve points that locate the hull (:func:`candidate_points`): the loop's
+    vertices, then samples of every piece. Only hull points are ever asked for their
+    memberships and contacts, so those are built on demand."""
 
-    Returns the points (N, 2), for each the (piece, sample index) memberships that
-    link consecutive hull points along a piece, and the initial contact of each.
-    Memberships and contacts are lazy sequences: only hull points are ever asked.
-    """
+    points: FloatArray  # (N, 2)
+    n_v: int  # the first n_v points are the vertices
+    vmembers: list[list[tuple[int, int]]]  # (piece, sample index) pairs of each vertex
+    owner: IntArray  # (N,) piece of each sample (-1 at the vertices)
+    index: IntArray  # (N,) index of each sample along its piece
+    param: FloatArray  # (N,) parameter of each sample
+
+    def members(self, k: int) -> list[tuple[int, int]]:
+        """(piece, sample index) pairs of point k, which link consecutive hull points along a piece."""
+        return self.vmembers[k] if k < self.n_v else [(int(self.owner[k]), int(self.index[k]))]
+
+    def contact(self, k: int) -> Contact:
+        """The initial contact of point k."""
+        return Contact(vertex=int(k)) if k < self.n_v else Contact(piece=int(self.owner[k]), t=float(self.param[k]))
+
+
+def candidate_points(loop: Loop, tol: Tolerances) -> Candidates:
+    """The :class:`Candidates` of ``loop``: its vertices, then samples of every piece."""
     n_v = len(loop.vertices)
     vmembers: list[list[tuple[int, int]]] = [[] for _ in range(n_v)]
     if not loop.pieces:
         empty = np.zeros(0, dtype=int)
-        return loop.vertices, _Members(n_v, vmembers, empty, empty), _Contacts(n_v, empty, np.zeros(0))  # type: ignore[return-value]
+        return Candidates(loop.vertices, n_v, vmembers, empty, empty, np.zeros(0))
     owner, param = _samples(loop.coef, tol.hull_sample_turn_rad)
     counts = np.bincount(owner, minlength=len(loop.pieces))
     j = np.arange(owner.size) - np.repeat(np.cumsum(counts) - counts, counts) + 1
@@ -339,28 +396,5 @@ def candidate_points(loop: Loop, tol: Tolerances) -> tuple[FloatArray, list[list
         vmembers[loop.start_vertex[k]].append((k, 0))
         vmembers[loop.end_vertex[k]].append((k, n + 1))
     pts = points(loop.coef, owner, param)
-    owner = np.concatenate([np.full(n_v, -1), owner])
-    return (np.concatenate([loop.vertices, pts]), _Members(n_v, vmembers, owner, np.concatenate([np.zeros(n_v, dtype=int), j])),  # type: ignore[return-value]
-            _Contacts(n_v, owner, np.concatenate([np.zeros(n_v), param])))
-
-
-class _Members:
-    """members[k]: (piece, sample index) pairs of candidate point k."""
-
-    def __init__(self, n_v: int, vmembers: list[list[tuple[int, int]]], owner: IntArray, j: IntArray) -> None:
-        self.n_v, self.vmembers, self.owner, self.j = n_v, vmembers, owner, j
-
-    def __getitem__(self, k: int) -> list[tuple[int, int]]:
-        return self.vmembers[k] if k < self.n_v else [(int(self.owner[k]), int(self.j[k]))]
-
-
-class _Contacts:
-    """contacts[k]: the initial contact of candidate point k."""
-
-    def __init__(self, n_v: int, owner: IntArray, param: FloatArray) -> None:
-        self.n_v, self.owner, self.param = n_v, owner, param
-
-    def __getitem__(self, k: int) -> Contact:
-        return (int(k), -1, 0.0) if k < self.n_v else (-1, int(self.owner[k]), float(self.param[k]))
-
-
+    return Candidates(np.concatenate([loop.vertices, pts]), n_v, vmembers, np.concatenate([np.full(n_v, -1), owner]),
+                      np.concatenate([np.zeros(n_v, dtype=int), j]), np.concatenate([np.zeros(n_v), param]))
