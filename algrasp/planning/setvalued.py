@@ -140,8 +140,9 @@ def tolerant_symmetry(f: SupportPairFunction, value_tol: float) -> float:
         return P
     screen = _shift_bound(v, ks)
     errors: dict[int, float] = {}
-    for k in ks[M % ks == 0].tolist():  # exact and cheap: every divisor is rolled
-        errors[k] = float(np.max(np.abs(np.roll(v, -M // k) - v)))
+    divisors = ks[M % ks == 0]  # exact and cheap: every divisor is rolled, all in one pass
+    rolled = v[(np.arange(M)[None, :] + (M // divisors)[:, None]) % M]
+    errors.update(zip(divisors.tolist(), np.max(np.abs(rolled - v[None, :]), axis=1).tolist()))
     others = ks[(screen <= value_tol + 0.5 * jump) & (M % ks != 0)]
     for k in others[np.argsort(screen[np.isin(ks, others)])][:MAX_SYMMETRY_CANDIDATES].tolist():
         errors[k] = float(np.max(np.abs(f.values(theta + P / k) - v)))
