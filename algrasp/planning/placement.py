@@ -51,15 +51,15 @@ def pointwise(fs: list[TransferFunction], take_max: bool, tol_rad: float) -> Tra
     """
     P = fs[0].period
     cuts = _cuts(fs, fs[0].pieces[0].start, P)
+    cells = [(a, b) for a, b in zip(cuts[:-1], cuts[1:]) if b - a > 0.0]
+    mids = np.array([0.5 * (a + b) for a, b in cells])
+    # Every function at every cell's middle in one vectorised lookup each.
+    values = np.array([F.apply(mids) for F in fs]).T.tolist()
+    ramps = np.array([F.on_ramp(mids) for F in fs]).T.tolist()
     pieces: list[TransferPiece] = []
-    for a, b in zip(cuts[:-1], cuts[1:]):
-        if b - a <= 0.0:
-            continue
-        mid = 0.5 * (a + b)
-        values = [F(mid) for F in fs]
-        ramp = any(F.on_ramp(np.array([mid]))[0] for F in fs)
-        consts = [v for F, v in zip(fs, values) if not F.on_ramp(np.array([mid]))[0]]
-        pieces.extend(_extreme(a, b, ramp, consts, take_max))
+    for (a, b), vs, rs in zip(cells, values, ramps):
+        consts = [v for v, r in zip(vs, rs) if not r]
+        pieces.extend(_extreme(a, b, any(rs), consts, take_max))
     return TransferFunction(P, tuple(canonical(pieces, P, tol_rad)))
 
 
