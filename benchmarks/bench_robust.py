@@ -14,6 +14,7 @@ from typing import Any
 
 from algrasp.errors import NotOrientableError
 from algrasp.geometry.arcforms import document, fig11_outline
+from algrasp.pipeline import WARM_UP_PART
 from algrasp.planning.analysis import EXACT, ROBUST, Model, analyse_document
 from algrasp.planning.plans import make_plan
 from algrasp.testing import shapes
@@ -50,11 +51,8 @@ def main() -> None:
 def _refusals() -> None:
     """A refusal under the default ranges carries every limit (the advice): one limit
     search per range, each probe one robust analysis and plan."""
-    triangle = {"name": "triangle", "boundary": [{"type": "line", "start": [0, 0], "end": [3, 0]},
-                                                 {"type": "line", "start": [3, 0], "end": [1, 2]},
-                                                 {"type": "line", "start": [1, 2], "end": [0, 0]}]}
     print(f"\n{'refused plan (with its limits)':30s} {'median ms':>10s}")
-    for name, doc, action in (("triangle, squeeze", triangle, "squeeze"),
+    for name, doc, action in (("triangle, squeeze", WARM_UP_PART, "squeeze"),
                               ("random 5-gon, squeeze", shapes.random_polygon(5, 3), "squeeze"),
                               ("random 5-gon, push-grasp", shapes.random_polygon(5, 3), "push_grasp")):
         a = analyse_document(doc, ROBUST)

@@ -31,7 +31,7 @@ from algrasp.geometry.tolerances import Tolerances
 from algrasp.geometry.units import meters_per_unit
 from algrasp.planning.physics import COM_TOLERANCE_REL, DEFAULT_PHYSICS, Physics, iso_2768_f_mm
 
-__all__ = ["DEFAULT_PHYSICS", "DeadBand", "Physics", "dead_band", "mean_radius"]
+__all__ = ["DEFAULT_PHYSICS", "DeadBand", "PartTerms", "Physics", "dead_band", "mean_radius", "part_terms"]
 
 _MEAN_RADIUS_TURN_RAD = 0.02
 """Polyline turn for r̄ (only r̄ uses it: ~1e-4 relative)."""
@@ -143,9 +143,8 @@ def part_terms(part: Part, tol: Tolerances) -> PartTerms:
     return PartTerms(mean_radius(part), drawing_error(part.boundary, tol))
 
 
-def dead_band(part: Part, physics: Physics, tol: Tolerances, terms: PartTerms | None = None) -> DeadBand:
-    """The part's dead band under the physics ranges. O(n), O(1) given ``terms``."""
-    terms = part_terms(part, tol) if terms is None else terms
+def dead_band(part: Part, physics: Physics, tol: Tolerances, terms: PartTerms) -> DeadBand:
+    """The part's dead band under the physics ranges, given its own terms. O(1)."""
     rbar, err = terms.mean_radius, terms.error
     floor = profile_floor(part, physics)
     sigma = max(err.slope, floor) if physics.shape_tolerance is None else max(physics.shape_tolerance, floor)

@@ -140,7 +140,8 @@ def limits(analysis: Analysis, action: str, planner: Planner, names: tuple[str, 
                            for n in names}
     stuck = all(out[n]["value"] is None for n in names)
     if physics.placement == "any" and action == "squeeze" and stuck:
-        out["placement_centred"] = plan_exists(analysis, replace(physics, placement="centred"), action, planner, margin_deg)
+        out["placement_centred"] = plan_exists(analysis, replace(physics, placement="centred"), action, planner, margin_deg,
+                                               known)
     if stuck and not out.get("placement_centred"):
         out["ideal_cell"] = _in_ideal_cell(analysis, physics, action, planner, margin_deg, known)
     out["advice"] = advice(action, out, analysis.part.units)
