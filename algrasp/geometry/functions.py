@@ -149,6 +149,12 @@ def _cells(kind: Kind, hull: ConvexHull, tol: Tolerances) -> list[tuple[int, int
     return [(i, j, a, b) for (a, i, j), b in zip(edges, ends) if b - a > tol.angle_rad]
 
 
+def contact_cells(f: SupportPairFunction, tol: Tolerances) -> list[tuple[int, int, float, float]]:
+    """The cells (near, far, ψ_a, ψ_b) of ``f`` over one turn in ψ (radians, lifted): on
+    each, the contact features at ψ and ψ + π are fixed (near −1: the centre of mass)."""
+    return _cells(f.kind, f.hull, tol)
+
+
 def _grid(a: float, b: float, tol: Tolerances) -> FloatArray:
     """Sign-change grid of a cell: spacing ≤ root_grid_rad, at least 9 points."""
     return np.linspace(a, b, max(8, int(np.ceil((b - a) / tol.root_grid_rad))) + 1)

@@ -16,17 +16,20 @@ mirrors it. Both are monotone step/ramp functions — :class:`~algrasp.planning.
 — so an interval [a, b) maps into [lower(a), upper(b⁻)]. With s = σ = 0 both equal the
 exact function of §3.
 
-The classification is made on cells between nodes: a uniform grid of ``GRID_RAD``, every
-Gauss-map breakpoint (where f′ jumps) and every extremum of the exact analysis. Each cell
-takes the union of the permissions sampled at its two ends and its middle, in every
-copy θ + kT of the symmetry period T judged to tolerance (a tessellated gear has the
-period of its teeth): the union is conservative, so images only grow. O(c·K) for c cells
-and K copies, all in vectorised passes.
+The classification is made on cells between nodes: every exact threshold crossing
+(:mod:`algrasp.planning.edges`: closed form on lines, arcs and vertices; a grid of
+``GRID_RAD`` on curve pieces only), each guarded by a sliver of ±``EDGE_RAD`` that takes
+both sides' permissions; every Gauss-map breakpoint (where f′ jumps) and every extremum of
+the exact analysis. The uniform grid is added only inside cells where one value could hide
+a staircase (an energy barrier that may cut a run short, a shallow basin). Each cell takes
+the union of the permissions sampled just inside its two ends, in every copy θ + kT of the
+symmetry period T judged to tolerance (a tessellated gear has the period of its teeth):
+the union is conservative, so images only grow. O(c·K) for c cells and K copies, all in
+vectorised passes.
 """
 
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -34,19 +37,22 @@ import numpy as np
 from algrasp.errors import NotOrientableError
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import SupportPairFunction
-from algrasp.geometry.tolerances import ROUNDING
+from algrasp.geometry.tolerances import ROUNDING, Tolerances
 from algrasp.planning.barriers import barriers
+from algrasp.planning.edges import crossings
+from algrasp.planning.symmetry import symmetry_period
 from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical, holding_arcs
 
 GRID_RAD = 2e-3
 """Largest cell of the classification grid (0.115°): dead-zone edges are placed to this
 (kinks and extrema are nodes of their own, so stable orientations are exact)."""
-SYMMETRY_SAMPLES = 1260
-"""Samples per natural period for judging symmetry; divisible by every k ≤ 10 and many more."""
-MAX_SYMMETRY_ORDER = 360
-MAX_SYMMETRY_CANDIDATES = 4
-"""Orders not dividing the sample count that pass the Fourier screen and are then checked
-on f itself (best screened first): each costs one evaluation of f at every sample."""
+EDGE_RAD = 2e-4
+"""Half-width of the sliver around each exact dead-zone edge that takes both sides'
+permissions (0.011°, a tenth of the grid the edges were once rounded to): a plan never
+rests on a knife edge that a part's real slope, a jaw's angle or an integrator's step
+could cross, and every margin it states is real."""
+SLOPE_NOISE = ROUNDING
+"""Relative size (to f) below which a drawn slope is rounding, not a slope."""
 _INSIDE = 1e-6
 """Relative offset of the end samples inside a cell (kinks sit on cell nodes)."""
 
@@ -121,65 +127,18 @@ def slopes(f: SupportPairFunction, theta: FloatArray) -> tuple[FloatArray, Float
     return np.asarray(chord[:, 0] * s - chord[:, 1] * c), np.asarray(chord[:, 0] * c + chord[:, 1] * s)
 
 
-def tolerant_symmetry(f: SupportPairFunction, value_tol: float) -> float:
-    """The smallest T = P/k with |f(θ + T) − f(θ)| ≤ value_tol at every sample (radians).
-
-    Orders k dividing the sample count are tested by rolling the samples; the others (a
-    25-tooth gear) are screened with a bound from the samples' Fourier series
-    (:func:`_shift_bound`, the sampling's own error as slack) and confirmed by evaluating f
-    at the shifted points. Shifts so small that the slope alone keeps f within
-    the tolerance (|f′|·T ≤ 4·tol) prove nothing and are not tried."""
-    P = f.period
-    M = SYMMETRY_SAMPLES
-    theta = np.linspace(0.0, P, M, endpoint=False)
-    v = f.values(theta)
-    jump = float(np.max(np.abs(np.diff(v))))
-    top = min(MAX_SYMMETRY_ORDER, int(P * jump * M / P / (4.0 * value_tol)) if value_tol > 0 else MAX_SYMMETRY_ORDER)
-    ks = np.arange(top, 1, -1)
-    if not len(ks):
-        return P
-    screen = _shift_bound(v, ks)
-    errors: dict[int, float] = {}
-    divisors = ks[M % ks == 0]  # exact and cheap: every divisor is rolled, all in one pass
-    rolled = v[(np.arange(M)[None, :] + (M // divisors)[:, None]) % M]
-    errors.update(zip(divisors.tolist(), np.max(np.abs(rolled - v[None, :]), axis=1).tolist()))
-    others = ks[(screen <= value_tol + 0.5 * jump) & (M % ks != 0)]
-    for k in others[np.argsort(screen[np.isin(ks, others)])][:MAX_SYMMETRY_CANDIDATES].tolist():
-        errors[k] = float(np.max(np.abs(f.values(theta + P / k) - v)))
-    passing = {k: e for k, e in errors.items() if e <= value_tol}
-    if not passing:
-        return P
-    # A near miss (a 26-fold shift of a 25-tooth gear) passes a loose tolerance too, but
-    # only the true order and its divisors repeat f to the drawing's own noise.
-    best = min(passing.values())
-    return P / max(k for k, e in passing.items() if e <= 10.0 * best + ROUNDING * float(np.max(np.abs(v))))
-
-
-SCREEN_HARMONICS = 64
-"""Harmonics of f treated one by one in the symmetry screen; the rest are bounded together."""
-
-
-def _shift_bound(v: FloatArray, ks: np.ndarray) -> FloatArray:
-    """Upper bound on max |f(θ + P/k) − f(θ)| for each k from f's Fourier series:
-    Σ_j |c_j|·|e^{2πij/k} − 1| over the largest harmonics, plus 2·Σ|c_j| over the rest.
-    O(len(ks) · SCREEN_HARMONICS)."""
-    c = np.fft.rfft(v) / len(v)
-    amp = np.abs(c) * np.where(np.arange(len(c)) == 0, 1.0, 2.0)  # one-sided spectrum
-    top = np.argsort(amp)[::-1][:SCREEN_HARMONICS]
-    rest = 2.0 * float(amp.sum() - amp[top].sum())
-    # |e^{2πij/k} − 1| = 2|sin(πj/k)|: real arithmetic, a third of the complex exp's cost.
-    return np.asarray(2.0 * np.abs(np.sin(np.pi * np.outer(1.0 / ks, top))) @ amp[top] + rest)
-
-
-def _nodes(f: SupportPairFunction, T: float) -> tuple[FloatArray, np.ndarray]:
-    """Cell nodes in [0, T): grid, breakpoints (θ of every Gauss-map breakpoint) and
-    extrema; and whether f′ may jump at each (breakpoints and extrema do, grid nodes not)."""
-    grid = np.linspace(0.0, T, max(8, int(np.ceil(T / GRID_RAD))), endpoint=False)
+def _nodes(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatArray) -> tuple[FloatArray, np.ndarray]:
+    """Cell nodes in [0, T): ``edges`` (threshold crossings), ``grid``, breakpoints (θ of
+    every Gauss-map breakpoint) and extrema; and whether each is sampled on both sides:
+    where f′ jumps (breakpoints, extrema) and where a permission changes (the edges: the
+    sample just past one belongs to the next cell's class). Grid nodes serve both."""
     bp = f.hull.breakpoints
     theta_bp = np.concatenate([np.pi / 2 - bp, 1.5 * np.pi - bp]) if f.kind == "diameter" else 1.5 * np.pi - bp
     runs = np.array([r.start for r in f.runs])
-    raw = np.mod(np.concatenate([grid, theta_bp, runs]), T)
-    flags = np.concatenate([np.zeros(len(grid), dtype=bool), np.ones(len(theta_bp) + len(runs), dtype=bool)])
+    # Each edge becomes a sliver [e − EDGE_RAD, e + EDGE_RAD) holding both classes.
+    guarded = np.concatenate([edges - EDGE_RAD, edges + EDGE_RAD])
+    raw = np.mod(np.concatenate([[0.0], grid, guarded, theta_bp, runs]), T)
+    flags = np.concatenate([np.zeros(1 + len(grid), dtype=bool), np.ones(len(guarded) + len(theta_bp) + len(runs), dtype=bool)])
     order = np.argsort(raw, kind="stable")
     raw, flags = raw[order], flags[order]
     group = np.concatenate([[0], np.cumsum(np.diff(raw) > ROUNDING)])
@@ -215,19 +174,6 @@ def _samples(f: SupportPairFunction, x: FloatArray, kink: np.ndarray, T: float) 
     return np.stack([g[:n], g_end], axis=1), np.stack([v[:n], v_end], axis=1)
 
 
-@functools.lru_cache(maxsize=8)
-def _sampled(f: SupportPairFunction, value_tol: float) -> tuple[float, FloatArray, np.ndarray, FloatArray, FloatArray]:
-    """Symmetry, cell nodes and samples of f: all that does not depend on the dead band,
-    so the probes of a limit search (one part, many physics) compute them once. Keyed on
-    the function object (compared by identity); the arrays are read-only."""
-    T = tolerant_symmetry(f, value_tol)
-    x, kink = _nodes(f, T)
-    g, v = _samples(f, x, kink, T)
-    for a in (x, kink, g, v):
-        a.setflags(write=False)
-    return T, x, kink, g, v
-
-
 def _permissions(g: FloatArray, v: FloatArray, stall: tuple[float, float], sigma: float,
                  jaw_friction: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(right, left, rest) possible, each OR-ed over the last two axes (samples, copies).
@@ -237,7 +183,9 @@ def _permissions(g: FloatArray, v: FloatArray, stall: tuple[float, float], sigma
     |g| ≤ μ_j·f + s_hi + σ (``v`` holds f, so the jaw term is the friction couple of two
     contacts f apart; 0 for a push)."""
     a = np.abs(g)
-    movable = a > stall[0] - sigma
+    # A slope within rounding of zero (a constant-width stretch, concentric arcs) is no
+    # slope: with creep (s_lo = 0) its noise's sign would otherwise decide the motion.
+    movable = a > np.maximum(stall[0] - sigma, SLOPE_NOISE * np.abs(v))
     either = a <= sigma
     right = movable & ((g < 0.0) | either)
     left = movable & ((g > 0.0) | either)
@@ -304,16 +252,22 @@ class _Cells:
         return np.asarray(self.x[np.mod(j, n)] + np.floor_divide(j, n) * self.T)
 
 
+def _run_limits(c: _Cells) -> tuple[FloatArray, FloatArray]:
+    """Where the run of right- (left-) movable cells containing each cell ends (starts),
+    lifted; ±∞ for a run all round the circle (only the barriers stop it)."""
+    _, right_end = _run_edges(c.right)
+    left_start, _ = _run_edges(c.left)
+    run_right = np.full(len(c.x), np.inf) if c.right.all() else c.at(right_end)
+    run_left = np.full(len(c.x), -np.inf) if c.left.all() else c.at(left_start)
+    return run_right, run_left
+
+
 def _bounds(c: _Cells, tol_rad: float) -> tuple[TransferFunction, TransferFunction]:
     """Lower and upper step/ramp functions from per-cell permissions and barriers."""
     R, L, S = c.right, c.left, c.rest
-    # A run of movable cells all round the circle has no end: only the barriers stop it.
-    _, right_end = _run_edges(R)
-    left_start, _ = _run_edges(L)
     forced_left_start, _ = _run_edges(~R & ~S)
     _, forced_right_end = _run_edges(~L & ~S)
-    run_right = np.full(len(R), np.inf) if R.all() else c.at(right_end)
-    run_left = np.full(len(L), -np.inf) if L.all() else c.at(left_start)
+    run_right, run_left = _run_limits(c)
     up = np.where(R, np.minimum(run_right, c.barrier_right), np.where(S, np.nan, c.at(forced_left_start)))
     lo = np.where(L, np.maximum(run_left, c.barrier_left), np.where(S, np.nan, c.at(forced_right_end)))
     if not (np.all(np.isfinite(up[R])) and np.all(np.isfinite(lo[L]))):
@@ -375,26 +329,95 @@ def _rest_zones(nodes: FloatArray, T: float, rest: np.ndarray, P: float) -> tupl
     return tuple(zip(a.tolist(), b.tolist()))
 
 
+@dataclass(frozen=True)
+class _Band:
+    """The dead band of one set-valued function: stall range (s_lo, s_hi), slope
+    tolerance σ, largest jaw friction μ_j, value error ε and shallow-basin depth."""
+
+    stall: tuple[float, float]
+    sigma: float
+    jaw_friction: float
+    err: float
+    shallow: float
+
+    def thresholds(self) -> tuple[tuple[float, ...], tuple[float, float]]:
+        """The slopes where a permission (or the monotony of f ± s_lo·θ, which the
+        barriers need) changes, and the rest bound's (μ_j, s_hi + σ)."""
+        s_lo, sigma = self.stall[0], self.sigma
+        return (s_lo - sigma, sigma, s_lo, s_lo + sigma), (self.jaw_friction, self.stall[1] + sigma)
+
+
+@dataclass(frozen=True)
+class _Pass:
+    """One classification of the cells between given nodes."""
+
+    cells: _Cells
+    g: FloatArray
+    v: FloatArray
+    basin: np.ndarray
+
+
+def _classify(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatArray, band: _Band) -> _Pass:
+    """Nodes, samples, permissions and barriers of the cells between ``edges``, ``grid``
+    and the breakpoints and extrema of f. O(c·K·log c)."""
+    x, kink = _nodes(f, T, edges, grid)
+    g, v = _samples(f, x, kink, T)
+    right, left, rest = _permissions(g, v, band.stall, band.sigma, band.jaw_friction)
+    # A drawn minimum shallower than the manufacturing tolerance may be no minimum of the
+    # real part (nor of the simulation's compliant contact): its basin may go either way.
+    basin = np.asarray(shallow_basins(v[:, 0, :].T.ravel(), band.shallow).reshape(v.shape[2], -1).any(axis=0))
+    right, left = right | basin, left | basin
+    # The energy bound holds for the weakest stall: every cell lowers f at least that fast.
+    br, bl = barriers(x, T, v[:, 0, :].T, v.max(axis=1).T, band.stall[0], band.err)
+    return _Pass(_Cells(x, T, right, left, rest, br, bl), g, v, basin)
+
+
+def _to_refine(p: _Pass, band: _Band) -> np.ndarray:
+    """Cells whose one value may hide a staircase: where an energy barrier could cut a
+    run short for some start inside the cell (tested with the cell's least f, the
+    nearest barrier any start in it can have), where a barrier can land (movable cells
+    slower than s_lo + σ, where f ± s_lo·θ can climb), and shallow basins with their
+    neighbours (their rims are found on cell starts)."""
+    c = p.cells
+    near_basin = p.basin | np.roll(p.basin, 1) | np.roll(p.basin, -1)
+    if band.err <= 0.0:
+        return np.asarray(near_basin)
+    slow = (np.abs(p.g).min(axis=(1, 2)) < band.stall[0] + band.sigma) & (c.right | c.left)
+    near_r, near_l = barriers(c.x, c.T, p.v[:, 0, :].T, p.v.min(axis=1).T, band.stall[0], band.err)
+    run_right, run_left = _run_limits(c)
+    bind = (c.right & (near_r < run_right)) | (c.left & (near_l > run_left))
+    return np.asarray(slow | bind | near_basin)
+
+
+def _cells_of(f: SupportPairFunction, T: float, band: _Band, tol_rad: float) -> _Cells:
+    """The cells of F_κ: nodes at every exact threshold crossing (closed form on
+    point-like contacts, a grid on curves), then the uniform grid of ``GRID_RAD`` added
+    only inside the cells :func:`_to_refine` marks, and the cells classified again."""
+    slopes_at, jaw = band.thresholds()
+    edges, curves = crossings(f, slopes_at, jaw, Tolerances(angle_rad=tol_rad), GRID_RAD)
+    first = _classify(f, T, edges, curves, band)
+    refine = _to_refine(first, band)
+    if not refine.any():
+        return first.cells
+    grid = np.linspace(0.0, T, max(8, int(np.ceil(T / GRID_RAD))), endpoint=False)
+    inside = refine[np.searchsorted(first.cells.x, grid, side="right") - 1]
+    return _classify(f, T, edges, np.concatenate([curves, grid[inside]]), band).cells
+
+
 def set_transfer(f: SupportPairFunction, stall: tuple[float, float], sigma: float, value_tol: float, tol_rad: float,
                  jaw_friction: float = 0.0, value_err: float | None = None, shallow: float = 0.0) -> SetTransfer:
     """F_κ of d or r (see module docs) over a stall range ``(s_lo, s_hi)`` and, for a
     squeeze, the largest jaw friction. ``value_tol`` judges the drawing's symmetry;
     ``value_err`` (default the same) bounds how far the real f is from the drawn one
     (the barriers: the manufacturing profile tolerance counts here); basins of f less
-    than ``shallow`` deep may be left either way (:func:`shallow_basins`). Raises NotOrientableError when the part may turn
-    without end. O((c + b)·K·log) for c grid cells, b breakpoints, K symmetric copies."""
+    than ``shallow`` deep may be left either way (:func:`shallow_basins`). Raises
+    NotOrientableError when the part may turn without end. O((c + b)·K·log) for c cells
+    (threshold crossings, refined grid), b breakpoints, K symmetric copies."""
     P = f.period
-    T, x, kink, g, v = _sampled(f, value_tol)
-    right, left, rest = _permissions(g, v, stall, sigma, jaw_friction)
-    err = value_tol if value_err is None else value_err
-    # A drawn minimum shallower than the manufacturing tolerance may be no minimum of the
-    # real part (nor of the simulation's compliant contact): its basin may go either way.
-    basin = shallow_basins(v[:, 0, :].T.ravel(), shallow).reshape(v.shape[2], -1).any(axis=0)
-    right, left = right | basin, left | basin
-    # The energy bound holds for the weakest stall: every cell lowers f at least that fast.
-    br, bl = barriers(x, T, v[:, 0, :].T, v.max(axis=1).T, stall[0], err)
-    cells = _Cells(x, T, right, left, rest, br, bl)
+    T = symmetry_period(f, value_tol)
+    band = _Band(stall, sigma, jaw_friction, value_tol if value_err is None else value_err, shallow)
+    cells = _cells_of(f, T, band, tol_rad)
     lower, upper = _bounds(cells, tol_rad)
-    zones = _rest_zones(x, T, rest, T)
+    zones = _rest_zones(cells.x, T, cells.rest, T)
     stops = [(p.value, p.value) for F in (lower, upper) for p in F.steps if p.value is not None]
-    return SetTransfer(lower, upper, P, T, _rest_zones(x, T, rest, P), (*zones, *stops))
+    return SetTransfer(lower, upper, P, T, _rest_zones(cells.x, T, cells.rest, P), (*zones, *stops))

@@ -1,0 +1,79 @@
+"""The symmetry period of d or r judged to a value tolerance (conventions §7).
+
+A drawing is never exactly symmetric (a tessellated gear, a cut part): f has period T = P/k
+when |f(θ + T) − f(θ)| ≤ tol everywhere. Judged on samples: orders dividing the sample
+count by rolling, the others screened by a Fourier bound and confirmed on f itself.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from algrasp.geometry.curves import FloatArray
+from algrasp.geometry.functions import SupportPairFunction
+from algrasp.geometry.tolerances import ROUNDING
+
+SYMMETRY_SAMPLES = 1260
+"""Samples per natural period for judging symmetry; divisible by every k ≤ 10 and many more."""
+MAX_SYMMETRY_ORDER = 360
+MAX_SYMMETRY_CANDIDATES = 4
+"""Orders not dividing the sample count that pass the Fourier screen and are then checked
+on f itself (best screened first): each costs one evaluation of f at every sample."""
+
+def tolerant_symmetry(f: SupportPairFunction, value_tol: float) -> float:
+    """The smallest T = P/k with |f(θ + T) − f(θ)| ≤ value_tol at every sample (radians).
+
+    Orders k dividing the sample count are tested by rolling the samples; the others (a
+    25-tooth gear) are screened with a bound from the samples' Fourier series
+    (:func:`_shift_bound`, the sampling's own error as slack) and confirmed by evaluating f
+    at the shifted points. Shifts so small that the slope alone keeps f within
+    the tolerance (|f′|·T ≤ 4·tol) prove nothing and are not tried."""
+    P = f.period
+    M = SYMMETRY_SAMPLES
+    theta = np.linspace(0.0, P, M, endpoint=False)
+    v = f.values(theta)
+    jump = float(np.max(np.abs(np.diff(v))))
+    top = min(MAX_SYMMETRY_ORDER, int(P * jump * M / P / (4.0 * value_tol)) if value_tol > 0 else MAX_SYMMETRY_ORDER)
+    ks = np.arange(top, 1, -1)
+    if not len(ks):
+        return P
+    screen = _shift_bound(v, ks)
+    errors: dict[int, float] = {}
+    divisors = ks[M % ks == 0]  # exact and cheap: every divisor is rolled, all in one pass
+    rolled = v[(np.arange(M)[None, :] + (M // divisors)[:, None]) % M]
+    errors.update(zip(divisors.tolist(), np.max(np.abs(rolled - v[None, :]), axis=1).tolist()))
+    others = ks[(screen <= value_tol + 0.5 * jump) & (M % ks != 0)]
+    for k in others[np.argsort(screen[np.isin(ks, others)])][:MAX_SYMMETRY_CANDIDATES].tolist():
+        errors[k] = float(np.max(np.abs(f.values(theta + P / k) - v)))
+    passing = {k: e for k, e in errors.items() if e <= value_tol}
+    if not passing:
+        return P
+    # A near miss (a 26-fold shift of a 25-tooth gear) passes a loose tolerance too, but
+    # only the true order and its divisors repeat f to the drawing's own noise.
+    best = min(passing.values())
+    return P / max(k for k, e in passing.items() if e <= 10.0 * best + ROUNDING * float(np.max(np.abs(v))))
+
+
+SCREEN_HARMONICS = 64
+"""Harmonics of f treated one by one in the symmetry screen; the rest are bounded together."""
+
+
+def _shift_bound(v: FloatArray, ks: np.ndarray) -> FloatArray:
+    """Upper bound on max |f(θ + P/k) − f(θ)| for each k from f's Fourier series:
+    Σ_j |c_j|·|e^{2πij/k} − 1| over the largest harmonics, plus 2·Σ|c_j| over the rest.
+    O(len(ks) · SCREEN_HARMONICS)."""
+    c = np.fft.rfft(v) / len(v)
+    amp = np.abs(c) * np.where(np.arange(len(c)) == 0, 1.0, 2.0)  # one-sided spectrum
+    top = np.argsort(amp)[::-1][:SCREEN_HARMONICS]
+    rest = 2.0 * float(amp.sum() - amp[top].sum())
+    # |e^{2πij/k} − 1| = 2|sin(πj/k)|: real arithmetic, a third of the complex exp's cost.
+    return np.asarray(2.0 * np.abs(np.sin(np.pi * np.outer(1.0 / ks, top))) @ amp[top] + rest)
+
+
+@functools.lru_cache(maxsize=8)
+def symmetry_period(f: SupportPairFunction, value_tol: float) -> float:
+    """:func:`tolerant_symmetry`, once per function and tolerance: the probes of a limit
+    search (one part, many physics) share it. Keyed on the function object (identity)."""
+    return tolerant_symmetry(f, value_tol)

@@ -1,0 +1,79 @@
+"""Exact dead-zone edges (algrasp.planning.edges) checked against brute force: slopes from
+finite differences of f itself at 200,000 orientations, not the closed forms under test."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from algrasp.geometry.functions import SupportPairFunction, analyse
+from algrasp.geometry.part import load_part
+from algrasp.geometry.tolerances import DEFAULT_TOLERANCES as TOL
+from algrasp.planning.edges import crossings
+from algrasp.planning.setvalued import EDGE_RAD, GRID_RAD, set_transfer
+from algrasp.testing import shapes
+
+H = 1e-7
+
+
+def _slope(f: SupportPairFunction, theta: np.ndarray) -> np.ndarray:
+    return (f.values(theta + H) - f.values(theta - H)) / (2 * H)
+
+
+def _function(doc: dict, kind: str) -> SupportPairFunction:
+    part = load_part(doc)
+    return analyse(kind, part.hull, part.center_of_mass, part.size, TOL)  # type: ignore[arg-type]
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 10_000), n=st.integers(3, 12), kind=st.sampled_from(["diameter", "radius"]),
+       mu=st.floats(0.0, 0.5))
+def test_every_crossing_is_on_a_threshold(seed: int, n: int, kind: str, mu: float) -> None:
+    f = _function(shapes.random_polygon(n, seed), kind)
+    scale = float(np.max(f.values(np.linspace(0, np.pi, 64))))
+    slopes = (0.05 * scale, 0.2 * scale)
+    theta, grid = crossings(f, slopes, (mu, 0.1 * scale), TOL, GRID_RAD)
+    assert len(grid) == 0  # polygons: every cell is closed-form
+    g, v = np.abs(_slope(f, theta)), f.values(theta)
+    off = np.min(np.abs(np.stack([g - slopes[0], g - slopes[1], g - (mu * v + 0.1 * scale)])), axis=0)
+    assert np.all(off <= 1e-5 * scale)
+
+
+def _brute_rest(f: SupportPairFunction, s_hi: float, sigma: float, mu: float, m: int = 200_000) -> tuple[np.ndarray, np.ndarray]:
+    """Rest where |f′| ≤ μ·f + s_hi + σ on either side (one-sided differences: at a kink
+    the central one would average the two slopes)."""
+    theta = np.linspace(0.0, f.period, m, endpoint=False)
+    v = f.values(theta)
+    bound = mu * v + s_hi + sigma
+    forward, backward = (f.values(theta + H) - v) / H, (v - f.values(theta - H)) / H
+    return theta, (np.abs(forward) <= bound) | (np.abs(backward) <= bound)
+
+
+def _in_zones(theta: np.ndarray, zones: tuple[tuple[float, float], ...], P: float, pad: float) -> np.ndarray:
+    inside = np.zeros(len(theta), dtype=bool)
+    for a, b in zones:
+        inside |= np.mod(theta - a + pad, P) <= (b - a) + 2 * pad
+    return inside
+
+
+def test_rest_zones_are_the_brute_force_zones_to_the_guard() -> None:
+    """Pie (arcs and lines), a rectangle and a random polygon, squeeze and push: every
+    brute-force rest orientation is in a zone, and every orientation more than the guard
+    (EDGE_RAD) and two samples inside a zone rests by brute force: no grid rounding."""
+    for doc in (shapes.pie(), shapes.rectangle(3.0, 1.0), shapes.random_polygon(7, 4)):
+        for kind, mu in (("diameter", 0.2), ("radius", 0.0)):
+            f = _function(doc, kind)
+            scale = float(np.max(f.values(np.linspace(0, np.pi, 64))))
+            s, sigma = 0.08 * scale, 0.01 * scale
+            F = set_transfer(f, (s, s), sigma, 1e-9, 1e-9, mu, 0.0)
+            theta, rest = _brute_rest(f, s, sigma, mu)
+            step = f.period / len(theta)
+            assert np.all(_in_zones(theta[rest], F.rest_zones, f.period, step))
+            assert not np.any(~rest & _in_zones(theta, F.rest_zones, f.period, -(EDGE_RAD + 2 * step)))
+
+
+def test_curves_get_a_grid_only_on_their_cells() -> None:
+    f = _function(shapes.bezier_cam(), "diameter")
+    theta, grid = crossings(f, (0.1,), (0.0, 0.1), TOL, GRID_RAD)
+    assert len(grid) > 0 and np.max(np.diff(np.sort(np.mod(grid, 2 * np.pi)))) <= 2 * np.pi
