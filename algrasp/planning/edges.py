@@ -38,6 +38,33 @@ from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import SupportPairFunction, contact_cells
 from algrasp.geometry.tolerances import Tolerances
 
+CURVE_GRID_RAD = 8e-3
+"""Sample spacing on curve pieces (0.46°) where crossings are bracketed: a dead zone or a
+gap between two narrower than this where |f′| only touches a threshold can be missed."""
+SECANT_STEPS = 8
+"""Illinois steps per bracket: an 8 mrad bracket is placed far below the edges' guard
+(``EDGE_RAD``, 2e-4 rad), which absorbs what is left."""
+INSIDE_FRAC = 1e-9
+"""Relative offset of a curve cell's end samples inside it (its ends are kinks)."""
+
+
+def slopes(f: SupportPairFunction, theta: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """f′(θ) (part units per radian) and f(θ) from one pass of exact support points.
+
+    With ψ = π/2 − θ, u = (cos ψ, sin ψ) and p(ψ) the support point (both ends of the chord
+    from one batched call): f = ⟨p_near − p(ψ + π), u⟩ and f′ = −⟨p_near − p(ψ + π), u′⟩,
+    p_near = p(ψ) for d and the centre of mass c for r.
+    """
+    psi = np.pi / 2 - np.asarray(theta, dtype=float)
+    n = len(psi)
+    if f.kind == "diameter":
+        both = f.hull.support_points(np.concatenate([psi, psi + np.pi]))
+        chord = both[:n] - both[n:]
+    else:
+        chord = np.asarray(f.com, dtype=float) - f.hull.support_points(psi + np.pi)
+    c, s = np.cos(psi), np.sin(psi)
+    return np.asarray(chord[:, 0] * s - chord[:, 1] * c), np.asarray(chord[:, 0] * c + chord[:, 1] * s)
+
 
 def _equations(rho: FloatArray, R: FloatArray, slopes: Sequence[float],
                jaw: tuple[float, float] | None) -> tuple[FloatArray, FloatArray]:
@@ -71,21 +98,56 @@ def _point_roots(cells: np.ndarray, centres: FloatArray, radii: FloatArray, slop
     return np.asarray(np.pi / 2 - psi[keep])
 
 
-def _curve_grid(cells: np.ndarray, grid_rad: float) -> FloatArray:
-    """θ of a grid no coarser than ``grid_rad`` over each curve cell (ends included)."""
+def _curve_grid(cells: np.ndarray, grid_rad: float) -> tuple[FloatArray, np.ndarray]:
+    """θ of a grid no coarser than ``grid_rad`` over each curve cell, its ends a hair
+    inside (they are breakpoints, where f′ jumps), and the cell of each point."""
     if not len(cells):
-        return np.zeros(0)
+        return np.zeros(0), np.zeros(0, dtype=np.intp)
     n = np.maximum(2, np.ceil((cells[:, 3] - cells[:, 2]) / grid_rad).astype(np.intp) + 1)
-    frac = np.concatenate([np.linspace(0.0, 1.0, k) for k in n.tolist()])
+    frac = np.concatenate([np.linspace(INSIDE_FRAC, 1.0 - INSIDE_FRAC, k) for k in n.tolist()])
     a = np.repeat(cells[:, 2], n)
-    return np.asarray(np.pi / 2 - (a + frac * np.repeat(cells[:, 3] - cells[:, 2], n)))
+    psi = a + frac * np.repeat(cells[:, 3] - cells[:, 2], n)
+    return np.asarray(np.pi / 2 - psi), np.repeat(np.arange(len(cells)), n)
+
+
+def _threshold_gaps(theta: FloatArray, f: SupportPairFunction, slopes_at: Sequence[float],
+                    jaw: tuple[float, float] | None) -> FloatArray:
+    """|f′| − threshold at each θ for every threshold, shape (E, m)."""
+    g, v = slopes(f, theta)
+    a = np.abs(g)
+    rows = [a - t for t in slopes_at]
+    if jaw is not None:
+        rows.append(a - (jaw[0] * v + jaw[1]))
+    return np.stack(rows)
+
+
+def _curve_roots(f: SupportPairFunction, theta: FloatArray, cell: np.ndarray, slopes_at: Sequence[float],
+                 jaw: tuple[float, float] | None) -> FloatArray:
+    """Threshold crossings between consecutive samples ``theta`` of the same curve cell,
+    bracketed by a sign change and placed by ``SECANT_STEPS`` Illinois steps (all at once)."""
+    h = _threshold_gaps(theta, f, slopes_at, jaw)
+    change = (np.sign(h[:, :-1]) != np.sign(h[:, 1:])) & (cell[:-1] == cell[1:])[None, :]
+    row, col = np.nonzero(change)
+    if not len(row):
+        return np.zeros(0)
+    lo, hi, h_lo, h_hi = theta[col], theta[col + 1], h[row, col], h[row, col + 1]
+    x = hi
+    for _ in range(SECANT_STEPS):  # Illinois regula falsi: superlinear, never leaves the bracket
+        x = np.clip(hi - h_hi * (hi - lo) / np.where(h_hi != h_lo, h_hi - h_lo, 1.0), np.minimum(lo, hi), np.maximum(lo, hi))
+        h_x = _threshold_gaps(x, f, slopes_at, jaw)[row, np.arange(len(row))]
+        flip = np.sign(h_x) != np.sign(h_hi)
+        lo, h_lo = np.where(flip, hi, lo), np.where(flip, h_hi, 0.5 * h_lo)
+        hi, h_hi = x, h_x
+    return np.asarray(x)
 
 
 def crossings(f: SupportPairFunction, slopes: Sequence[float], jaw: tuple[float, float] | None,
               tol: Tolerances, grid_rad: float) -> tuple[FloatArray, FloatArray]:
     """θ (radians, lifted; fold them with mod) where |f′| crosses each of ``slopes`` or,
     with ``jaw = (μ, c)``, μ·f + c; and a grid of ``grid_rad`` on the cells with a curve
-    contact. Thresholds ≤ 0 are skipped (|f′| ≥ 0 crosses nothing below 0)."""
+    contact, whose crossings are bracketed on it and placed
+    by regula falsi. Thresholds ≤ 0 are
+    skipped (|f′| ≥ 0 crosses nothing below 0)."""
     table = f.hull.table
     # Row −1 of the centre table is the centre of mass (the radius's near contact).
     centres = np.vstack([table.centers, np.asarray(f.com, dtype=float)[None, :]])
@@ -95,4 +157,8 @@ def crossings(f: SupportPairFunction, slopes: Sequence[float], jaw: tuple[float,
     near, far = cells[:, 0].astype(np.intp), cells[:, 1].astype(np.intp)
     curved = curve[near] | curve[far]
     positive = tuple(t for t in slopes if t > 0.0)
-    return _point_roots(cells[~curved], centres, radii, positive, jaw), _curve_grid(cells[curved], grid_rad)
+    grid, cell = _curve_grid(cells[curved], grid_rad)
+    exact = _point_roots(cells[~curved], centres, radii, positive, jaw)
+    if not len(grid):
+        return exact, grid
+    return np.concatenate([exact, _curve_roots(f, grid, cell, positive, jaw)]), grid

@@ -39,7 +39,7 @@ from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import SupportPairFunction
 from algrasp.geometry.tolerances import ROUNDING, Tolerances
 from algrasp.planning.barriers import barriers
-from algrasp.planning.edges import crossings
+from algrasp.planning.edges import CURVE_GRID_RAD, crossings, slopes
 from algrasp.planning.symmetry import symmetry_period
 from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical, holding_arcs
 
@@ -108,24 +108,6 @@ class SetTransfer:
         meets = (start <= (hi - lo)[:, None]) | (start + (mine[:, 1] - mine[:, 0])[None, :] >= T)
         kept = tuple((float(a), float(b)) for a, b in mine[meets.any(axis=0)])
         return SetTransfer(lower, upper, inner.period, inner.symmetry, inner.rest_zones, kept)
-
-def slopes(f: SupportPairFunction, theta: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """f′(θ) (part units per radian) and f(θ) from one pass of exact support points.
-
-    With ψ = π/2 − θ, u = (cos ψ, sin ψ) and p(ψ) the support point (both ends of the chord
-    from one batched call): f = ⟨p_near − p(ψ + π), u⟩ and f′ = −⟨p_near − p(ψ + π), u′⟩,
-    p_near = p(ψ) for d and the centre of mass c for r.
-    """
-    psi = np.pi / 2 - np.asarray(theta, dtype=float)
-    n = len(psi)
-    if f.kind == "diameter":
-        both = f.hull.support_points(np.concatenate([psi, psi + np.pi]))
-        chord = both[:n] - both[n:]
-    else:
-        chord = np.asarray(f.com, dtype=float) - f.hull.support_points(psi + np.pi)
-    c, s = np.cos(psi), np.sin(psi)
-    return np.asarray(chord[:, 0] * s - chord[:, 1] * c), np.asarray(chord[:, 0] * c + chord[:, 1] * s)
-
 
 def _nodes(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatArray) -> tuple[FloatArray, np.ndarray]:
     """Cell nodes in [0, T): ``edges`` (threshold crossings), ``grid``, breakpoints (θ of
@@ -394,7 +376,7 @@ def _cells_of(f: SupportPairFunction, T: float, band: _Band, tol_rad: float) -> 
     point-like contacts, a grid on curves), then the uniform grid of ``GRID_RAD`` added
     only inside the cells :func:`_to_refine` marks, and the cells classified again."""
     slopes_at, jaw = band.thresholds()
-    edges, curves = crossings(f, slopes_at, jaw, Tolerances(angle_rad=tol_rad), GRID_RAD)
+    edges, curves = crossings(f, slopes_at, jaw, Tolerances(angle_rad=tol_rad), CURVE_GRID_RAD)
     first = _classify(f, T, edges, curves, band)
     refine = _to_refine(first, band)
     if not refine.any():

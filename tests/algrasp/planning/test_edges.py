@@ -58,10 +58,12 @@ def _in_zones(theta: np.ndarray, zones: tuple[tuple[float, float], ...], P: floa
 
 
 def test_rest_zones_are_the_brute_force_zones_to_the_guard() -> None:
-    """Pie (arcs and lines), a rectangle and a random polygon, squeeze and push: every
+    """Pie (arcs and lines), a rectangle, a random polygon and two Bezier parts (edges
+    bracketed and bisected), squeeze and push: every
     brute-force rest orientation is in a zone, and every orientation more than the guard
     (EDGE_RAD) and two samples inside a zone rests by brute force: no grid rounding."""
-    for doc in (shapes.pie(), shapes.rectangle(3.0, 1.0), shapes.random_polygon(7, 4)):
+    for doc in (shapes.pie(), shapes.rectangle(3.0, 1.0), shapes.random_polygon(7, 4), shapes.bezier_cam(),
+                shapes.bezier_blob(12, 2)):
         for kind, mu in (("diameter", 0.2), ("radius", 0.0)):
             f = _function(doc, kind)
             scale = float(np.max(f.values(np.linspace(0, np.pi, 64))))
@@ -73,7 +75,16 @@ def test_rest_zones_are_the_brute_force_zones_to_the_guard() -> None:
             assert not np.any(~rest & _in_zones(theta, F.rest_zones, f.period, -(EDGE_RAD + 2 * step)))
 
 
-def test_curves_get_a_grid_only_on_their_cells() -> None:
-    f = _function(shapes.bezier_cam(), "diameter")
-    theta, grid = crossings(f, (0.1,), (0.0, 0.1), TOL, GRID_RAD)
-    assert len(grid) > 0 and np.max(np.diff(np.sort(np.mod(grid, 2 * np.pi)))) <= 2 * np.pi
+def test_curve_crossings_are_placed_on_their_thresholds() -> None:
+    """Bezier cam and blob: crossings bracketed on the curve grid and placed by regula
+    falsi sit on a threshold to far below the edges' guard."""
+    for doc in (shapes.bezier_cam(), shapes.bezier_blob(12, 2)):
+        f = _function(doc, "diameter")
+        scale = float(np.max(f.values(np.linspace(0, np.pi, 64))))
+        slopes = (0.05 * scale, 0.2 * scale)
+        theta, grid = crossings(f, slopes, (0.1, 0.1 * scale), TOL, GRID_RAD)
+        assert len(grid) > 0 and len(theta) > 0
+        g, v = np.abs(_slope(f, theta)), f.values(theta)
+        off = np.min(np.abs(np.stack([g - slopes[0], g - slopes[1], g - (0.1 * v + 0.1 * scale)])), axis=0)
+        # |f′| changes by at most ~f per radian of θ: an error of 1e-6·scale is ~1e-6 rad.
+        assert np.all(off <= 1e-6 * scale)
