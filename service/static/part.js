@@ -97,17 +97,19 @@ function extrema(f) {
 }
 
 // The set images of the robust model: θ in [start, end) ends in [lower, upper] (null: θ
-// itself). Values come wrapped into [0, P); each is lifted next to its interval to draw it.
+// itself), over one symmetry period T. Values come wrapped into [0, P); each is lifted next
+// to its interval; the plot draws every copy shifted by k·T (a piece past P wraps to 0).
 function imagePolys(state, name, P) {
   const r = state.analysis.robust;
   const images = (r && r[name] && r[name].images) || [];
+  const T = (r && r[name] && r[name].symmetry_period_deg) || P;
   return images.map((im) => {
-    const mid = (im.start_deg + im.end_deg) / 2;
+    const [a, b] = [im.start_deg, im.end_deg < im.start_deg ? im.end_deg + T : im.end_deg];
+    const mid = (a + b) / 2;
     const lift = (v) => v + P * Math.round((mid - v) / P);
     const lo = (x) => (im.lower_deg === null ? x : lift(im.lower_deg));
     const hi = (x) => (im.upper_deg === null ? x : lift(im.upper_deg));
-    const [a, b] = [im.start_deg, im.end_deg];
-    return { points: [[a, lo(a)], [b, lo(b)], [b, hi(b)], [a, hi(a)]], cls: "band-image" };
+    return { points: [[a, lo(a)], [b, lo(b)], [b, hi(b)], [a, hi(a)]], cls: "band-image", period: T };
   });
 }
 
@@ -117,7 +119,7 @@ function functionPlot(state, hostId, name, key, period, label) {
   return linePlot(document.getElementById(hostId), {
     title: `${label}: ● red max, ● green min; grey dead zones, orange constant`,
     xLabel: "θ, part orientation relative to the gripper (deg)", yLabel: `${key === "diameter" ? "d" : "r"}(θ) (${units})`,
-    xDomain: [0, period], series: [{ xs: c.theta_deg.slice(0, n + 1), ys: c[key].slice(0, n + 1) }],
+    xDomain: [0, period], period, series: [{ xs: c.theta_deg.slice(0, n + 1), ys: c[key].slice(0, n + 1) }],
     bands: [...dead(state, name), ...a[key].constant_intervals_deg.map(([x0, x1]) => ({ x0, x1, cls: "band-ramp" }))],
     markers: extrema(a[key]), onHover: (t) => setTheta(state, t),
   });
@@ -132,7 +134,7 @@ function transferPlot(state, name, label) {
     title: `${label}: steps, ramps (orange), robust set images (blue)`,
     xLabel: "θ before (deg)", yLabel: "θ after (deg, lifted)", xDomain: [0, P],
     series: [{ xs: [0, P], ys: [0, P], cls: "identity" }, { xs, ys, cls: "alt", breakJumps: 1 }],
-    bands: ramps(tf), polys: imagePolys(state, name, P),
+    period: P, bands: ramps(tf), polys: imagePolys(state, name, P),
     markers: tf.steps.map((s) => ({ x: mod(s.fixed_point_deg, P), y: mod(s.fixed_point_deg, P), cls: "mk-fixed",
       label: `fixed point ${s.fixed_point_deg.toFixed(2)}° of step [${s.start_deg.toFixed(2)}, ${s.end_deg.toFixed(2)})` })),
     onHover: (t) => setTheta(state, t),

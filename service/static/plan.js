@@ -66,18 +66,19 @@ export function showPlan(state) {
   showStart(state);
 }
 
-// The Θᵢ of Algorithm A′ as bars under the transfer function the plan uses.
+// The Θᵢ of Algorithm A′ as labelled bars, one row each under the transfer function the
+// plan uses (an interval past the period wraps to 0: two pieces, one label).
 function drawIntervals(state) {
   const p = state.plan, a = state.analysis;
   const name = p.action === "squeeze" ? "squeeze" : "push_grasp";
   const P = a[name].period_deg, c = a.curves;
   const n = Math.round((c.theta_deg.length * P) / 360);
-  const hbars = p.intervals_deg.map(([lo, hi], i) => ({ x0: lo, x1: hi, y: -(i + 1) * P * 0.06, cls: "bar-interval" }));
+  const lanes = p.intervals_deg.map(([lo, hi], i) => ({ x0: lo, x1: hi, label: `Θ${i + 1}`, cls: "bar-interval" }));
   linePlot(document.getElementById("plot-intervals"), {
-    title: `${name === "squeeze" ? "Γ" : "Γ∘p"} and the intervals Θᵢ (green bars below, last to first)`,
-    xLabel: "θ before (deg)", yLabel: "θ after (deg); bars: Θᵢ", xDomain: [0, P],
+    title: `${name === "squeeze" ? "Γ" : "Γ∘p"} and the intervals Θᵢ of Algorithm A′ (bars below)`,
+    xLabel: "θ before (deg)", yLabel: "θ after (deg)", xDomain: [0, P], period: P,
     series: [{ xs: [0, P], ys: [0, P], cls: "identity" }, { xs: c.theta_deg.slice(0, n), ys: c[`${name}_deg`].slice(0, n), cls: "alt", breakJumps: 1 }],
-    hbars, legend: [{ cls: "bar-interval", label: "Θᵢ of Algorithm A′" }],
+    lanes,
   });
 }
 

