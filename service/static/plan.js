@@ -34,8 +34,8 @@ export async function ensureAnalysis(state, exact) {
 
 export async function makePlan(state) {
   const current = begin("plan");
-  const body = planRequest(state);
   clearPlan(state); // a failed plan leaves no old plan under its error
+  const body = planRequest(state);
   await ensureAnalysis(state, body.exact);
   current();
   const plan = await api("/v1/plans", { json: body });

@@ -121,3 +121,100 @@ def test_intervals_are_labelled_non_overlapping_rows(page: Any) -> None:  # noqa
         assert close(got, wrapped(lo, hi, P))
         crossing += hi > P + 1e-6
     assert crossing  # the pie's 180° Θ₃ crosses the period
+
+
+def until_routed(pg: Any, held: list[Any]) -> None:
+    """Until the held request reached its route handler (Playwright hands a route over
+    after the request event: round trips to the page let it through; no sleep)."""
+    for _ in range(10_000):
+        if held:
+            return
+        pg.evaluate("0")
+    raise AssertionError("the request never reached its route")
+
+
+def two_runs(server: Any, pie: dict[str, Any]) -> tuple[str, str]:  # noqa: F811
+    with server.client() as c:
+        a = c.post("/v1/plans", json={"part": pie, "action": "squeeze", "exact": True}).json()["run_id"]
+        b = c.post("/v1/plans", json={"part": pie, "action": "push_grasp", "exact": True}).json()["run_id"]
+    return a, b
+
+
+def test_a_late_figure_of_an_earlier_run_is_not_drawn(page: Any, server: Any, pie: dict[str, Any]) -> None:  # noqa: F811
+    """Click run A, then run B while A's figure is still on its way: only B's figure shows,
+    under B's title, also once A's answer has arrived."""
+    run_a, run_b = two_runs(server, pie)
+    held: list[Any] = []
+    page.route(f"**/v1/runs/{run_a}/figure.svg", lambda route: held.append(route))  # A's figure waits
+    page.click("button[data-page=runs]")
+    with page.expect_request(lambda r: r.url.endswith(f"/v1/runs/{run_a}/figure.svg")):
+        page.locator("#runs-table tbody tr", has_text=run_a).click()
+    until_routed(page, held)
+    page.locator("#runs-table tbody tr", has_text=run_b).click()
+    page.wait_for_selector(f"#run-figure img[alt='plan figure of run {run_b}']")
+    with page.expect_event("requestfinished", predicate=lambda r: r.url.endswith(f"/v1/runs/{run_a}/figure.svg")):
+        held[0].continue_()
+    # A's answer is in: either dropped (counted) or drawn (the defect)
+    page.wait_for_selector("#run-figure[data-dropped], #run-figure img:nth-of-type(2)")
+    alts = page.eval_on_selector_all("#run-figure img", "els => els.map(e => e.alt)")
+    assert alts == [f"plan figure of run {run_b}"]
+    assert run_b in page.inner_text("#run-title") and run_a not in page.inner_text("#run-title")
+
+
+def test_a_new_plan_clears_the_old_end_and_a_failed_plan_clears_the_plan(page: Any) -> None:  # noqa: F811
+    """After a played push-grasp plan, a new plan shows no "ends at φ = …" of the old one;
+    a plan that fails leaves no old plan under its error; changed inputs mark the plan stale."""
+    page.select_option("#example", "pie-20")
+    page.wait_for_selector("#plot-d svg")
+    plan_in_page(page, "push_grasp")
+    page.click("#anim-play")
+    page.wait_for_selector("#anim-final[data-final-deg]", timeout=30_000)
+    assert "ends at φ" in page.inner_text("#anim-final")
+    plan_in_page(page, "squeeze")
+    assert page.get_attribute("#anim-final", "data-final-deg") is None
+    assert "ends at" not in page.inner_text("#anim-final")
+    page.fill("#min-margin", "1")  # an input changed: the plan shown is no longer the form's
+    assert page.get_attribute("#plan-out", "data-stale") == "true"
+    assert "inputs changed" in page.inner_text("#plan-stale")
+    page.fill("#gripper", "{not json")  # this plan fails before it is sent
+    page.click("#plan-btn")
+    page.wait_for_selector("#message.error")
+    assert "gripper profile: not valid JSON" in page.inner_text("#message")
+    assert page.locator("#plan-out").is_hidden()
+    assert page.locator("#plan-steps tbody tr").count() == 0
+    assert page.get_attribute("#plan-summary", "data-steps") is None
+
+
+def test_a_plan_opened_from_runs_names_its_run(page: Any, server: Any, pie: dict[str, Any]) -> None:  # noqa: F811
+    run_a, _ = two_runs(server, pie)
+    page.click("button[data-page=runs]")
+    page.locator("#runs-table tbody tr", has_text=run_a).click()
+    page.wait_for_selector("#run-figure img")
+    page.click("#run-open")
+    page.wait_for_selector("#page-plan:not([hidden]) #plan-summary[data-steps]")
+    summary = page.inner_text("#plan-summary")
+    assert "undefined" not in summary and f"run {run_a}" in summary
+
+
+def test_a_late_analysis_of_an_earlier_part_is_not_drawn(page: Any) -> None:  # noqa: F811
+    """Choose pie-20, then bracket while the pie's analysis is on its way: the bracket's
+    analysis is what the page shows, also once the pie's answer arrived."""
+    held: list[Any] = []
+
+    def hold_pie(route: Any) -> None:
+        if '"pie' in (route.request.post_data or ""):
+            held.append(route)
+        else:
+            route.continue_()
+
+    page.route("**/v1/analyses*", hold_pie)
+    with page.expect_request(lambda r: "/v1/analyses" in r.url):
+        page.select_option("#example", "pie-20")
+    until_routed(page, held)
+    page.select_option("#example", "bracket")
+    page.wait_for_selector("#plot-d svg")
+    assert "bracket" in page.inner_text("#part-facts")
+    with page.expect_event("requestfinished", predicate=lambda r: '"pie' in (r.post_data or "")):
+        held[0].continue_()
+    page.wait_for_selector("#analysis[data-dropped]")
+    assert "bracket" in page.inner_text("#part-facts")
