@@ -218,3 +218,50 @@ def test_a_late_analysis_of_an_earlier_part_is_not_drawn(page: Any) -> None:  # 
         held[0].continue_()
     page.wait_for_selector("#analysis[data-dropped]")
     assert "bracket" in page.inner_text("#part-facts")
+
+
+def test_hidden_means_hidden_without_a_key(page: Any) -> None:  # noqa: F811
+    """No key needed: the key form is not shown nor in the Tab order; before any part, no
+    empty plot frames show."""
+    assert page.locator("#key-form").is_hidden()
+    assert page.locator("#analysis").is_hidden() and page.locator("#plot-d").is_hidden()
+    for _ in range(12):  # Tab through the header: the key input is never reached
+        page.keyboard.press("Tab")
+        assert page.evaluate("document.activeElement.id") != "apikey"
+
+
+@pytest.fixture(scope="module")
+def keyed_server(tmp_path_factory: pytest.TempPathFactory) -> Any:
+    from tests.service.conftest import start_server
+
+    s = start_server(tmp_path_factory.mktemp("keyed"), ALGRASP_API_KEYS="right-key")
+    yield s
+    s.kill()
+
+
+def test_the_key_form_shows_when_needed_and_says_a_rejected_key(browser: Any, keyed_server: Any) -> None:  # noqa: F811
+    ctx = browser.new_context(base_url=keyed_server.url)
+    pg = ctx.new_page()
+    errors: list[str] = []
+    # the 401s themselves are logged by Chromium as failed loads; anything else is a defect
+    pg.on("console", lambda m: errors.append(m.text) if m.type == "error" and "401" not in m.text else None)
+    pg.on("pageerror", lambda e: errors.append(str(e)))
+    try:
+        pg.goto("/")
+        pg.wait_for_selector("body[data-ready=true]")
+        assert pg.locator("#key-form").is_visible()
+        pg.fill("#apikey", "wrong-key")
+        with pg.expect_response(lambda r: r.url.endswith("/v1/examples")) as resp:
+            pg.click("#key-form button")
+        assert resp.value.status == 401
+        pg.wait_for_selector("#message.error")
+        assert "key rejected" in pg.inner_text("#message")
+        assert pg.evaluate("sessionStorage.length") == 0  # a wrong key is not kept
+        pg.fill("#apikey", "right-key")
+        pg.click("#key-form button")
+        pg.wait_for_selector("#key-form[data-accepted=true]")
+        assert "pie-20" in pg.inner_text("#example")
+        assert pg.evaluate("document.querySelectorAll('#example option').length") == 4  # no repeats: — and 3 parts
+    finally:
+        ctx.close()
+    assert errors == []
