@@ -265,3 +265,58 @@ def test_the_key_form_shows_when_needed_and_says_a_rejected_key(browser: Any, ke
     finally:
         ctx.close()
     assert errors == []
+
+
+def view_box(pg: Any) -> tuple[float, float, float, float]:
+    x, y, w, h = (float(v) for v in pg.get_attribute("#playback-view svg", "viewBox").split())
+    return x, y, w, h
+
+
+@pytest.mark.sim
+def test_playback_is_framed_and_validation_says_what_it_validated(page: Any, server: Any, pie: dict[str, Any]) -> None:  # noqa: F811
+    """Random placement, seed 5: at every simulated frame the part (its outline at the
+    simulated pose) and both jaws' faces lie inside the view, which is no more than needed;
+    the page names the action, model, placement and seed, and the Plan page shows the plan."""
+    import numpy as np
+
+    with server.client() as c:
+        geo = c.post("/v1/analyses?samples=720", json=pie).json()["geometry"]
+    outline, com = np.array(geo["outline"]), np.array(geo["center_of_mass"])
+    R = float(np.max(np.hypot(*(outline - com).T)))
+    page.select_option("#example", "pie-20")
+    page.wait_for_selector("#plot-d svg")
+    page.click("button[data-page=validation]")
+    page.fill("#samples", "2")
+    page.fill("#val-seed", "5")
+    page.select_option("#val-placement", "random")
+    with page.expect_request(lambda r: r.url.endswith("/v1/plans")) as req:
+        with page.expect_response(lambda r: "/playback" in r.url, timeout=180_000) as resp:
+            page.click("#validate-btn")
+    sent = req.value.post_data_json["validate"]
+    assert sent["seed"] == 5 and sent["placement"] == "random"
+    pb = resp.value.json()
+    page.wait_for_selector("#validation-table tbody tr")
+    what = page.inner_text("#validation-what")
+    for text in ("squeeze plan", "robust model", "pie-20", "placement random", "seed 5", "2 samples"):
+        assert text in what, (text, what)
+    assert page.get_attribute("#plan-summary", "data-steps") == str(len(pb["plan"]["steps"]))
+    assert pb["run_id"] in page.inner_text("#plan-summary")
+    page.click("#playback-play")
+    page.wait_for_selector("#playback-status[data-ended=true]", timeout=60_000)
+    x0, y0, w, h = view_box(page)
+    tr = pb["trajectories"][0]
+    need = []
+    for i in range(len(tr["t_s"])):
+        phi, alpha = np.radians(tr["phi_deg"][i]), np.radians(tr["gripper_angle_deg"][i])
+        rot = np.array([[np.cos(phi), -np.sin(phi)], [np.sin(phi), np.cos(phi)]])
+        pts = (outline - com) @ rot.T + [tr["x"][i], tr["y"][i]]
+        t, n = np.array([np.cos(alpha), np.sin(alpha)]), np.array([-np.sin(alpha), np.cos(alpha)])
+        for off in (tr["lower_jaw"][i], tr["higher_jaw"][i]):  # each jaw's face, R either side of the gripper
+            if off is not None:
+                pts = np.vstack([pts, off * n - R * t, off * n + R * t])
+        need.append(pts)
+    allpts = np.vstack(need)
+    sx, sy = allpts[:, 0], -allpts[:, 1]  # SVG y is down
+    assert sx.min() >= x0 - 1e-6 and sx.max() <= x0 + w + 1e-6, "the view crops the part or a jaw"
+    assert sy.min() >= y0 - 1e-6 and sy.max() <= y0 + h + 1e-6, "the view crops the part or a jaw"
+    assert max(w, h) <= 1.6 * max(np.ptp(sx), np.ptp(sy)), "the view is far larger than what it shows"
