@@ -320,3 +320,36 @@ def test_playback_is_framed_and_validation_says_what_it_validated(page: Any, ser
     assert sx.min() >= x0 - 1e-6 and sx.max() <= x0 + w + 1e-6, "the view crops the part or a jaw"
     assert sy.min() >= y0 - 1e-6 and sy.max() <= y0 + h + 1e-6, "the view crops the part or a jaw"
     assert max(w, h) <= 1.6 * max(np.ptp(sx), np.ptp(sy)), "the view is far larger than what it shows"
+
+
+def test_a_sheet_is_uploaded_once_and_its_warnings_said_once(page: Any, server: Any) -> None:  # noqa: F811
+    """The 10-gear sheet: one upload; every warning once, none telling the user about a CLI
+    flag; each thumbnail's #K index fully visible; the page's own units control re-reads it."""
+    from pathlib import Path
+
+    drawing = Path(__file__).resolve().parents[2] / "tests" / "data" / "real" / "koppi-involute-teeth-20-multiple.dxf"
+    with server.client() as c:
+        sheet = c.post("/v1/imports", files={"file": (drawing.name, drawing.read_bytes())}, data={"list": "true"}).json()
+    assert len(sheet["parts"]) == 10 and any("INSUNITS" in w for w in sheet["warnings"])
+    uploads: list[Any] = []
+    page.on("request", lambda r: uploads.append(r) if r.url.endswith("/v1/imports") else None)
+    page.set_input_files("#file", str(drawing))
+    page.wait_for_selector("#plot-d svg", timeout=60_000)
+    assert len(uploads) == 1
+    items = page.eval_on_selector_all("#warnings li", "els => els.map(e => e.textContent)")
+    assert len(items) == len(set(items)) and items
+    assert not any("--units" in w for w in items)
+    assert any("assumed millimetres" in w and "drawing units" in w for w in items)
+    thumbs = page.locator("#thumbs .thumb")
+    assert thumbs.count() == 10
+    for k in range(10):
+        box = page.evaluate("""(k) => { const b = document.querySelectorAll('#thumbs .thumb')[k];
+            const i = b.querySelector('.thumb-index'); const r = i.getBoundingClientRect(), o = b.getBoundingClientRect();
+            return {text: i.textContent, inside: r.left >= o.left && r.right <= o.right, cut: i.scrollWidth > i.clientWidth + 0.5}; }""", k)
+        assert box == {"text": f"#{k}", "inside": True, "cut": False}
+    with page.expect_response(lambda r: r.url.endswith("/v1/imports")) as resp:
+        page.select_option("#units", "in")
+    assert {d["units"] for d in resp.value.json()["documents"]} == {"in"}  # the server read it in inches
+    page.wait_for_selector("#part-facts:has-text('in²')")
+    items = page.eval_on_selector_all("#warnings li", "els => els.map(e => e.textContent)")
+    assert not any("assumed millimetres" in w for w in items)
