@@ -2,7 +2,7 @@
 
 import { api, hasKey, setKey } from "./api.js";
 import { listRuns, showRun } from "./runs.js";
-import { startJob } from "./jobs.js";
+import { cancelJob, lastJob, listJobs, showJob, startJob } from "./jobs.js";
 import { analyse, importFile, loadExamples, setTheta, showThumbnails, showWarnings } from "./part.js";
 import { clearPlan, enableDrag, ensureAnalysis, makePlan, markPlanStale, play, showPlan } from "./plan.js";
 import { clearValidation, markValidationStale, playBack, runValidation, showValidation } from "./validate.js";
@@ -43,7 +43,19 @@ function show(page) {
   });
   if (location.hash !== `#${page}`) history.replaceState(null, "", `#${page}`);
   if (page === "runs") action("loading runs", () => listRuns(state, selectRun))();
+  if (page === "catalogue") {
+    action("loading jobs", async () => {
+      await listJobs(state);
+      const last = lastJob();
+      if (last && !state.job && $("jobs-table").querySelector(`tr[data-job="${last}"]`)) state.jobActions.onShow(last);
+    })();
+  }
 }
+
+state.jobActions = {
+  onShow: (id) => action("showing the job", () => showJob(state, id))(),
+  onCancel: (id) => action("cancelling the job", () => cancelJob(state, id))(),
+};
 
 // A new part: every panel computed from the previous one is cleared.
 async function usePart(doc) {
@@ -122,6 +134,8 @@ function wire() {
   }));
   $("playback-play").addEventListener("click", () => state.playback && playBack(state));
   $("job-form").addEventListener("submit", action("running the catalogue job", () => startJob(state)));
+  $("jobs-refresh").addEventListener("click", action("loading jobs", () => listJobs(state)));
+  $("job-cancel").addEventListener("click", () => state.job && state.jobActions.onCancel(state.job));
   $("runs-refresh").addEventListener("click", action("loading runs", () => listRuns(state, selectRun)));
 }
 

@@ -353,3 +353,30 @@ def test_a_sheet_is_uploaded_once_and_its_warnings_said_once(page: Any, server: 
     page.wait_for_selector("#part-facts:has-text('in²')")
     items = page.eval_on_selector_all("#warnings li", "els => els.map(e => e.textContent)")
     assert not any("assumed millimetres" in w for w in items)
+
+
+def test_jobs_are_listed_with_progress_and_can_be_cancelled(page: Any, server: Any, pie: dict[str, Any]) -> None:  # noqa: F811
+    """A long job started through the API: the Catalogue page lists it with its state and
+    progress; Cancel cancels it (the API says so); after a reload the list and the job are
+    still there."""
+    with server.client() as c:
+        job_id = c.post("/v1/jobs", json={"parts": [pie] * 30, "options": {"validate": {"samples": 1}}}).json()["id"]
+    page.click("button[data-page=catalogue]")
+    row = f"#jobs-table tr[data-job='{job_id}']"
+    page.wait_for_selector(row)
+    assert page.get_attribute(row, "data-state") in ("queued", "running")
+    assert page.locator(f"{row} progress").count() == 1
+    with page.expect_response(lambda r: r.url.endswith(f"/v1/jobs/{job_id}") and r.request.method == "DELETE") as resp:
+        page.click(f"{row} button.job-cancel")
+    assert resp.value.status == 200
+    page.wait_for_selector(f"{row}[data-state=cancelled]")
+    with server.client() as c:
+        assert c.get(f"/v1/jobs/{job_id}").json()["state"] == "cancelled"
+    page.click(f"{row} button.job-show")
+    page.wait_for_selector("#job-out[data-state=cancelled]")
+    assert page.locator("#job-cancel").is_hidden()
+    page.reload()
+    page.wait_for_selector("body[data-ready=true]")
+    page.click("button[data-page=catalogue]")
+    page.wait_for_selector(f"#job-out[data-job='{job_id}'][data-state=cancelled]")
+    assert page.locator(row).count() == 1
