@@ -98,8 +98,8 @@ def _transfer_panel(ax: Axes, plan: Plan) -> None:
             y = to_deg([p.start, p.end]) if p.value is None else to_deg([p.value, p.value])
             ax.plot(x, y - to_deg(base), color="tab:blue" if p.value is not None else "tab:orange", lw=1.5)
             if p.value is None:  # a ramp: shaded over its whole width, wrapped
-                for lo, hi in wrapped_spans(p.start - base, p.end - base, F.period):
-                    ax.axvspan(to_deg(lo), to_deg(hi), color=CONSTANT, alpha=0.35, lw=0)
+                for a, b in wrapped_spans(p.start - base, p.end - base, F.period):
+                    ax.axvspan(to_deg(a), to_deg(b), color=CONSTANT, alpha=0.35, lw=0)
     else:  # the set-valued images [lower(θ), upper(θ)] (conventions §7)
         theta = base + np.linspace(0.0, F.period, 2881)
         lo, hi = plan.bounds.image(theta, theta)

@@ -289,9 +289,9 @@ def test_playback_is_framed_and_validation_says_what_it_validated(page: Any, ser
     page.fill("#samples", "2")
     page.fill("#val-seed", "5")
     page.select_option("#val-placement", "random")
-    with page.expect_request(lambda r: r.url.endswith("/v1/plans")) as req:
-        with page.expect_response(lambda r: "/playback" in r.url, timeout=180_000) as resp:
-            page.click("#validate-btn")
+    with (page.expect_request(lambda r: r.url.endswith("/v1/plans")) as req,
+          page.expect_response(lambda r: "/playback" in r.url, timeout=180_000) as resp):
+        page.click("#validate-btn")
     sent = req.value.post_data_json["validate"]
     assert sent["seed"] == 5 and sent["placement"] == "random"
     pb = resp.value.json()
@@ -344,8 +344,10 @@ def test_a_sheet_is_uploaded_once_and_its_warnings_said_once(page: Any, server: 
     assert thumbs.count() == 10
     for k in range(10):
         box = page.evaluate("""(k) => { const b = document.querySelectorAll('#thumbs .thumb')[k];
-            const i = b.querySelector('.thumb-index'); const r = i.getBoundingClientRect(), o = b.getBoundingClientRect();
-            return {text: i.textContent, inside: r.left >= o.left && r.right <= o.right, cut: i.scrollWidth > i.clientWidth + 0.5}; }""", k)
+            const i = b.querySelector('.thumb-index');
+            const r = i.getBoundingClientRect(), o = b.getBoundingClientRect();
+            return {text: i.textContent, inside: r.left >= o.left && r.right <= o.right,
+                    cut: i.scrollWidth > i.clientWidth + 0.5}; }""", k)
         assert box == {"text": f"#{k}", "inside": True, "cut": False}
     with page.expect_response(lambda r: r.url.endswith("/v1/imports")) as resp:
         page.select_option("#units", "in")
