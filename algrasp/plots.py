@@ -116,8 +116,8 @@ def _transfer_panel(ax: Axes, plan: Plan) -> None:
         a, b = plan.intervals[i]
         y_bar = -span * (0.06 + 0.05 * row)
         start = (a - base) % F.period
-        for k, (lo, hi) in enumerate(wrapped_spans(start, start + (b - a), F.period)):
-            ax.plot(to_deg([lo, hi]), [y_bar, y_bar], color="tab:purple", lw=3, solid_capstyle="butt",
+        for k, (x0, x1) in enumerate(wrapped_spans(start, start + (b - a), F.period)):
+            ax.plot(to_deg([x0, x1]), [y_bar, y_bar], color="tab:purple", lw=3, solid_capstyle="butt",
                     label="intervals Θᵢ of A′ (below 0; top bar Θ₁)" if row == 0 and k == 0 else None)
         ax.text(1.005, y_bar, f"Θ{i + 1}", transform=label_at, ha="left", va="center", fontsize=7)
     ax.axhline(0.0, color="gray", lw=0.5)
