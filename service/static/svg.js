@@ -72,7 +72,7 @@ export function linePlot(host, spec) {
   const sx = (x) => m.l + ((x - x0) / (x1 - x0)) * (W - m.l - m.r);
   const sy = (y) => yb - ((y - y0) / (y1 - y0)) * PH;
   const svg = el("svg", { viewBox: `0 0 ${W} ${H}`, class: "plot", role: "img", "aria-label": spec.title });
-  const title = text(m.l, 15, spec.title, { class: "plot-title" });
+  const title = text(8, 15, spec.title, { class: "plot-title" });
   title.append(el("title", {}, [spec.title])); // the whole title on hover if the width cuts it
   svg.append(title);
   const clipId = `plot-clip-${++clipIds}`;
@@ -158,7 +158,17 @@ export function linePlot(host, spec) {
     });
   }
   host.replaceChildren(svg);
+  fitTitle(title, W - 16);
   return { setCursor };
+}
+
+// A title longer than the plot is squeezed to its width, never cut (measured once shown).
+function fitTitle(title, width) {
+  const len = title.getComputedTextLength ? title.getComputedTextLength() : 0;
+  if (len > width) {
+    title.setAttribute("textLength", width);
+    title.setAttribute("lengthAdjust", "spacingAndGlyphs");
+  }
 }
 
 function mod(x, p) {

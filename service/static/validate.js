@@ -16,17 +16,21 @@ export function validateOptions() {
     seed: Math.max(0, Math.floor(Number($("val-seed").value) || 0)),
     sim_physics: $("sim-physics").value,
   };
+  if (out.sim_physics === "cell") {
+    out.sim_physics = $("sim-cell").value.trim();
+    if (!out.sim_physics) throw new Error("enter the cell to simulate (KEY=VALUE,…), e.g. support_friction=0.05");
+  }
   if ($("val-placement").value) out.placement = $("val-placement").value;
   return out;
 }
 
 export async function runValidation(state) {
   const current = begin("validation");
+  clearValidation(state); // a failed validation leaves no old one under its error
   const validate = validateOptions();
   const progress = $("validation-progress");
   const elapsed = $("validation-elapsed");
   const t0 = performance.now();
-  clearValidation(state);
   progress.hidden = false;
   const timer = setInterval(() => { elapsed.textContent = `simulating ${validate.samples} samples… ${((performance.now() - t0) / 1000).toFixed(0)} s`; }, 250);
   let plan, playback, body;

@@ -382,3 +382,14 @@ def test_jobs_are_listed_with_progress_and_can_be_cancelled(page: Any, server: A
     page.click("button[data-page=catalogue]")
     page.wait_for_selector(f"#job-out[data-job='{job_id}'][data-state=cancelled]")
     assert page.locator(row).count() == 1
+
+
+def test_plot_titles_fit_their_plots(page: Any) -> None:  # noqa: F811
+    """At 1280 px, where titles were cut off: every plot title ends inside its plot."""
+    page.set_viewport_size({"width": 1280, "height": 900})
+    page.select_option("#example", "pie-20")
+    page.wait_for_selector("#plot-push_grasp svg")
+    out = page.evaluate("""() => [...document.querySelectorAll('#analysis svg.plot')].map((svg) => {
+        const t = svg.querySelector('.plot-title').getBoundingClientRect(), s = svg.getBoundingClientRect();
+        return [t.left >= s.left - 0.5 && t.right <= s.right + 0.5, svg.getAttribute('aria-label')]; })""")
+    assert len(out) == 5 and all(ok for ok, _ in out), out
