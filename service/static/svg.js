@@ -47,6 +47,15 @@ export function wrapSpans(a, b, lo, hi, P) {
   return out;
 }
 
+function union(spans) {
+  const out = [];
+  for (const [a, b] of [...spans].sort((p, q) => p[0] - q[0])) {
+    if (out.length && a <= out[out.length - 1][1] + 1e-9) out[out.length - 1][1] = Math.max(out[out.length - 1][1], b);
+    else out.push([a, b]);
+  }
+  return out;
+}
+
 let clipIds = 0;
 const LANE = 12; // px per Θᵢ row: a 4 px bar and its label never touch the next one
 
@@ -80,9 +89,13 @@ export function linePlot(host, spec) {
   svg.append(el("clipPath", { id: clipId }, [el("rect", area)]));
   svg.append(el("rect", { ...area, class: "plot-area", fill: "none" }));
   const bands = el("g", { class: "bands" });
+  const byClass = new Map();
   for (const b of spec.bands || []) {
-    for (const [a, c] of wrapSpans(b.x0, b.x1, x0, x1, P)) {
-      bands.append(el("rect", { x: sx(a), y: m.t, width: sx(c) - sx(a), height: PH, class: b.cls }));
+    byClass.set(b.cls, [...(byClass.get(b.cls) || []), ...wrapSpans(b.x0, b.x1, x0, x1, P)]);
+  }
+  for (const [cls, spans] of byClass) { // overlapping regions of a kind: one shade, not darker twice
+    for (const [a, c] of union(spans)) {
+      bands.append(el("rect", { x: sx(a), y: m.t, width: sx(c) - sx(a), height: PH, class: cls }));
     }
   }
   svg.append(bands);

@@ -33,6 +33,16 @@ def wrapped(a: float, b: float, period: float) -> list[tuple[float, float]]:
     return sorted(out)
 
 
+def union(spans: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    out: list[tuple[float, float]] = []
+    for a, b in sorted(spans):
+        if out and a <= out[-1][1] + 1e-9:
+            out[-1] = (out[-1][0], max(out[-1][1], b))
+        else:
+            out.append((a, b))
+    return out
+
+
 def plot_geometry(pg: Any, host: str) -> dict[str, Any]:
     """The plot's area (px) and the shapes in it, read from the SVG the page drew."""
     return pg.evaluate("""(host) => {
@@ -73,19 +83,18 @@ def test_periodic_regions_and_images_wrap_on_every_plot(page: Any, server: Any) 
     page.select_option("#example", "pie-20")
     page.wait_for_selector("#plot-push_grasp svg")
     d = plot_geometry(page, "plot-d")
-    want = sorted(p for lo, hi in a["robust"]["squeeze"]["dead_zones_deg"] for p in wrapped(lo, hi, 180.0))
-    want = sorted(set((round(x, 6), round(y, 6)) for x, y in want))
+    want = union([p for lo, hi in a["robust"]["squeeze"]["dead_zones_deg"] for p in wrapped(lo, hi, 180.0)])
     assert close(to_deg(d, d["dead"], 180.0), want)
-    ramps = sorted(p for lo, hi in a["diameter"]["constant_intervals_deg"] for p in wrapped(lo, hi, 180.0))
+    ramps = union([p for lo, hi in a["diameter"]["constant_intervals_deg"] for p in wrapped(lo, hi, 180.0)])
     assert close(to_deg(d, d["ramp"], 180.0), ramps)
     assert ramps[0][0] == pytest.approx(0.0) and ramps[-1][1] == pytest.approx(180.0)  # both sides
     r = plot_geometry(page, "plot-r")
-    want = sorted(set(p for lo, hi in a["robust"]["push"]["dead_zones_deg"] for p in wrapped(lo, hi, 360.0)))
+    want = union([p for lo, hi in a["robust"]["push"]["dead_zones_deg"] for p in wrapped(lo, hi, 360.0)])
     got = to_deg(r, r["dead"], 360.0)
     assert close(got, want)
     assert got[0][0] == pytest.approx(0.0, abs=0.05) and got[-1][1] == pytest.approx(360.0, abs=0.05)
     sq = plot_geometry(page, "plot-squeeze")
-    ramp = sorted(p for s in a["squeeze"]["ramps"] for p in wrapped(s["start_deg"], s["end_deg"], 180.0))
+    ramp = union([p for s in a["squeeze"]["ramps"] for p in wrapped(s["start_deg"], s["end_deg"], 180.0)])
     assert close(to_deg(sq, sq["ramp"], 180.0), ramp)
     # the images, clipped to the axis, leave no θ without an image
     f = 180.0 / sq["width"]
@@ -393,3 +402,26 @@ def test_plot_titles_fit_their_plots(page: Any) -> None:  # noqa: F811
         const t = svg.querySelector('.plot-title').getBoundingClientRect(), s = svg.getBoundingClientRect();
         return [t.left >= s.left - 0.5 && t.right <= s.right + 0.5, svg.getAttribute('aria-label')]; })""")
     assert len(out) == 5 and all(ok for ok, _ in out), out
+
+
+def test_the_constant_region_is_one_orange_at_both_ends(page: Any) -> None:  # noqa: F811
+    """pie-20's d(θ) is constant on [160°, 200°): the pixels at θ = 10° and 170° (inside both
+    pieces, under the curve's line) are the same orange, over the grey dead zone too."""
+    import io
+
+    from PIL import Image
+
+    page.select_option("#example", "pie-20")
+    page.wait_for_selector("#plot-d svg")
+    geo = plot_geometry(page, "plot-d")
+    box = page.locator("#plot-d svg").bounding_box()
+    scale = box["width"] / 520  # the plot's viewBox is 520 wide
+    img = Image.open(io.BytesIO(page.locator("#plot-d svg").screenshot())).convert("RGB")
+    colours = []
+    for theta in (10.0, 170.0):
+        x = (geo["x"] + theta / 180.0 * geo["width"]) * scale
+        y = (geo["y"] + geo["height"] * 0.9) * scale
+        colours.append(img.getpixel((int(x), int(y))))
+    for r, g, b in colours:
+        assert r > 220 and 150 < g < 225 and b < 140, colours  # orange, not tan or grey
+    assert max(abs(a - b) for a, b in zip(*colours)) <= 6  # one colour at both ends
