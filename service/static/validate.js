@@ -33,9 +33,9 @@ export async function runValidation(state) {
   const t0 = performance.now();
   progress.hidden = false;
   const timer = setInterval(() => { elapsed.textContent = `simulating ${validate.samples} samples… ${((performance.now() - t0) / 1000).toFixed(0)} s`; }, 250);
-  let plan, playback, body;
+  let plan, playback;
   try {
-    body = planRequest(state, { validate });
+    const body = planRequest(state, { validate });
     await ensureAnalysis(state, body.exact);
     plan = await api("/v1/plans", { json: body });
     current();
@@ -48,7 +48,6 @@ export async function runValidation(state) {
   elapsed.textContent = `done in ${((performance.now() - t0) / 1000).toFixed(1)} s`;
   state.plan = plan;
   state.playback = playback;
-  state.validated = { part: state.part.name || "part", validate, physics: body.physics };
   showPlan(state); // the Plan page shows the plan that was validated
   showValidation(state);
 }
@@ -78,17 +77,15 @@ export function markValidationStale(state) {
   $("validation-stale").textContent = "the inputs changed since this validation: validate again for results that match them";
 }
 
-// "3-step squeeze plan (robust model) of pie-20; nominal cells, placement random, seed 0, 4 samples"
+// What the run record says was validated: "validated: 3-step squeeze plan (robust model) of
+// pie-20; cells simulated nominal, placement random, seed 0, 4 samples".
 function describeValidated(state) {
-  const p = state.playback.plan || state.plan, v = state.playback.validation || {};
-  const o = state.playback.options || {};
-  const given = state.validated || {};
-  const val = given.validate || o.validate || {};
-  const part = (state.playback.part && state.playback.part.name) || given.part || "part";
-  const placement = val.placement || (p.dead_band && p.dead_band.placement) || "as the cell says";
-  const samples = (v.samples && v.samples.length) ?? val.samples;
+  const pb = state.playback, p = pb.plan || state.plan, v = pb.validation || {}, o = pb.options || {};
+  const part = (pb.part && pb.part.name) || "part";
+  const placement = v.placement || o.placement || (p.dead_band && p.dead_band.placement) || "as the cell says";
+  const samples = v.samples ? v.samples.length : o.samples;
   return `validated: ${p.steps.length}-step ${p.action.replace("_", "-")} plan (${p.model} model) of ${part}; ` +
-    `cells simulated ${val.sim_physics || "nominal"}, placement ${placement}, seed ${val.seed ?? 0}, ${samples} samples`;
+    `cells simulated ${o.sim_physics || "nominal"}, placement ${placement}, seed ${o.seed ?? 0}, ${samples} samples`;
 }
 
 export function showValidation(state) {
