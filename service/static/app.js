@@ -3,7 +3,7 @@
 import { api, hasKey, setKey } from "./api.js";
 import { listRuns, showRun } from "./runs.js";
 import { cancelJob, lastJob, listJobs, showJob, startJob } from "./jobs.js";
-import { analyse, importFile, loadExamples, setTheta, showThumbnails, showWarnings } from "./part.js";
+import { analyse, drawAnalysis, importFile, loadExamples, setTheta, showThumbnails, showWarnings } from "./part.js";
 import { clearPlan, enableDrag, ensureAnalysis, makePlan, markPlanStale, play, showPlan } from "./plan.js";
 import { clearValidation, markValidationStale, playBack, runValidation, showValidation } from "./validate.js";
 
@@ -74,6 +74,13 @@ const openRun = (runId) => action(`opening run ${runId}`, async () => {
   clearPlan(state);
   clearValidation(state);
   await ensureAnalysis(state, Boolean(pb.options.exact));
+  // the Part page shows the run's part too, not the one chosen before
+  $("example").value = "";
+  $("file").value = "";
+  $("thumbs").replaceChildren();
+  $("warnings").replaceChildren();
+  $("exact").checked = Boolean(pb.options.exact);
+  drawAnalysis(state);
   state.plan = { ...pb.plan, run_id: pb.plan.run_id ?? pb.run_id };
   state.playback = pb;
   showPlan(state);

@@ -195,7 +195,10 @@ def test_a_new_plan_clears_the_old_end_and_a_failed_plan_clears_the_plan(page: A
 
 
 def test_a_plan_opened_from_runs_names_its_run(page: Any, server: Any, pie: dict[str, Any]) -> None:  # noqa: F811
+    """...and the Part page shows the run's part, not the part chosen before."""
     run_a, _ = two_runs(server, pie)
+    page.select_option("#example", "bracket")
+    page.wait_for_selector("#plot-d svg")
     page.click("button[data-page=runs]")
     page.locator("#runs-table tbody tr", has_text=run_a).click()
     page.wait_for_selector("#run-figure img")
@@ -203,6 +206,8 @@ def test_a_plan_opened_from_runs_names_its_run(page: Any, server: Any, pie: dict
     page.wait_for_selector("#page-plan:not([hidden]) #plan-summary[data-steps]")
     summary = page.inner_text("#plan-summary")
     assert "undefined" not in summary and f"run {run_a}" in summary
+    facts = page.evaluate("document.getElementById('part-facts').textContent")
+    assert facts.startswith(pie["name"]) and "bracket" not in facts
 
 
 def test_a_late_analysis_of_an_earlier_part_is_not_drawn(page: Any) -> None:  # noqa: F811
