@@ -22,6 +22,7 @@ export async function startJob(state) {
   form.append("archive", file);
   form.append("options", JSON.stringify(options));
   const job = await api("/v1/jobs", { form });
+  state.jobIgnored = { ...state.jobIgnored, [job.id]: job.ignored || [] };
   listJobs(state).catch(() => {}); // the list shows it at once; its own errors come with its next refresh
   await showJob(state, job.id);
 }
@@ -41,6 +42,9 @@ export async function showJob(state, id) {
   spec.querySelector("tbody").replaceChildren();
   document.querySelector("#job-parts tbody").replaceChildren();
   document.getElementById("job-state").textContent = "loading…";
+  const ignored = (state.jobIgnored || {})[id] || [];
+  document.getElementById("job-ignored").replaceChildren(...ignored.map((w) =>
+    Object.assign(document.createElement("li"), { textContent: `ignored: ${w}` })));
   document.querySelectorAll("#jobs-table tbody tr").forEach((tr) => tr.setAttribute("aria-selected", String(tr.dataset.job === id)));
   await poll(state, id);
 }

@@ -126,3 +126,20 @@ def test_a_sheet_and_its_documents_in_one_upload(server: Server) -> None:
         inches = c.post("/v1/imports", files=files, data={"list": "true", "documents": "1", "units": "in"}).json()
         assert inches["documents"][0]["units"] == "in" and not any("INSUNITS" in w for w in inches["warnings"])
         assert c.post("/v1/imports", files=files, data={"list": "true", "units": "furlong"}).status_code == 422
+
+
+def test_a_job_says_the_archive_files_it_does_not_read(server: Server, pie: dict[str, Any]) -> None:
+    import io
+    import zipfile
+
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w") as z:
+        z.writestr("pie.json", json.dumps(pie))
+        z.writestr("notes/README.txt", "not a part")
+        z.writestr(".hidden.json", "{}")
+    with server.client() as c:
+        job = c.post("/v1/jobs", files={"archive": ("c.zip", buf.getvalue())}).json()
+        assert job["total"] == 1
+        assert any(w.startswith("notes/README.txt: not a part file") for w in job["ignored"])
+        assert any(w.startswith(".hidden.json: a hidden file") for w in job["ignored"])
+        wait_job(c, job["id"])
