@@ -114,7 +114,7 @@ def _transfer_panel(ax: Axes, plan: Plan) -> None:
     label_at = blended_transform_factory(ax.transAxes, ax.transData)
     for row, i in enumerate(rows):  # one row per Θᵢ, labelled; a bar past the period wraps to 0
         a, b = plan.intervals[i]
-        y_bar = -span * (0.06 + 0.05 * row)
+        y_bar = -span * (0.07 + 0.07 * row)  # rows apart by more than a label's height
         start = (a - base) % F.period
         for k, (x0, x1) in enumerate(wrapped_spans(start, start + (b - a), F.period)):
             ax.plot(to_deg([x0, x1]), [y_bar, y_bar], color="tab:purple", lw=3, solid_capstyle="butt",
