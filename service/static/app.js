@@ -2,6 +2,7 @@
 
 import { api, hasKey, setKey } from "./api.js";
 import { listRuns, showRun } from "./runs.js";
+import { setupEditor } from "./editor.js";
 import { cancelJob, lastJob, listJobs, showJob, startJob } from "./jobs.js";
 import { analyse, drawAnalysis, importFile, loadExamples, setTheta, showThumbnails, showWarnings } from "./part.js";
 import { clearPlan, enableDrag, ensureAnalysis, makePlan, markPlanStale, play, showPlan } from "./plan.js";
@@ -90,6 +91,16 @@ const openRun = (runId) => action(`opening run ${runId}`, async () => {
   } else show("plan");
 })();
 
+// A document saved as a file through a blob URL.
+function saveJson(doc, filename) {
+  const url = URL.createObjectURL(new Blob([JSON.stringify(doc, null, 2)], { type: "application/json" }));
+  const a = Object.assign(document.createElement("a"), { href: url, download: filename });
+  document.body.append(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(url), 10_000);
+}
+
 function wire() {
   document.querySelectorAll(".tab").forEach((t) => t.addEventListener("click", () => show(t.dataset.page)));
   // A key is tried at once (the examples need it): a wrong one is said, and not kept.
@@ -123,6 +134,13 @@ function wire() {
   });
   $("file").addEventListener("change", importChosen);
   $("units").addEventListener("change", () => $("file").files[0] && importChosen());
+  setupEditor(action("analysing the drawn part", async (doc) => {
+    $("example").value = "";
+    $("file").value = "";
+    $("thumbs").replaceChildren();
+    $("warnings").replaceChildren();
+    await usePart(doc);
+  }), (doc) => saveJson(doc, `${doc.name.replace(/[^\w.-]+/g, "-")}.json`));
   $("exact").addEventListener("change", action("analysing", async () => { if (state.part) await analyse(state); }));
   $("theta").addEventListener("input", () => state.analysis && setTheta(state, Number($("theta").value)));
   $("plan-form").addEventListener("submit", action("planning", async () => {

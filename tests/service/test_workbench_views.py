@@ -430,3 +430,43 @@ def test_the_constant_region_is_one_orange_at_both_ends(page: Any) -> None:  # n
     for r, g, b in colours:
         assert r > 220 and 150 < g < 225 and b < 140, colours  # orange, not tan or grey
     assert max(abs(a - b) for a, b in zip(*colours)) <= 6  # one colour at both ends
+
+
+def test_a_part_drawn_by_clicks_is_saved_analysed_and_planned(page: Any) -> None:  # noqa: F811
+    """Four clicks on the editor's 60 mm grid draw a 30 × 20 mm rectangle; dragging a vertex
+    moves it; the saved document is the polygon; its analysis has the shoelace area; it plans."""
+    import json as _json
+    from pathlib import Path
+
+    def shoelace(pts: list[tuple[float, float]]) -> float:
+        return abs(sum(x * v - u * y for (x, y), (u, v) in zip(pts, pts[1:] + pts[:1]))) / 2
+
+    page.click("#editor-open")
+    box = page.locator("#editor-canvas").bounding_box()
+
+    def at(x: float, y: float) -> tuple[float, float]:  # mm → screen (y up, 0..60 mm)
+        return box["x"] + x / 60 * box["width"], box["y"] + (60 - y) / 60 * box["height"]
+
+    pts = [(10.0, 10.0), (40.0, 10.0), (40.0, 30.0), (10.0, 30.0)]
+    for x, y in pts:
+        page.mouse.click(*at(x, y))
+    assert f"area {shoelace(pts):.2f} mm²" in page.inner_text("#editor-facts")
+    page.mouse.move(*at(40, 30))  # drag the third vertex up 10 mm
+    page.mouse.down()
+    page.mouse.move(*at(40, 35))
+    page.mouse.move(*at(40, 40))
+    page.mouse.up()
+    pts[2] = (40.0, 40.0)
+    assert f"area {shoelace(pts):.2f} mm²" in page.inner_text("#editor-facts")
+    with page.expect_download() as dl:
+        page.click("#editor-save")
+    doc = _json.loads(Path(dl.value.path()).read_text())
+    assert doc["units"] == "mm" and shoelace([tuple(p) for p in doc["polygon"]]) == pytest.approx(shoelace(pts))
+    assert sorted(map(tuple, doc["polygon"])) == sorted(pts)
+    with page.expect_response(lambda r: "/v1/analyses" in r.url) as resp:
+        page.click("#editor-use")
+    page.wait_for_selector("#plot-d svg")
+    assert resp.value.json()["part"]["area"] == pytest.approx(shoelace(pts), rel=1e-9)
+    assert page.inner_text("#part-facts").startswith("drawn part")
+    plan = plan_in_page(page, "squeeze")
+    assert page.locator("#plan-steps tbody tr").count() == len(plan["steps"]) >= 1
