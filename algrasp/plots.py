@@ -19,6 +19,7 @@ matplotlib.rcParams["svg.fonttype"] = "none"  # text stays text in SVG: smaller,
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.axes import Axes  # noqa: E402
+from matplotlib.transforms import blended_transform_factory  # noqa: E402
 
 from algrasp.errors import ConfigError  # noqa: E402
 from algrasp.geometry.angles import to_deg, to_rad  # noqa: E402
@@ -47,29 +48,45 @@ def jaw_offsets(points: FloatArray, alpha: float) -> tuple[float, float]:
     return float(proj.min()), float(proj.max())
 
 
+def wrapped_spans(a: float, b: float, period: float) -> list[tuple[float, float]]:
+    """The pieces of [a, b] inside [0, period] on a periodic axis: the interval and its
+    copies shifted by whole periods, so a region crossing 0 or the period is two pieces."""
+    if b - a >= period:
+        return [(0.0, period)]
+    out = []
+    for k in range(int(np.floor(-b / period)), int(np.ceil((period - a) / period)) + 1):
+        lo, hi = max(a + k * period, 0.0), min(b + k * period, period)
+        if hi - lo > 1e-12:
+            out.append((lo, hi))
+    return out
+
+
+CONSTANT = "#ffb74d"  # orange 300, opaque: drawn over the translucent grey it stays orange
+DEAD = "#9e9e9e"
+
+
 def _function_panel(ax: Axes, analysis: Analysis, plan: Plan) -> None:
     f = analysis.diameter if plan.action == "squeeze" else analysis.radius
-    theta = np.linspace(0.0, f.period, 1441)
-    ax.plot(to_deg(theta), f.values(theta), color="black", lw=1.2)
+    P = f.period
+    theta = np.linspace(0.0, P, 1441)
+    ax.plot(to_deg(theta), f.values(theta), color="black", lw=1.2, zorder=3)
     for e in f.extrema:
-        ax.plot(to_deg(e.theta), e.value, "v" if e.kind == "min" else "^",
-                color="tab:green" if e.kind == "min" else "tab:red", ms=5)
-    for a, b in f.constant_intervals:
-        ax.axvspan(to_deg(a), to_deg(min(b, f.period)), color="tab:orange", alpha=0.15)
-    dead = "" if plan.bounds is None else "; grey bands: dead zones |f′| ≤ κ"
+        ax.plot(to_deg(e.theta % P), e.value, "v" if e.kind == "min" else "^",
+                color="tab:green" if e.kind == "min" else "tab:red", ms=5, zorder=4)
+    dead = "" if plan.bounds is None else "; grey: dead zones |f′| ≤ κ"
     if plan.bounds is not None:
-        P = f.period
         for a, b in plan.bounds.rest_zones:
-            for k in (-1, 0, 1):  # zones may wrap past 0 or the period
-                lo, hi = max(a + k * P, 0.0), min(b + k * P, P)
-                if hi > lo:
-                    ax.axvspan(to_deg(lo), to_deg(hi), color="gray", alpha=0.3, lw=0)
+            for lo, hi in wrapped_spans(a, b, P):  # zones may wrap past 0 or the period
+                ax.axvspan(to_deg(lo), to_deg(hi), color=DEAD, alpha=0.3, lw=0, zorder=1)
+    for a, b in f.constant_intervals:
+        for lo, hi in wrapped_spans(a, b, P):
+            ax.axvspan(to_deg(lo), to_deg(hi), color=CONSTANT, lw=0, zorder=2)
     ax.set_title(f"{'diameter d' if plan.action == 'squeeze' else 'radius r'}(θ) with extrema "
                  f"(▲ max, ▼ min; orange: constant{dead})", fontsize=9)
     name = "d" if plan.action == "squeeze" else "r"
     ax.set_xlabel("θ, part orientation relative to the gripper (deg)")
     ax.set_ylabel(f"{name}(θ) ({analysis.part.units})")
-    ax.set_xlim(0, to_deg(f.period))
+    ax.set_xlim(0, to_deg(P))
 
 
 def _transfer_panel(ax: Axes, plan: Plan) -> None:
@@ -80,6 +97,9 @@ def _transfer_panel(ax: Axes, plan: Plan) -> None:
             x = to_deg([p.start - base, p.end - base])
             y = to_deg([p.start, p.end]) if p.value is None else to_deg([p.value, p.value])
             ax.plot(x, y - to_deg(base), color="tab:blue" if p.value is not None else "tab:orange", lw=1.5)
+            if p.value is None:  # a ramp: shaded over its whole width, wrapped
+                for a, b in wrapped_spans(p.start - base, p.end - base, F.period):
+                    ax.axvspan(to_deg(a), to_deg(b), color=CONSTANT, alpha=0.35, lw=0)
     else:  # the set-valued images [lower(θ), upper(θ)] (conventions §7)
         theta = base + np.linspace(0.0, F.period, 2881)
         lo, hi = plan.bounds.image(theta, theta)
@@ -88,16 +108,21 @@ def _transfer_panel(ax: Axes, plan: Plan) -> None:
                         label="image F_κ(θ) = [lower, upper]")
         ax.plot(x, to_deg(lo - base), color="tab:blue", lw=1.0)
         ax.plot(x, to_deg(hi - base), color="tab:blue", lw=1.0, ls="--")
-        ax.legend(loc="upper left", fontsize=7)
     span = to_deg(F.period)
-    rows = plan.intervals if len(plan.intervals) <= 12 else plan.intervals[:6] + plan.intervals[-6:]
-    for i, (a, b) in enumerate(rows):
-        lo_deg = to_deg((a - base) % F.period)
-        y_bar = -span * (0.06 + 0.05 * i)
-        ax.plot([lo_deg, lo_deg + to_deg(b - a)], [y_bar, y_bar], color="tab:purple", lw=3, solid_capstyle="butt",
-                label="intervals Θᵢ of A′ (below 0; top bar Θ₁)" if i == 0 else None)
+    n = len(plan.intervals)
+    rows = list(range(n)) if n <= 12 else [*range(6), *range(n - 6, n)]
+    label_at = blended_transform_factory(ax.transAxes, ax.transData)
+    for row, i in enumerate(rows):  # one row per Θᵢ, labelled; a bar past the period wraps to 0
+        a, b = plan.intervals[i]
+        y_bar = -span * (0.07 + 0.07 * row)  # rows apart by more than a label's height
+        start = (a - base) % F.period
+        for k, (x0, x1) in enumerate(wrapped_spans(start, start + (b - a), F.period)):
+            ax.plot(to_deg([x0, x1]), [y_bar, y_bar], color="tab:purple", lw=3, solid_capstyle="butt",
+                    label="intervals Θᵢ of A′ (below 0; top bar Θ₁)" if row == 0 and k == 0 else None)
+        ax.text(1.005, y_bar, f"Θ{i + 1}", transform=label_at, ha="left", va="center", fontsize=7)
     ax.axhline(0.0, color="gray", lw=0.5)
-    ax.legend(loc="best", fontsize=7)
+    ax.legend(loc="upper left", fontsize=7)
+    ax.set_xlim(0, span)
     theta0 = f"{to_deg(base):.1f}°"
     ax.set_title(f"transfer function ({plan.action}), both axes shifted by θ₀ = {theta0}", fontsize=9)
     ax.set_xlabel(f"θ − θ₀, orientation before the action (deg; θ₀ = {theta0})")

@@ -222,7 +222,11 @@ async def imports(request: Request, file: Annotated[UploadFile, File(description
                   id: Annotated[str | None, Form(max_length=256)] = None,  # noqa: A002
                   pose: Annotated[int | None, Form(ge=0, le=10_000)] = None,
                   part: Annotated[int | None, Form(ge=0, le=100_000)] = None,
-                  list_parts: Annotated[bool, Form(alias="list")] = False) -> Response:
+                  list_parts: Annotated[bool, Form(alias="list")] = False,
+                  documents: Annotated[int, Form(ge=0, le=1000, description="with list=true: the part documents of "
+                                                 "the first N parts too (`documents`), the drawing read once")] = 0,
+                  units: Annotated[str | None, Form(pattern="^(mm|cm|m|in|um)$",
+                                                    description="the drawing's unit (default: its header's)")] = None) -> Response:
     """A CAD file → its part document (exact curves; meshes give an approximate
     polygon), ready for ``/v1/plans``; ``part`` chooses one of several parts on a sheet,
     ``list=true`` returns ``{"parts": [...], "ignored", "warnings"}`` instead. Only the file
@@ -234,9 +238,12 @@ async def imports(request: Request, file: Annotated[UploadFile, File(description
     if not is_cad(name):
         raise ConfigError("file", f"unsupported file type {PurePath(name).suffix or '(none)'}: use "
                           f"{supported(('drawing', 'mesh'))} (a part document goes to /v1/plans as JSON)")
-    options = {k: v for k, v in (("layer", layer), ("element_id", id), ("pose", pose), ("part", part)) if v is not None}
+    options = {k: v for k, v in (("layer", layer), ("element_id", id), ("pose", pose), ("part", part),
+                                 ("units", units)) if v is not None}
     if list_parts:
         options["list_parts"] = True
+        if documents:
+            options["documents"] = documents
     data = await file.read()
     out = await run_task(svc, "slow", who(request), import_task, name, data, options,
                          timeout_s=svc.settings.analysis_time_limit_s, stage="import")

@@ -96,18 +96,30 @@ def _bounded(stream: Any, max_bytes: int) -> bytes:
 def read_archive(data: bytes, max_parts: int, max_bytes: int) -> list[Entry]:
     """The part files of an archive, sorted by name; other files are skipped. A damaged
     archive is one PartDocumentError; a damaged member is that member's error."""
+    return read_archive_said(data, max_parts, max_bytes)["entries"]  # type: ignore[no-any-return]
+
+
+def read_archive_said(data: bytes, max_parts: int, max_bytes: int) -> dict[str, Any]:
+    """:func:`read_archive` as ``{"entries", "skipped"}``: with the files it skipped and why
+    (``"notes.txt: not a part file"``). A dict: a worker's tuple is a run's (response, run, error)."""
     try:
-        return _read_archive(data, max_parts, max_bytes)
+        entries, skipped = _read_archive(data, max_parts, max_bytes)
+        return {"entries": entries, "skipped": skipped}
     except (zipfile.BadZipFile, tarfile.TarError, EOFError, zlib.error, lzma.LZMAError, OSError, ValueError,
             NotImplementedError) as exc:  # truncated, corrupt or unsupported compression
         raise PartDocumentError("archive", f"damaged archive ({type(exc).__name__}: {str(exc)[:200]})") from None
 
 
-def _read_archive(data: bytes, max_parts: int, max_bytes: int) -> list[Entry]:
+def _read_archive(data: bytes, max_parts: int, max_bytes: int) -> tuple[list[Entry], list[str]]:
     out: list[Entry] = []
+    skipped: list[str] = []
     total = 0
     for name, size, read in sorted(_members(data, max_bytes), key=lambda m: m[0]):
-        if not name.lower().endswith(PART_SUFFIXES) or PurePosixPath(name).name.startswith("."):
+        if PurePosixPath(name).name.startswith("."):
+            skipped.append(f"{name}: a hidden file")
+            continue
+        if not name.lower().endswith(PART_SUFFIXES):
+            skipped.append(f"{name}: not a part file ({supported()})")
             continue
         total += size
         if total > max_bytes:  # checked on the declared sizes, before decompressing (zip bombs)
@@ -119,7 +131,7 @@ def _read_archive(data: bytes, max_parts: int, max_bytes: int) -> list[Entry]:
             raise LimitExceededError("archive", f"more than {max_parts} parts (part files and the parts on their sheets)")
     if not out:
         raise PartDocumentError("archive", f"no part files ({supported()}) in the archive")
-    return out
+    return out, skipped
 
 
 def read_catalogue(path: Path, max_parts: int, max_bytes: int) -> list[Entry]:

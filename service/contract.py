@@ -161,6 +161,7 @@ class JobCreatedOut(_Open):
     id: str
     state: str
     total: int
+    ignored: list[str] = Field(default_factory=list, description="archive files that are not parts, and why")
     links: dict[str, str]
 
 

@@ -30,11 +30,17 @@ def _row(r: dict[str, Any]) -> dict[str, Any]:
         row.update(status="not orientable", note="; ".join(res["reasons"].values()))
     else:
         g, plan = res["gripper"], res["plan"]
-        row.update(action=res["action"], steps=len(plan["steps"]), final_orientations=len(plan["final_orientations_deg"]),
+        row.update(action=res["action"], steps=len(plan["steps"]), final_orientations=_orientations(plan),
                    jaw_opening_mm=g["jaw_opening_mm"], jaw_length_mm=g["jaw_length_mm"],
                    push_distance_mm=g["push_distance_mm"], cycle_time_s=g["cycle_time_s"],
                    agreement=(res.get("validation") or {}).get("agreement"))
     return row
+
+
+def _orientations(plan: dict[str, Any]) -> str:
+    """The plan's final world orientations, e.g. ``70.00°; 250.00° ± 0.10°``."""
+    u = plan.get("final_uncertainty_deg") or 0.0
+    return "; ".join(f"{f:.2f}°" for f in plan["final_orientations_deg"]) + (f" ± {u:.2f}°" if u else "")
 
 
 def summary_csv(results: list[dict[str, Any]]) -> str:
@@ -66,8 +72,14 @@ def report_markdown(results: list[dict[str, Any]], job: dict[str, Any]) -> str:
     lines.append(f"| plans | {', '.join(f'{a}: {n}' for a, n in spec['actions'].items())} |")
     lines += ["", "## Parts", "", "| " + " | ".join(COLUMNS) + " |", "|" + "---|" * len(COLUMNS)]
     lines += ["| " + " | ".join(_fmt(v).replace("|", "/") for v in _row(r).values()) + " |" for r in results]
+    # a part that failed (or was cancelled) was never judged: it is not one that cannot be oriented
+    judged = {r["index"] for r in results if r["status"] == "done"}
     lines += ["", "## Parts that cannot be oriented", ""]
-    lines += [f"- {p['index']} `{p['name']}`: {p['why']}" for p in spec["not_oriented"]] or ["(none)"]
+    lines += [f"- {p['index']} `{p['name']}`: {p['why']}" for p in spec["not_oriented"] if p["index"] in judged] or ["(none)"]
+    unjudged = [p for p in spec["not_oriented"] if p["index"] not in judged]
+    if unjudged:
+        lines += ["", "## Parts without a result (failed, cancelled or pending)", ""]
+        lines += [f"- {p['index']} `{p['name']}`: {p['why']}" for p in unjudged]
     return "\n".join(lines) + "\n"
 
 

@@ -15,7 +15,7 @@ from starlette.datastructures import UploadFile
 from algrasp.errors import ConfigError, LimitExceededError, PartDocumentError, UnavailableError
 from algrasp.io.documents import inline
 from algrasp.io.jsonguard import parse_json
-from service.catalogue import Entry, read_archive
+from service.catalogue import Entry, read_archive_said
 from service.contract import CancelOut, GripperSpecOut, JobCreatedOut, JobOut, JobsOut, ok
 from service.middleware import ParsedJsonRoute
 from service.models import LIMIT, OFFSET, JobBody, JobOptions
@@ -47,7 +47,7 @@ def _validation(exc: ValidationError, prefix: str) -> ConfigError:
     return ConfigError(f"{prefix}.{loc}" if loc else prefix, e["msg"])
 
 
-async def _entries(request: Request, max_parts: int, max_bytes: int) -> tuple[list[Entry], JobOptions]:
+async def _entries(request: Request, max_parts: int, max_bytes: int) -> tuple[list[Entry], JobOptions, list[str]]:
     ctype = request.headers.get("content-type", "")
     if ctype.startswith("multipart/form-data"):
         form = await request.form(max_files=1, max_fields=4)
@@ -60,9 +60,9 @@ async def _entries(request: Request, max_parts: int, max_bytes: int) -> tuple[li
             raise _validation(exc, "options") from None
         data = await upload.read()
         svc = _svc(request)  # archives are read in a time-limited worker, never in the server
-        entries = await run_task(svc, "slow", who(request), read_archive, data, max_parts, max_bytes,
-                                 timeout_s=svc.settings.plan_time_limit_s, stage="archive")
-        return entries, opts
+        read = await run_task(svc, "slow", who(request), read_archive_said, data, max_parts, max_bytes,
+                              timeout_s=svc.settings.plan_time_limit_s, stage="archive")
+        return read["entries"], opts, read["skipped"]
     if not ctype.startswith("application/json"):
         raise ConfigError("content-type", "send application/json (parts) or multipart/form-data (archive)")
     try:
@@ -72,7 +72,7 @@ async def _entries(request: Request, max_parts: int, max_bytes: int) -> tuple[li
     if len(body.parts) > max_parts:
         raise LimitExceededError("body.parts", f"at most {max_parts} parts per job")
     names = [str(p["name"]) if isinstance(p.get("name"), str) else f"part-{i}" for i, p in enumerate(body.parts)]
-    return [(n, p, None) for n, p in zip(names, body.parts)], body.options
+    return [(n, p, None) for n, p in zip(names, body.parts)], body.options, []
 
 
 @router.post("", status_code=202, openapi_extra={"requestBody": _BODY},
@@ -98,7 +98,7 @@ async def _create(request: Request) -> JSONResponse:
     if not await asyncio.to_thread(svc.runner.executor.capacity):  # a Dask scheduler without workers
         raise UnavailableError("no_workers", "no worker can take batch parts now (the Dask scheduler has no "
                                "workers): try again once /readyz is ready", 10.0)
-    entries, opts = await _entries(request, svc.settings.max_batch_parts, svc.settings.max_body_bytes)
+    entries, opts, skipped = await _entries(request, svc.settings.max_batch_parts, svc.settings.max_body_bytes)
     check_samples(svc.settings, opts.validate_, "options.validate.samples")
     if opts.gripper is not None:
         from optimisation.profile import profile_from_dict
@@ -107,7 +107,7 @@ async def _create(request: Request) -> JSONResponse:
     job_id = await asyncio.to_thread(svc.store.create_job, opts.design(svc.settings.cell_physics), entries, None,
                                      owner(who(request)))
     svc.runner.start(job_id)
-    return JSONResponse({"id": job_id, "state": "queued", "total": len(entries), "links": _links(job_id)},
+    return JSONResponse({"id": job_id, "state": "queued", "total": len(entries), "ignored": skipped, "links": _links(job_id)},
                         status_code=202, headers={"Location": f"/v1/jobs/{job_id}"})
 
 

@@ -117,11 +117,18 @@ def import_task(filename: str, data: bytes, options: dict[str, Any]) -> dict[str
     """``POST /v1/imports``: a CAD file's part document (checked to be a valid part), or
     with ``list_parts`` the list of the parts on the sheet."""
     from algrasp.geometry.part import load_part
-    from algrasp.io.cad import import_bytes, list_parts
+    from algrasp.io.cad import import_bytes, list_parts, sheet_documents
 
     if options.pop("list_parts", False):
         options.pop("part", None)
-        return list_parts(filename, data, **{k: v for k, v in options.items() if k != "pose"})
+        documents = options.pop("documents", 0)
+        sheet_options = {k: v for k, v in options.items() if k != "pose"}
+        if documents:
+            out = sheet_documents(filename, data, documents, **sheet_options)
+            for doc in out["documents"]:
+                load_part(doc)
+            return out
+        return list_parts(filename, data, **sheet_options)
     doc = import_bytes(filename, data, **options)
     load_part(doc)
     return doc

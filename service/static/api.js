@@ -38,7 +38,10 @@ export async function api(path, { json, form, method, raw } = {}) {
   if (!r.ok) {
     const body = await r.json().catch(() => null);
     const e = body && body.error ? body.error : {};
-    const msg = r.status === 401 ? "this service needs an API key: enter it above" : e.message || r.statusText;
+    const sent = Boolean(init.headers.Authorization);
+    const msg = r.status === 401 || r.status === 403
+      ? (sent ? "key rejected: the service did not accept this API key; enter another above" : "this service needs an API key: enter it above")
+      : e.message || r.statusText;
     throw new ApiError(r.status, msg, e.field);
   }
   return raw ? r : r.json();
@@ -53,4 +56,26 @@ export async function download(path, filename) {
   a.click();
   a.remove();
   setTimeout(() => URL.revokeObjectURL(url), 10_000);
+}
+
+// Each panel's current request: begin(panel) makes a new request the current one and
+// returns a check; a response is applied only while its request is still current, so a
+// later click wins whatever order the answers arrive in.
+const serial = {};
+
+export class Superseded extends Error {
+  constructor(panel) {
+    super(`superseded by a later ${panel} request`);
+    this.name = "Superseded";
+  }
+}
+
+export function begin(panel) {
+  const n = (serial[panel] = (serial[panel] || 0) + 1);
+  // current(): throws Superseded (counted on the panel's host, data-dropped) once a later request began
+  return (host = null) => {
+    if (serial[panel] === n) return;
+    if (host) host.dataset.dropped = String(Number(host.dataset.dropped || 0) + 1);
+    throw new Superseded(panel);
+  };
 }

@@ -1,7 +1,9 @@
-// Catalogue jobs: POST /v1/jobs (archive), poll GET /v1/jobs/{id}, show per-part results
-// and the gripper specification (GET /v1/jobs/{id}/gripper), download the results zip.
+// Catalogue jobs: POST /v1/jobs (archive); the list of jobs (GET /v1/jobs, polled while
+// any runs) with state, progress and Cancel (DELETE /v1/jobs/{id}); one job shown (poll
+// GET /v1/jobs/{id}) with per-part results, the gripper specification (GET
+// /v1/jobs/{id}/gripper) and the results zip. The job shown last is remembered for a reload.
 
-import { api, download } from "./api.js";
+import { api, begin, download } from "./api.js";
 import { physicsRequest } from "./physics.js";
 
 const POLL_MS = 700;
@@ -20,9 +22,83 @@ export async function startJob(state) {
   form.append("archive", file);
   form.append("options", JSON.stringify(options));
   const job = await api("/v1/jobs", { form });
-  state.job = job.id;
+  state.jobIgnored = { ...state.jobIgnored, [job.id]: job.ignored || [] };
+  listJobs(state).catch(() => {}); // the list shows it at once; its own errors come with its next refresh
+  await showJob(state, job.id);
+}
+
+const RUNNING = ["queued", "running"];
+const LAST_JOB = "algrasp-job";
+let listTimer = null;
+
+// The job shown below the list: polled until it ends (another job shown stops the poll).
+export async function showJob(state, id) {
+  state.job = id;
+  sessionStorage.setItem(LAST_JOB, id);
   document.getElementById("job-out").hidden = false;
-  await poll(state, job.id);
+  document.getElementById("job-out").dataset.job = id;
+  const spec = document.getElementById("gripper-spec");
+  delete spec.dataset.loaded;
+  spec.querySelector("tbody").replaceChildren();
+  document.querySelector("#job-parts tbody").replaceChildren();
+  document.getElementById("job-state").textContent = "loading…";
+  const ignored = (state.jobIgnored || {})[id] || [];
+  document.getElementById("job-ignored").replaceChildren(...ignored.map((w) =>
+    Object.assign(document.createElement("li"), { textContent: `ignored: ${w}` })));
+  document.querySelectorAll("#jobs-table tbody tr").forEach((tr) => tr.setAttribute("aria-selected", String(tr.dataset.job === id)));
+  await poll(state, id);
+}
+
+export function lastJob() {
+  return sessionStorage.getItem(LAST_JOB);
+}
+
+export async function cancelJob(state, id) {
+  await api(`/v1/jobs/${id}`, { method: "DELETE" });
+  await listJobs(state);
+}
+
+// The list of jobs, newest first; refreshed every POLL_MS while one runs and the page shows.
+export async function listJobs(state, { onShow, onCancel } = state.jobActions || {}) {
+  const current = begin("jobs");
+  const { jobs } = await api("/v1/jobs?limit=20");
+  const live = await Promise.all(jobs.map((j) => (RUNNING.includes(j.state) ? api(`/v1/jobs/${j.id}`) : null)));
+  current();
+  const rows = jobs.map((j, k) => {
+    const tr = document.createElement("tr");
+    tr.dataset.job = j.id;
+    tr.dataset.state = j.state;
+    tr.setAttribute("aria-selected", String(state.job === j.id));
+    cell(tr, j.id.slice(0, 8));
+    cell(tr, new Date(j.created_at * 1000).toLocaleString());
+    cell(tr, j.state);
+    const td = document.createElement("td");
+    if (live[k]) {
+      const { finished, total } = live[k].progress;
+      const bar = Object.assign(document.createElement("progress"), { max: total || 1, value: finished });
+      bar.setAttribute("aria-label", `job ${j.id.slice(0, 8)} progress`);
+      td.append(bar, ` ${finished}/${total}`);
+    } else td.textContent = `${j.total} parts`;
+    tr.append(td);
+    const actions = document.createElement("td");
+    const show = Object.assign(document.createElement("button"), { type: "button", textContent: "Show", className: "job-show" });
+    show.addEventListener("click", () => onShow && onShow(j.id));
+    actions.append(show);
+    if (RUNNING.includes(j.state)) {
+      const cancel = Object.assign(document.createElement("button"), { type: "button", textContent: "Cancel", className: "job-cancel" });
+      cancel.addEventListener("click", () => onCancel && onCancel(j.id));
+      actions.append(" ", cancel);
+    }
+    tr.append(actions);
+    return tr;
+  });
+  document.querySelector("#jobs-table tbody").replaceChildren(...rows);
+  document.getElementById("jobs-table").dataset.loaded = "true";
+  clearTimeout(listTimer);
+  const onPage = !document.getElementById("page-catalogue").hidden;
+  if (onPage && jobs.some((j) => RUNNING.includes(j.state))) {
+    listTimer = setTimeout(() => listJobs(state).catch(() => {}), POLL_MS);
+  }
 }
 
 // Per-part results (JSON lines): fetched on every poll for small jobs, at the end for big ones.
@@ -45,18 +121,24 @@ async function poll(state, id) {
     const job = await api(`/v1/jobs/${id}`);
     if (state.job !== id) return; // another job was started meanwhile
     const running = ["queued", "running"].includes(job.state);
-    showJob(job, running && job.total > LIVE_RESULTS_MAX ? {} : await results(id));
+    const byIndex = running && job.total > LIVE_RESULTS_MAX ? {} : await results(id);
+    if (state.job !== id) return;
+    drawJob(job, byIndex);
     if (!running) break;
     await new Promise((r) => setTimeout(r, POLL_MS));
   }
-  showSpec(await api(`/v1/jobs/${id}/gripper`));
+  const spec = await api(`/v1/jobs/${id}/gripper`);
+  if (state.job === id) showSpec(spec);
 }
 
 function cell(tr, text) {
   tr.append(Object.assign(document.createElement("td"), { textContent: text ?? "—" }));
 }
 
-function showJob(job, byIndex) {
+function drawJob(job, byIndex) {
+  const out = document.getElementById("job-out");
+  out.dataset.state = job.state;
+  document.getElementById("job-cancel").hidden = !RUNNING.includes(job.state);
   const bar = document.getElementById("job-progress");
   bar.max = job.progress.total || 1;
   bar.value = job.progress.finished;

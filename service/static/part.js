@@ -2,9 +2,9 @@
 // and show the outline, d(θ), r(θ) and the transfer functions; hovering θ anywhere shows
 // the part at that orientation between the jaws.
 
-import { api } from "./api.js";
+import { api, begin } from "./api.js";
 import { bounds, documentPolylines, mod } from "./geom.js";
-import { drawScene } from "./scene.js";
+import { drawScene, turningView } from "./scene.js";
 import { el, linePlot, path } from "./svg.js";
 
 const SAMPLES = 720;
@@ -13,7 +13,7 @@ let cursors = [];
 export async function loadExamples(state) {
   const { examples } = await api("/v1/examples");
   const select = document.getElementById("example");
-  for (const ex of examples) select.append(new Option(ex.name, ex.name));
+  select.replaceChildren(new Option("— choose —", ""), ...examples.map((ex) => new Option(ex.name, ex.name)));
   state.examples = Object.fromEntries(examples.map((e) => [e.name, e.part]));
 }
 
@@ -26,26 +26,41 @@ function importForm(file, fields) {
   return form;
 }
 
-// A file: a part document (JSON) is used as it is; a drawing goes through /v1/imports:
-// the sheet's listing first, then each part's document (the first MAX_THUMBNAILS).
+// A file: a part document (JSON) is used as it is; a drawing goes once through
+// /v1/imports: the sheet's listing with the documents of its first MAX_THUMBNAILS parts.
+// The page's "drawing units" choice (empty: the drawing's header) goes with it.
 export async function importFile(state, file) {
+  const current = begin("import");
   if (file.name.toLowerCase().endsWith(".json")) {
     return { parts: [JSON.parse(await file.text())], warnings: [], ignored: [] };
   }
-  const sheet = await api("/v1/imports", { form: importForm(file, { list: "true" }) });
-  const parts = [];
-  for (const p of sheet.parts.slice(0, MAX_THUMBNAILS)) {
-    parts.push(await api("/v1/imports", { form: importForm(file, { part: String(p.index) }) }));
-  }
-  if (sheet.parts.length > MAX_THUMBNAILS) sheet.warnings.push(`${sheet.parts.length} parts: only the first ${MAX_THUMBNAILS} are shown`);
-  return { parts, warnings: sheet.warnings, ignored: sheet.ignored };
+  const units = document.getElementById("units").value;
+  const fields = { list: "true", documents: String(MAX_THUMBNAILS), ...(units ? { units } : {}) };
+  const sheet = await api("/v1/imports", { form: importForm(file, fields) });
+  current(document.getElementById("thumbs"));
+  const warnings = [...sheet.warnings];
+  if (sheet.parts.length > MAX_THUMBNAILS) warnings.push(`${sheet.parts.length} parts: only the first ${MAX_THUMBNAILS} are shown`);
+  return { parts: sheet.documents, warnings, ignored: sheet.ignored };
 }
 
+// The importer speaks to the command line ("use --units in"); the page's control is "drawing units".
+function forThePage(w) {
+  return w.replace(/use --units (\w+)/g, "choose $1 under “drawing units” above")
+    .replace(/use --units/g, "choose the unit under “drawing units” above");
+}
+
+// Each warning once: the sheet's, then any a part has of its own.
 export function showWarnings(sheet) {
   const ul = document.getElementById("warnings");
   const items = [...(sheet.warnings || []), ...(sheet.ignored || []).map((s) => `ignored: ${s}`)];
-  for (const p of sheet.parts) for (const w of (p.source && p.source.warnings) || []) items.push(`${p.name}: ${w}`);
-  ul.replaceChildren(...items.map((w) => Object.assign(document.createElement("li"), { textContent: w })));
+  const seen = new Set([...(sheet.warnings || []), ...(sheet.ignored || [])]);
+  for (const p of sheet.parts) {
+    for (const w of (p.source && p.source.warnings) || []) {
+      if (!seen.has(w)) items.push(`${p.name}: ${w}`);
+      seen.add(w);
+    }
+  }
+  ul.replaceChildren(...items.map((w) => Object.assign(document.createElement("li"), { textContent: forThePage(w) })));
 }
 
 // Several parts on a sheet: thumbnails to choose from (drawn from the documents themselves).
@@ -64,7 +79,14 @@ export function showThumbnails(parts, onPick) {
     button.type = "button";
     button.className = "thumb";
     button.setAttribute("aria-pressed", "false");
-    button.append(svg, Object.assign(document.createElement("span"), { textContent: doc.name || `part ${i + 1}` }));
+    // the label: the name may be cut short, its #K index never is
+    const full = doc.name || `part ${i + 1}`;
+    const m = /^(.*?)(#\d+)$/.exec(full);
+    const label = Object.assign(document.createElement("span"), { className: "thumb-label", title: full });
+    label.append(Object.assign(document.createElement("span"), { className: "thumb-name", textContent: m ? m[1] : full }));
+    if (m) label.append(Object.assign(document.createElement("span"), { className: "thumb-index", textContent: m[2] }));
+    button.title = full;
+    button.append(svg, label);
     button.addEventListener("click", () => {
       host.querySelectorAll(".thumb").forEach((t) => t.setAttribute("aria-pressed", "false"));
       button.setAttribute("aria-pressed", "true");
@@ -74,10 +96,18 @@ export function showThumbnails(parts, onPick) {
   });
 }
 
+// The analysis of the current part; while it is computed the old plots are marked stale,
+// and an answer for a part (or model) chosen before the current one is dropped.
 export async function analyse(state) {
+  const current = begin("analysis");
   const exact = document.getElementById("exact").checked;
-  state.analysis = await api(`/v1/analyses?samples=${SAMPLES}&exact=${exact}`, { json: state.part });
-  Object.assign(state, { analysisOf: state.part, analysisExact: exact });
+  const host = document.getElementById("analysis");
+  host.dataset.stale = "true";
+  const part = state.part;
+  const analysis = await api(`/v1/analyses?samples=${SAMPLES}&exact=${exact}`, { json: part });
+  current(host);
+  delete host.dataset.stale;
+  Object.assign(state, { analysis, analysisOf: part, analysisExact: exact });
   drawAnalysis(state);
 }
 
@@ -97,17 +127,19 @@ function extrema(f) {
 }
 
 // The set images of the robust model: θ in [start, end) ends in [lower, upper] (null: θ
-// itself). Values come wrapped into [0, P); each is lifted next to its interval to draw it.
+// itself), over one symmetry period T. Values come wrapped into [0, P); each is lifted next
+// to its interval; the plot draws every copy shifted by k·T (a piece past P wraps to 0).
 function imagePolys(state, name, P) {
   const r = state.analysis.robust;
   const images = (r && r[name] && r[name].images) || [];
+  const T = (r && r[name] && r[name].symmetry_period_deg) || P;
   return images.map((im) => {
-    const mid = (im.start_deg + im.end_deg) / 2;
+    const [a, b] = [im.start_deg, im.end_deg < im.start_deg ? im.end_deg + T : im.end_deg];
+    const mid = (a + b) / 2;
     const lift = (v) => v + P * Math.round((mid - v) / P);
     const lo = (x) => (im.lower_deg === null ? x : lift(im.lower_deg));
     const hi = (x) => (im.upper_deg === null ? x : lift(im.upper_deg));
-    const [a, b] = [im.start_deg, im.end_deg];
-    return { points: [[a, lo(a)], [b, lo(b)], [b, hi(b)], [a, hi(a)]], cls: "band-image" };
+    return { points: [[a, lo(a)], [b, lo(b)], [b, hi(b)], [a, hi(a)]], cls: "band-image", period: T };
   });
 }
 
@@ -117,7 +149,7 @@ function functionPlot(state, hostId, name, key, period, label) {
   return linePlot(document.getElementById(hostId), {
     title: `${label}: ● red max, ● green min; grey dead zones, orange constant`,
     xLabel: "θ, part orientation relative to the gripper (deg)", yLabel: `${key === "diameter" ? "d" : "r"}(θ) (${units})`,
-    xDomain: [0, period], series: [{ xs: c.theta_deg.slice(0, n + 1), ys: c[key].slice(0, n + 1) }],
+    xDomain: [0, period], period, series: [{ xs: c.theta_deg.slice(0, n + 1), ys: c[key].slice(0, n + 1) }],
     bands: [...dead(state, name), ...a[key].constant_intervals_deg.map(([x0, x1]) => ({ x0, x1, cls: "band-ramp" }))],
     markers: extrema(a[key]), onHover: (t) => setTheta(state, t),
   });
@@ -132,7 +164,7 @@ function transferPlot(state, name, label) {
     title: `${label}: steps, ramps (orange), robust set images (blue)`,
     xLabel: "θ before (deg)", yLabel: "θ after (deg, lifted)", xDomain: [0, P],
     series: [{ xs: [0, P], ys: [0, P], cls: "identity" }, { xs, ys, cls: "alt", breakJumps: 1 }],
-    bands: ramps(tf), polys: imagePolys(state, name, P),
+    period: P, bands: ramps(tf), polys: imagePolys(state, name, P),
     markers: tf.steps.map((s) => ({ x: mod(s.fixed_point_deg, P), y: mod(s.fixed_point_deg, P), cls: "mk-fixed",
       label: `fixed point ${s.fixed_point_deg.toFixed(2)}° of step [${s.start_deg.toFixed(2)}, ${s.end_deg.toFixed(2)})` })),
     onHover: (t) => setTheta(state, t),
@@ -163,6 +195,6 @@ export function setTheta(state, theta) {
   input.value = t;
   document.getElementById("theta-out").textContent = `${t.toFixed(1)}°`;
   drawScene(document.getElementById("part-view"), state.analysis.geometry, { phi: t }, { alpha: 0 },
-    { caption: `θ = ${t.toFixed(1)}°: jaws touching`, label: `the part at θ = ${t.toFixed(1)} degrees between the jaws` });
+    { view: turningView(state.analysis.geometry), caption: `θ = ${t.toFixed(1)}°: jaws touching`, label: `the part at θ = ${t.toFixed(1)} degrees between the jaws` });
   cursors.forEach((c, i) => c.setCursor(i === 0 || i === 2 ? mod(t, 180) : t));
 }

@@ -2,9 +2,9 @@
 // their uncertainty, the intervals Θᵢ on the transfer function, and a kinematic animation
 // of the plan from a start orientation the user drags (computed here from the documents).
 
-import { api } from "./api.js";
+import { api, begin } from "./api.js";
 import { isClaimed, mod, predict } from "./geom.js";
-import { drawScene, sceneExtent } from "./scene.js";
+import { drawScene, frameOf, sceneExtent, turningView, unionBox } from "./scene.js";
 import { describePhysics, limitsWanted, physicsRequest } from "./physics.js";
 import { linePlot } from "./svg.js";
 
@@ -33,23 +33,64 @@ export async function ensureAnalysis(state, exact) {
 }
 
 export async function makePlan(state) {
+  const current = begin("plan");
+  clearPlan(state); // a failed plan leaves no old plan under its error
   const body = planRequest(state);
   await ensureAnalysis(state, body.exact);
-  state.plan = await api("/v1/plans", { json: body });
+  current();
+  const plan = await api("/v1/plans", { json: body });
+  current(document.getElementById("plan-out"));
+  state.plan = plan;
   showPlan(state);
+}
+
+// The Plan page shows nothing of a previous plan: no summary, steps, figure or animation end.
+export function clearPlan(state) {
+  state.plan = null;
+  state.animation = (state.animation || 0) + 1; // a running animation stops at its next frame
+  const out = document.getElementById("plan-out");
+  out.hidden = true;
+  delete out.dataset.stale;
+  const summary = document.getElementById("plan-summary");
+  summary.textContent = "";
+  delete summary.dataset.steps;
+  for (const id of ["plan-physics", "plan-limits"]) document.getElementById(id).textContent = "";
+  document.querySelector("#plan-steps tbody").replaceChildren();
+  document.getElementById("plot-intervals").replaceChildren();
+  clearEnd();
+}
+
+function clearEnd() {
+  const out = document.getElementById("anim-final");
+  out.textContent = "";
+  delete out.dataset.finalDeg;
+  delete out.dataset.claimed;
+}
+
+// The shown plan no longer matches the form (or the part): said, until the next Plan.
+export function markPlanStale(state) {
+  if (!state.plan) return;
+  const out = document.getElementById("plan-out");
+  out.dataset.stale = "true";
+  document.getElementById("plan-stale").textContent = "the inputs changed since this plan: press Plan for a new one";
 }
 
 const fmt = (x, d = 2) => (x === null || x === undefined ? "—" : Number(x).toFixed(d));
 
 export function showPlan(state) {
   const p = state.plan, units = state.analysis.part.units;
-  document.getElementById("plan-out").hidden = false;
+  const planOut = document.getElementById("plan-out");
+  planOut.hidden = false;
+  delete planOut.dataset.stale;
+  document.getElementById("plan-stale").textContent = "";
+  state.animation = (state.animation || 0) + 1;
+  clearEnd();
   const finals = p.final_orientations_deg.map((f) => `${fmt(f)}°`).join(", ");
   const summary = document.getElementById("plan-summary");
   summary.textContent = `${p.steps.length}-step ${p.action.replace("_", "-")} plan (${p.model} model, ` +
     `${p.verified ? "verified" : "NOT verified"}): final orientation${p.final_orientations_deg.length > 1 ? "s" : ""} ` +
     `${finals} ± ${fmt(p.final_uncertainty_deg, 4)}°` + (p.cycle_time_s ? `; cycle time ${fmt(p.cycle_time_s)} s` : "") +
-    `; run ${p.run_id}`;
+    (p.run_id ? `; run ${p.run_id}` : "");
   summary.dataset.steps = p.steps.length;
   document.getElementById("plan-physics").textContent = p.dead_band ? `physics: ${describePhysics(p.dead_band)}` : "";
   document.getElementById("plan-limits").textContent = p.limits ? `limits: ${p.limits.advice}` : "";
@@ -66,18 +107,19 @@ export function showPlan(state) {
   showStart(state);
 }
 
-// The Θᵢ of Algorithm A′ as bars under the transfer function the plan uses.
+// The Θᵢ of Algorithm A′ as labelled bars, one row each under the transfer function the
+// plan uses (an interval past the period wraps to 0: two pieces, one label).
 function drawIntervals(state) {
   const p = state.plan, a = state.analysis;
   const name = p.action === "squeeze" ? "squeeze" : "push_grasp";
   const P = a[name].period_deg, c = a.curves;
   const n = Math.round((c.theta_deg.length * P) / 360);
-  const hbars = p.intervals_deg.map(([lo, hi], i) => ({ x0: lo, x1: hi, y: -(i + 1) * P * 0.06, cls: "bar-interval" }));
+  const lanes = p.intervals_deg.map(([lo, hi], i) => ({ x0: lo, x1: hi, label: `Θ${i + 1}`, cls: "bar-interval" }));
   linePlot(document.getElementById("plot-intervals"), {
-    title: `${name === "squeeze" ? "Γ" : "Γ∘p"} and the intervals Θᵢ (green bars below, last to first)`,
-    xLabel: "θ before (deg)", yLabel: "θ after (deg); bars: Θᵢ", xDomain: [0, P],
+    title: `${name === "squeeze" ? "Γ" : "Γ∘p"} and the intervals Θᵢ of Algorithm A′ (bars below)`,
+    xLabel: "θ before (deg)", yLabel: "θ after (deg)", xDomain: [0, P], period: P,
     series: [{ xs: [0, P], ys: [0, P], cls: "identity" }, { xs: c.theta_deg.slice(0, n), ys: c[`${name}_deg`].slice(0, n), cls: "alt", breakJumps: 1 }],
-    hbars, legend: [{ cls: "bar-interval", label: "Θᵢ of Algorithm A′" }],
+    lanes,
   });
 }
 
@@ -85,7 +127,7 @@ function showStart(state) {
   const phi0 = Number(document.getElementById("start-deg").value);
   document.getElementById("start-out").textContent = `${phi0}°`;
   drawScene(document.getElementById("anim-view"), state.analysis.geometry, { phi: phi0 }, null,
-    { caption: `start φ₀ = ${phi0}° (drag to turn)`, label: "the part at its start orientation" });
+    { view: turningView(state.analysis.geometry), caption: `start φ₀ = ${phi0}° (drag to turn)`, label: "the part at its start orientation" });
 }
 
 // Drag on the view turns the part: the pointer's angle about the centre sets φ₀.
@@ -133,16 +175,20 @@ export function play(state, { host = "anim-view", phi0, onEnd } = {}) {
   const start = phi0 ?? Number(document.getElementById("start-deg").value);
   const phases = predict(state.analysis, state.plan, start);
   const seq = frames(state, phases);
+  const g = state.analysis.geometry;
+  const jawsOf = (f) => ({ alpha: f.alpha, lower: f.lower ?? undefined, higher: f.higher ?? undefined });
+  const view = unionBox(seq.map((f) => frameOf(g, { phi: f.phi }, jawsOf(f)))); // still, and everything in it
   const out = document.getElementById("anim-final");
   out.textContent = "playing…";
   delete out.dataset.finalDeg;
   let k = 0;
+  const token = (state.animation = (state.animation || 0) + 1);
   const step = () => {
+    if (state.animation !== token) return; // a new plan (or another play) took over the view
     const f = seq[k];
     const n = Math.min(phases.length, 1 + Math.floor((k / seq.length) * phases.length));
-    drawScene(document.getElementById(host), state.analysis.geometry, { phi: f.phi },
-      { alpha: f.alpha, lower: f.lower ?? undefined, higher: f.higher ?? undefined },
-      { caption: `action ${n}/${phases.length}: α = ${f.alpha.toFixed(1)}°, φ = ${mod(f.phi, 360).toFixed(1)}°` });
+    drawScene(document.getElementById(host), g, { phi: f.phi }, jawsOf(f),
+      { view, caption: `action ${n}/${phases.length}: α = ${f.alpha.toFixed(1)}°, φ = ${mod(f.phi, 360).toFixed(1)}°` });
     k += 1;
     if (k < seq.length) requestAnimationFrame(step);
     else finish(state, phases, out, onEnd);

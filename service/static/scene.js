@@ -1,10 +1,13 @@
 // The part between the jaws: world frame, y up, centre of mass at the origin unless a
-// position is given. Jaws are parallel lines along (cos α, sin α) (conventions §2).
+// position is given. Jaws are parallel lines along (cos α, sin α) (conventions §2). The
+// view is framed on what is drawn: the part and both jaws (or a box given for a whole
+// animation, so the view stays still while they move).
 
-import { rotate, support } from "./geom.js";
+import { bounds, rotate, support } from "./geom.js";
 import { el, path, text } from "./svg.js";
 
 const RAD = Math.PI / 180;
+const JAW_HALF_LENGTH = 1.1; // × the part's extent R, on either side of the gripper's centre
 
 // geometry: {outline, holes, hull, center_of_mass} in the part frame (API `geometry`).
 export function sceneExtent(geometry) {
@@ -12,22 +15,49 @@ export function sceneExtent(geometry) {
   return Math.max(...geometry.outline.map(([x, y]) => Math.hypot(x - c[0], y - c[1])));
 }
 
+function placed(geometry, pose) {
+  return rotate(geometry.outline, pose.phi, geometry.center_of_mass, [pose.x || 0, pose.y || 0]);
+}
+
+// The jaws' outlines: [lower, higher], each a rectangle outside the part's side of its offset.
+function jawOutlines(outline, jaws, R) {
+  const [lo, hi] = support(outline, jaws.alpha);
+  return [jawCorners(jaws.alpha, jaws.lower ?? lo, -1, R), jawCorners(jaws.alpha, jaws.higher ?? hi, 1, R)];
+}
+
+// The world box {x0, x1, y0, y1} of the part at pose and the jaws (null: none) of one frame.
+export function frameOf(geometry, pose, jaws) {
+  const R = sceneExtent(geometry);
+  const outline = placed(geometry, pose);
+  const pts = jaws ? [...outline, ...jawOutlines(outline, jaws, R).flat()] : outline;
+  return bounds(pts);
+}
+
+export function unionBox(boxes) {
+  return boxes.reduce((a, b) => ({ x0: Math.min(a.x0, b.x0), x1: Math.max(a.x1, b.x1), y0: Math.min(a.y0, b.y0), y1: Math.max(a.y1, b.y1) }));
+}
+
 // Draws into host. pose: {phi, x?, y?}; jaws: {alpha, lower?, higher?} where lower/higher are
 // jaw offsets along n (part unit; default: touching the part), or null for no jaws.
+// opts: {view (a world box to frame; default this frame's part and jaws), ghost, caption, label}.
 export function drawScene(host, geometry, pose, jaws, opts = {}) {
-  const R = sceneExtent(geometry) * (opts.zoom || 1.0);
-  const span = 2.6 * R;
-  const svg = el("svg", { viewBox: `${-span / 2} ${-span / 2} ${span} ${span}`, class: "scene", role: "img",
-    "aria-label": opts.label || "part between the jaws" });
-  const g = el("g", { transform: "scale(1,-1)" });
+  const R = sceneExtent(geometry);
   const at = [pose.x || 0, pose.y || 0];
+  const outline = placed(geometry, pose);
+  const box = opts.view || frameOf(geometry, pose, jaws);
+  const pad = 0.06 * Math.max(box.x1 - box.x0, box.y1 - box.y0);
+  const w = box.x1 - box.x0 + 2 * pad, h = box.y1 - box.y0 + 2 * pad;
+  const band = opts.caption ? 0.09 * Math.max(w, h) : 0; // the caption's own strip, above the scene
+  const svg = el("svg", { viewBox: `${box.x0 - pad} ${-box.y1 - pad - band} ${w} ${h + band}`, class: "scene", role: "img",
+    "aria-label": opts.label || "part between the jaws" });
+  svg.dataset.view = JSON.stringify(box);
+  const g = el("g", { transform: "scale(1,-1)" });
   const place = (pts) => rotate(pts, pose.phi, geometry.center_of_mass, at);
-  const outline = place(geometry.outline);
   if (opts.ghost) {
     const gp = rotate(geometry.outline, opts.ghost.phi, geometry.center_of_mass, [opts.ghost.x || 0, opts.ghost.y || 0]);
     g.append(path(gp, { class: "ghost" }, true));
   }
-  g.append(path(rotate(geometry.hull, pose.phi, geometry.center_of_mass, at), { class: "hull" }, true));
+  g.append(path(place(geometry.hull), { class: "hull" }, true));
   g.append(path(outline, { class: "part" }, true));
   for (const h of geometry.holes) g.append(path(place(h), { class: "hole" }, true));
   g.append(el("circle", { cx: at[0], cy: at[1], r: R * 0.04, class: "com" }));
@@ -35,21 +65,30 @@ export function drawScene(host, geometry, pose, jaws, opts = {}) {
   const tip = rotate([[geometry.center_of_mass[0] + R * 0.5, geometry.center_of_mass[1]]], pose.phi, geometry.center_of_mass, at)[0];
   g.append(path([at, tip], { class: "body-axis" }));
   if (jaws) {
-    const [lo, hi] = support(outline, jaws.alpha);
-    drawJaw(g, jaws.alpha, jaws.lower ?? lo, -1, R);
-    drawJaw(g, jaws.alpha, jaws.higher ?? hi, 1, R);
+    const [lower, higher] = jawOutlines(outline, jaws, R);
+    g.append(path(lower, { class: "jaw jaw-lower" }, true), path(higher, { class: "jaw jaw-higher" }, true));
   }
   svg.append(g);
-  if (opts.caption) svg.append(text(-span / 2 + span * 0.03, -span / 2 + span * 0.07, opts.caption, { class: "scene-caption", "font-size": span * 0.045 }));
+  if (opts.caption) {
+    const size = Math.min(band * 0.55, w * 0.04);
+    svg.append(text(box.x0 - pad + w * 0.02, -box.y1 - pad - band * 0.3, opts.caption, { class: "scene-caption", "font-size": size }));
+  }
   host.replaceChildren(svg);
 }
 
-function drawJaw(g, alphaDeg, offset, side, R) {
+function jawCorners(alphaDeg, offset, side, R) {
   const a = alphaDeg * RAD;
   const t = [Math.cos(a), Math.sin(a)], n = [-Math.sin(a), Math.cos(a)];
   const thick = R * 0.12;
   const c = offset + side * thick / 2;
-  const corners = [[-1.1, c - thick / 2], [1.1, c - thick / 2], [1.1, c + thick / 2], [-1.1, c + thick / 2]]
+  const L = JAW_HALF_LENGTH;
+  return [[-L, c - thick / 2], [L, c - thick / 2], [L, c + thick / 2], [-L, c + thick / 2]]
     .map(([u, v]) => [t[0] * u * R + n[0] * v, t[1] * u * R + n[1] * v]);
-  g.append(path(corners, { class: side < 0 ? "jaw jaw-lower" : "jaw jaw-higher" }, true));
+}
+
+// A still view for a part turning about its centre of mass at the origin between jaws along
+// α = 0 (touching it): the part's circle and the jaws' length.
+export function turningView(geometry) {
+  const R = sceneExtent(geometry);
+  return { x0: -JAW_HALF_LENGTH * R, x1: JAW_HALF_LENGTH * R, y0: -1.13 * R, y1: 1.13 * R };
 }

@@ -109,3 +109,37 @@ def test_the_gripper_profile_example_on_the_page_is_a_valid_profile() -> None:
     assert m is not None
     profile = profile_from_dict(json.loads(html.unescape(m.group(1))))
     assert profile.jaw_max_jerk_m_s3 == 20.0
+
+
+def test_a_sheet_and_its_documents_in_one_upload(server: Server) -> None:
+    """``list=true&documents=N``: the listing and the first N parts' documents, each the
+    document ``part=K`` gives; ``units`` names the drawing's unit (no unit warning then)."""
+    from pathlib import Path
+
+    drawing = Path(__file__).resolve().parents[1] / "data" / "real" / "koppi-involute-teeth-20-multiple.dxf"
+    files = {"file": (drawing.name, drawing.read_bytes())}
+    with server.client() as c:
+        sheet = c.post("/v1/imports", files=files, data={"list": "true", "documents": "3"}).json()
+        assert len(sheet["parts"]) == 10 and len(sheet["documents"]) == 3
+        one = c.post("/v1/imports", files=files, data={"part": "2"}).json()
+        assert sheet["documents"][2] == one
+        inches = c.post("/v1/imports", files=files, data={"list": "true", "documents": "1", "units": "in"}).json()
+        assert inches["documents"][0]["units"] == "in" and not any("INSUNITS" in w for w in inches["warnings"])
+        assert c.post("/v1/imports", files=files, data={"list": "true", "units": "furlong"}).status_code == 422
+
+
+def test_a_job_says_the_archive_files_it_does_not_read(server: Server, pie: dict[str, Any]) -> None:
+    import io
+    import zipfile
+
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w") as z:
+        z.writestr("pie.json", json.dumps(pie))
+        z.writestr("notes/README.txt", "not a part")
+        z.writestr(".hidden.json", "{}")
+    with server.client() as c:
+        job = c.post("/v1/jobs", files={"archive": ("c.zip", buf.getvalue())}).json()
+        assert job["total"] == 1
+        assert any(w.startswith("notes/README.txt: not a part file") for w in job["ignored"])
+        assert any(w.startswith(".hidden.json: a hidden file") for w in job["ignored"])
+        wait_job(c, job["id"])

@@ -177,6 +177,7 @@ def test_catalogue_job_shows_its_gripper_specification(page: Any, pie: dict[str,
         z.writestr("pie.json", json.dumps(pie))
         z.writestr("disk.json", json.dumps(disk))
         z.write(REAL / "koppi-involute-14.5-teeth-12.dxf", "gear-12.dxf")
+        z.writestr("README.txt", "not a part")
     page.click("button[data-page=catalogue]")
     page.set_input_files("#job-archive", str(archive))
     page.click("#job-submit")
@@ -185,6 +186,7 @@ def test_catalogue_job_shows_its_gripper_specification(page: Any, pie: dict[str,
     assert "2 of 3" in spec  # the disk has constant width: not orientable (paper §4)
     assert "disk" in spec.split("not oriented")[-1]
     assert page.locator("#job-parts tbody tr").count() == 3
+    assert "ignored: README.txt: not a part file" in page.inner_text("#job-ignored")  # said, not silently dropped
     shot(page, "4-catalogue")
 
 

@@ -133,6 +133,24 @@ def import_all_parts(filename: str, data: bytes) -> list[dict[str, Any]]:
     return [_part_document(sheet, i, name, doc_units, k, dict(source)) for i in range(len(sheet.parts))]
 
 
+@_library_faults
+def sheet_documents(filename: str, data: bytes, documents: int, layer: str | None = None,
+                    element_id: str | None = None, tolerance: float | None = None,
+                    units: str | None = None) -> dict[str, Any]:
+    """:func:`list_parts`' listing of a DXF/SVG sheet with the part documents of its first
+    ``documents`` parts (``"documents"``), the drawing read once: one upload shows a sheet."""
+    sheet, doc_units, k, source = _sheet(filename, data, layer, element_id, None, tolerance, units)
+    out = sheet.summary(units or doc_units)
+    for row in out["parts"]:
+        row["bbox"] = [k * v for v in row["bbox"]]
+        row["area"] = k * k * row["area"]
+    out["warnings"] = [*source.get("warnings", []), *out["warnings"]]
+    name = PurePath(filename).stem
+    out["documents"] = [_part_document(sheet, i, name, units or doc_units, k, dict(source))
+                        for i in range(min(documents, len(sheet.parts)))]
+    return out
+
+
 def _part_document(sheet: Any, index: int, name: str, units: str, k: float, source: dict[str, Any]) -> dict[str, Any]:
     outline, holes = sheet.parts[index]
     warnings = [*source.pop("warnings", []), *sheet.warnings, *sheet.ignored][:MAX_WARNINGS]
