@@ -129,6 +129,35 @@ class PlanBody(ModelOptions):
         return out
 
 
+class FencesBody(ModelOptions):
+    """``POST /v1/fences``: the part and the fence rules (conventions §9)."""
+
+    part: PartJson = Field(description="part document (conventions §5)")
+    fence_friction: Range | None = Field(None, description="part–fence friction μ_f: one value or [lo, hi] "
+                                         "(default [0.1, 0.3]: UHMW-PE guide rails on dry parts)")
+    belt_width: float | None = Field(None, gt=0.0, le=1e9, description="between the rails, part units "
+                                     "(default: the least the design needs)")
+    min_margin_deg: float = Field(1.0, ge=0.0, lt=45.0, description="every fence angle may be off by this much")
+
+    @field_validator("fence_friction")
+    @classmethod
+    def _friction(cls, v: Range | None) -> Range | None:
+        from algrasp.planning.fences import fence_rules
+
+        if v is not None:
+            try:
+                fence_rules(v)
+            except ConfigError as e:
+                raise ValueError(e.problem) from None
+        return v
+
+    def options(self, cell: Physics = DEFAULT_PHYSICS) -> dict[str, Any]:
+        """Keyword arguments of ``algrasp.api.fences`` but the part (physics over ``cell``)."""
+        model = self.model_options(cell)
+        return {"fence_friction": self.fence_friction, "belt_width": self.belt_width,
+                "min_margin_deg": self.min_margin_deg, "exact": model["exact"], "physics": model["physics"]}
+
+
 class JobOptions(ModelOptions):
     """Options applied to every part of a job."""
 

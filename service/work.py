@@ -53,6 +53,13 @@ def analysis_task(doc: dict[str, Any], record_dir: str, options: dict[str, Any] 
     return {**out, "run_id": rec.run_id}, _run_row(rec, "analyze", doc, None, None), None
 
 
+def fences_task(doc: dict[str, Any], options: dict[str, Any]) -> dict[str, Any]:
+    """``POST /v1/fences``: the fence document (not recorded: no run of the gripper cell)."""
+    from algrasp.api import fences
+
+    return dict(fences(doc, **options).to_dict())
+
+
 def plan_task(doc: dict[str, Any], req: PlanRequest, record_dir: str, sim_workers: int,
               run_id: str | None = None) -> TaskResult:
     """``POST /v1/plans``: the plan document (+ ``validation`` when asked for). ``req`` is

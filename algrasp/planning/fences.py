@@ -123,7 +123,7 @@ def fence_rules(friction: tuple[float, float] | list[float] | float | None = Non
               (friction, friction) if isinstance(friction, (int, float)) else tuple(friction) * (2 // len(friction)))
     if not (0.0 <= lo <= hi < math.tan(0.5 * np.pi - MIN_STEEPNESS_RAD)):
         raise ConfigError("fence_friction", f"expected 0 ≤ lo ≤ hi < {math.tan(0.5 * np.pi - MIN_STEEPNESS_RAD):.3g} "
-                          f"(steeper than {to_deg(MIN_STEEPNESS_RAD):g}° fences), got [{lo:g}, {hi:g}]")
+                          f"(μ_f ≥ tan {90 - to_deg(MIN_STEEPNESS_RAD):g}° leaves no admissible fence), got [{lo:g}, {hi:g}]")
     return FenceRules((float(lo), float(hi)))
 
 
