@@ -15,7 +15,8 @@ __version__ = "0.1.0"
 
 _API = {
     "load_part": "algrasp.api", "analyse": "algrasp.api", "plan": "algrasp.api", "validate": "algrasp.api",
-    "import_drawing": "algrasp.api", "document": "algrasp.api", "fences": "algrasp.api", "model": "algrasp.api", "Drawing": "algrasp.api",
+    "import_drawing": "algrasp.api", "document": "algrasp.api", "fences": "algrasp.api", "model": "algrasp.api",
+    "Drawing": "algrasp.api",
     "Validation": "algrasp.sim.validate",
     "Part": "algrasp.geometry.part", "Tolerances": "algrasp.geometry.tolerances",
     "DEFAULT_TOLERANCES": "algrasp.geometry.tolerances",

@@ -27,7 +27,7 @@ from algrasp.errors import ConfigError
 from algrasp.geometry.angles import to_deg, to_rad
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.deadband import mean_radius
-from algrasp.planning.fences import DEFAULT_MIN_MARGIN_DEG, FenceDesign, FenceRules, design_fences
+from algrasp.planning.fences import DEFAULT_MIN_MARGIN_DEG, DEFAULT_RULES, FenceDesign, FenceRules, design_fences
 from optimisation.push import PushModel, push_distances, push_model
 
 PUSH_TOLERANCE_DEG = 0.5
@@ -133,7 +133,7 @@ def layout(analysis: Analysis, design: FenceDesign, belt_width: float | None = N
     return FenceLayout(design, W, h, tuple(s), lengths, tuple(positions), a, analysis.part.units)
 
 
-def plan_fences(analysis: Analysis, rules: FenceRules = FenceRules(), min_margin_deg: float = DEFAULT_MIN_MARGIN_DEG,
+def plan_fences(analysis: Analysis, rules: FenceRules = DEFAULT_RULES, min_margin_deg: float = DEFAULT_MIN_MARGIN_DEG,
                 belt_width: float | None = None) -> FenceLayout:
     """The fence design of :func:`~algrasp.planning.fences.design_fences`, ties broken by
     the total fence length of its layout, laid out on the belt."""

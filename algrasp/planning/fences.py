@@ -117,6 +117,9 @@ class FenceRules:
         return min(beta - self.min_steepness, self.max_steepness - beta)
 
 
+DEFAULT_RULES = FenceRules()
+
+
 def fence_rules(friction: tuple[float, float] | list[float] | float | None = None) -> FenceRules:
     """Rules for a friction range (a number or [lo, hi]; None: the default)."""
     lo, hi = (DEFAULT_FENCE_FRICTION if friction is None else
@@ -280,7 +283,7 @@ LengthOf = Callable[[FenceDesign], float]
 """The total fence length of a design (part units): the layout's, injected by the caller."""
 
 
-def design_fences(analysis: Analysis, rules: FenceRules = FenceRules(), min_margin_deg: float = DEFAULT_MIN_MARGIN_DEG,
+def design_fences(analysis: Analysis, rules: FenceRules = DEFAULT_RULES, min_margin_deg: float = DEFAULT_MIN_MARGIN_DEG,
                   length: LengthOf | None = None) -> FenceDesign:
     """The fewest fences orienting the part (see module docs), ties by ``length`` then margin.
 
@@ -329,8 +332,12 @@ def _best(designs: list[FenceDesign], length: LengthOf | None) -> FenceDesign:
     candidates, then the widest margins."""
     designs = sorted(designs, key=lambda d: (d.final_uncertainty > PRECISE_RAD, -min(d.margins),
                                              -sum(d.margins)))[:CANDIDATES]
-    size = (lambda d: 0.0) if length is None else (lambda d: round(length(d), 6))
-    return min(designs, key=lambda d: (d.final_uncertainty > PRECISE_RAD, size(d), -min(d.margins), -sum(d.margins)))
+
+    def key(d: FenceDesign) -> tuple[bool, float, float, float]:
+        size = 0.0 if length is None else round(length(d), 6)
+        return d.final_uncertainty > PRECISE_RAD, size, -min(d.margins), -sum(d.margins)
+
+    return min(designs, key=key)
 
 
 def _design(analysis: Analysis, push: Push, rules: FenceRules, angles: list[float], goal: float) -> FenceDesign:
