@@ -30,7 +30,7 @@ import numpy as np
 from algrasp.errors import ConfigError, NotOrientableError
 from algrasp.geometry.angles import to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
-from algrasp.geometry.tolerances import MAX_UNCERTAINTY_RAD, SYMMETRY_TOL_RAD, UNCERTAINTY_FLOOR_RAD
+from algrasp.geometry.tolerances import MAX_UNCERTAINTY_RAD, ROUNDING, SYMMETRY_TOL_RAD, UNCERTAINTY_FLOOR_RAD
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.planner import GUARD_RAD, PRECISE_RAD
 from algrasp.planning.plans import _edge_tilt
@@ -108,7 +108,7 @@ class FenceRules:
 
     def grid(self, side: int) -> FloatArray:
         """Admissible world angles α (radians) of side 0 (right, α = β) or 1 (left, α = π − β)."""
-        beta = np.arange(self.min_steepness, self.max_steepness - 1e-12, GRID_RAD)
+        beta = np.arange(self.min_steepness, self.max_steepness - ROUNDING, GRID_RAD)
         return beta if side == 0 else np.pi - beta
 
     def slack(self, alpha: float) -> float:
@@ -319,7 +319,7 @@ def _search(analysis: Analysis, push: Push, rules: FenceRules, margin: float,
         hits = np.nonzero(last.hi - last.lo <= goal)[0]
         hits = hits[np.argsort(last.hi[hits] - last.lo[hits], kind="stable")][: 4 * CANDIDATES]
         designs = [d for d in (_design(analysis, push, rules, _chain(levels, int(k)), goal) for k in hits)
-                   if min(d.margins) >= margin - 1e-12 and d.final_uncertainty <= MAX_UNCERTAINTY_RAD]
+                   if min(d.margins) >= margin - ROUNDING and d.final_uncertainty <= MAX_UNCERTAINTY_RAD]
         if designs:
             return _best(designs, length)
         if len(last.lo) == 0 or len(levels) == MAX_FENCES:
