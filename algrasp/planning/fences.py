@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -31,7 +31,7 @@ from algrasp.errors import ConfigError, NotOrientableError
 from algrasp.geometry.angles import to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.tolerances import MAX_UNCERTAINTY_RAD, ROUNDING, SYMMETRY_TOL_RAD, UNCERTAINTY_FLOOR_RAD
-from algrasp.planning.analysis import Analysis
+from algrasp.planning.analysis import Analysis, robust_analysis
 from algrasp.planning.planner import GUARD_RAD, PRECISE_RAD
 from algrasp.planning.plans import _edge_tilt
 from algrasp.planning.transfer import TransferFunction
@@ -76,10 +76,26 @@ class Push:
         return a - k2, b - k2
 
 
+def on_belt(analysis: Analysis) -> Analysis:
+    """The analysis as a fence sees the part: a part pushed by a fence slides on the belt
+    (in the belt's frame a fence pushes it across a still support), so it turns whichever
+    way the contact normal passes its centre of mass, at any support friction (Mason's
+    voting theorem): the set-valued push has no stall band; the shape, profile and
+    centre-of-mass bands of §7–§8 stay. The exact model is returned as it is."""
+    if analysis.robust is None or analysis.robust.physics.support_friction == (0.0, 0.0):
+        return analysis
+    physics = analysis.robust.physics.merged({"support_friction": [0.0, 0.0]})
+    robust = robust_analysis(analysis.part, analysis.diameter, analysis.radius, physics, analysis.tol,
+                             analysis.robust.terms)
+    return replace(analysis, robust=robust)
+
+
 def push_of(analysis: Analysis) -> Push:
-    """The exact push (``--exact``) or the set-valued one of the robust model (§7).
+    """The exact push (``--exact``) or the set-valued one of the robust model (§7) on the
+    belt (:func:`on_belt`).
 
     Raises NotOrientableError (``no_step``, ``dead_band``) when no fence can orient the part."""
+    analysis = on_belt(analysis)
     p = analysis.push
     if not p.steps:
         raise NotOrientableError("no_step", "the push function has no step (constant radius about the centre of "
