@@ -89,18 +89,23 @@ class FenceLayout:
     def to_dict(self) -> dict[str, object]:
         """The fence document (degrees; lengths in ``units``): ``FenceDocument``."""
         d = self.design
-        fences = [{"side": "right" if s == 0 else "left", "angle_deg": float(to_deg(a)),
-                   "steepness_deg": float(to_deg(b)), "position": x, "length": n, "margin_deg": float(to_deg(m)),
+        fences = [{"side": "right" if s == 0 else "left", "angle_deg": _deg(a),
+                   "steepness_deg": _deg(b), "position": x, "length": n, "margin_deg": _deg(m),
                    "push_distance_bound": p}
                   for s, a, b, x, n, m, p in zip(d.sides, d.angles, self.steepness, self.positions, self.lengths,
                                                  d.margins, self.push_bounds)]
         return {"units": self.units, "model": "exact" if d.exact else "robust", "belt_direction_deg": 0.0,
                 "belt_width": self.belt_width, "reach": self.reach, "cover_radius": self.cover_radius,
-                "fence_friction": list(d.rules.friction), "max_steepness_deg": float(to_deg(d.rules.max_steepness)),
-                "min_steepness_deg": float(to_deg(d.rules.min_steepness)), "fences": fences,
-                "total_length": float(sum(self.lengths)), "symmetry_period_deg": float(to_deg(d.symmetry)),
-                "final_orientations_deg": [float(to_deg(f)) for f in d.final_orientations],
-                "final_uncertainty_deg": float(to_deg(d.final_uncertainty))}
+                "fence_friction": list(d.rules.friction), "max_steepness_deg": _deg(d.rules.max_steepness),
+                "min_steepness_deg": _deg(d.rules.min_steepness), "fences": fences,
+                "total_length": float(sum(self.lengths)), "symmetry_period_deg": _deg(d.symmetry),
+                "final_orientations_deg": [_deg(f) for f in d.final_orientations],
+                "final_uncertainty_deg": _deg(d.final_uncertainty)}
+
+
+def _deg(rad: float) -> float:
+    """Degrees, rounded to 1e-9 (grid angles carry rounding noise from radians)."""
+    return round(float(to_deg(rad)), 9)
 
 
 def _bounds(model: PushModel, analysis: Analysis, design: FenceDesign) -> list[float]:

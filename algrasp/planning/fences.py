@@ -383,7 +383,9 @@ def _refusal(analysis: Analysis, push: Push, rules: FenceRules, margin: float) -
             f"[{to_deg(rules.min_steepness):g}°, {to_deg(rules.max_steepness):.3g}°) (fence friction ≤ "
             f"{rules.friction[1]:g}) and margins ≥ {to_deg(margin):g}° orients the part")
     if mu is None:
-        return NotOrientableError("no_fence_design", base + ", even with frictionless fences",
+        why = "" if push.exact else (" (the shape, profile and centre-of-mass tolerances leave orientations that "
+                                     "may turn either way; --exact gives the drawing's design)")
+        return NotOrientableError("no_fence_design", base + ", even with frictionless fences" + why,
                                   {"fence_friction_max": None})
     return NotOrientableError("no_fence_design", f"{base}; a design exists with fence friction ≤ {mu:.3g}",
                               {"fence_friction_max": mu})
