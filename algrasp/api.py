@@ -33,7 +33,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from algrasp.errors import ConfigError
 from algrasp.geometry.part import Part
@@ -42,6 +42,9 @@ from algrasp.planning.actions import Action, parse_action
 from algrasp.planning.analysis import Analysis, Model, analyse_part
 from algrasp.planning.deadband import DEFAULT_PHYSICS, Physics
 from algrasp.planning.plans import LimitsWanted, Plan, make_plan
+
+if TYPE_CHECKING:  # the layout layer loads on first use
+    from optimisation.fence_layout import FenceLayout
 
 
 @dataclass(frozen=True)
@@ -346,7 +349,7 @@ def plan(source: PartSource, *, action: Action | str = "squeeze", min_margin_deg
 
 def fences(source: PartSource, *, fence_friction: float | list[float] | tuple[float, float] | None = None,
            belt_width: float | None = None, min_margin_deg: float = 1.0, exact: bool | None = None,
-           physics: PhysicsSource = None) -> Any:
+           physics: PhysicsSource = None) -> FenceLayout:
     """The fewest conveyor fences that bring the part from any orientation to one (up to
     its push function's symmetry), laid out on a belt moving along +x (conventions §9).
 

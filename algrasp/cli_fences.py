@@ -5,9 +5,12 @@ from __future__ import annotations
 
 import argparse
 import json
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from algrasp.cli_physics import span
+
+if TYPE_CHECKING:  # the planning stack loads on first use, not for --help
+    from optimisation.fence_layout import FenceLayout
 
 
 def add_fences_command(sub: Any) -> None:
@@ -48,7 +51,7 @@ def cmd_fences(args: argparse.Namespace) -> int:
     return 0
 
 
-def _drawings(layout: Any, args: argparse.Namespace) -> list[str]:
+def _drawings(layout: FenceLayout, args: argparse.Namespace) -> list[str]:
     from algrasp.io.fence_drawing import write_dxf, write_svg
 
     out = []

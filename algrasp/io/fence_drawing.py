@@ -11,27 +11,30 @@ cuts), ``DIMENSIONS`` and ``TEXT``; ``$INSUNITS`` is the part's unit where DXF h
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 from xml.sax.saxutils import escape
 
 from algrasp.geometry.angles import to_deg
+
+if TYPE_CHECKING:
+    from optimisation.fence_layout import FenceLayout
 
 INSUNITS = {"in": 1, "ft": 2, "mm": 4, "cm": 5, "m": 6, "um": 13}
 """DXF $INSUNITS codes of the part units DXF names."""
 
 
-def _extent(layout: Any) -> tuple[float, float]:
+def _extent(layout: FenceLayout) -> tuple[float, float]:
     """x range of the drawing: the first root to the last tip, plus a part's width each side."""
     last = layout.tip(len(layout.lengths) - 1)[0]
     pad = 4.0 * layout.cover_radius
     return -pad, max(last, max(layout.positions)) + pad
 
 
-def _fence_lines(layout: Any) -> list[tuple[tuple[float, float], tuple[float, float]]]:
+def _fence_lines(layout: FenceLayout) -> list[tuple[tuple[float, float], tuple[float, float]]]:
     return [(layout.root(i), layout.tip(i)) for i in range(len(layout.lengths))]
 
 
-def write_dxf(layout: Any, path: str | Path) -> Path:
+def write_dxf(layout: FenceLayout, path: str | Path) -> Path:
     """The layout as a DXF R2010 drawing (one LINE per fence on layer FENCES)."""
     import ezdxf
 
@@ -58,7 +61,7 @@ def write_dxf(layout: Any, path: str | Path) -> Path:
     return out
 
 
-def _dimension_fence(msp: Any, layout: Any, i: int, a: tuple[float, float], b: tuple[float, float], h: float) -> None:
+def _dimension_fence(msp: Any, layout: FenceLayout, i: int, a: tuple[float, float], b: tuple[float, float], h: float) -> None:
     """An aligned dimension of fence i's length, its root's position and an angle note."""
     side = layout.design.sides[i]
     off = -2.0 * h if side == 0 else 2.0 * h
@@ -73,7 +76,7 @@ def _dimension_fence(msp: Any, layout: Any, i: int, a: tuple[float, float], b: t
     msp.add_text(note, height=h, dxfattribs={"layer": "TEXT"}).set_placement((a[0], y_rail + (-h if side == 0 else h)))
 
 
-def svg_text(layout: Any) -> str:
+def svg_text(layout: FenceLayout) -> str:
     """The layout as an SVG document (1 user unit = 1 part unit; y up as on the belt)."""
     x0, x1 = _extent(layout)
     W = layout.belt_width
@@ -105,14 +108,14 @@ def _svg_label(x: float, y: float, text: str) -> str:
     return f'<text x="{x:.6g}" y="{-y:.6g}" transform="scale(1,-1)">{escape(text)}</text>'
 
 
-def write_svg(layout: Any, path: str | Path) -> Path:
+def write_svg(layout: FenceLayout, path: str | Path) -> Path:
     """The layout as an SVG file."""
     out = Path(path)
     out.write_text(svg_text(layout), encoding="utf-8")
     return out
 
 
-def write_drawing(layout: Any, path: str | Path) -> Path:
+def write_drawing(layout: FenceLayout, path: str | Path) -> Path:
     """SVG or DXF by the file's suffix."""
     p = Path(path)
     if p.suffix.lower() == ".dxf":
