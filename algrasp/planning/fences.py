@@ -50,8 +50,10 @@ DEFAULT_MIN_MARGIN_DEG = 1.0
 """How far (°) every fence angle may be off by default: a fence is set by hand to about a degree."""
 MARGIN_STEPS_RAD = to_rad(np.arange(0.25, 10.01, 0.25))
 """Margins tried per fence (each must hold on both sides)."""
-CANDIDATES = 16
-"""Designs of the winning level whose lengths are compared (the widest margins first)."""
+CANDIDATES = 64
+"""Designs of the winning level compared (spread evenly over the fence angles that reach it)."""
+MAX_HITS = 1024
+"""States of a level tried before it is given up when none of the first ``CANDIDATES`` holds."""
 EXACT_GOAL_RAD = 1e-9
 LIMIT_PROBES = 6
 """Bisection steps of the friction limit named in a refusal."""
@@ -126,6 +128,11 @@ class FenceRules:
         """Admissible world angles α (radians) of side 0 (right, α = β) or 1 (left, α = π − β)."""
         beta = np.arange(self.min_steepness, self.max_steepness - ROUNDING, GRID_RAD)
         return beta if side == 0 else np.pi - beta
+
+    def slacks(self, alpha: FloatArray) -> FloatArray:
+        """:meth:`slack` of every angle of an array (radians)."""
+        beta = np.where(alpha < 0.5 * np.pi, alpha, np.pi - alpha)
+        return np.asarray(np.minimum(beta - self.min_steepness, self.max_steepness - beta))
 
     def slack(self, alpha: float) -> float:
         """How far α may move and stay admissible (radians; ≤ 0: not admissible)."""
@@ -261,37 +268,41 @@ def collapse_width(push: Push, angles: FloatArray) -> FloatArray:
     return np.asarray(hi - lo)
 
 
-def _held(push: Push, rules: FenceRules, angles: list[float], i: int, goal: float) -> tuple[float, float]:
-    """How far α_i may move up and down (the others as designed) with the design still
-    collapsing to ``goal`` and α_i admissible (radians, from ``MARGIN_STEPS_RAD``)."""
-    base = np.array(angles)
-    trial = np.repeat(base[None, :], 2 * len(MARGIN_STEPS_RAD), axis=0)
-    trial[:, i] += np.concatenate([MARGIN_STEPS_RAD, -MARGIN_STEPS_RAD])
-    admissible = np.array([rules.slack(a) > 0.0 for a in trial[:, i]])
-    ok = ((collapse_width(push, trial) <= goal) & admissible).reshape(2, -1)
-    out = []
-    for row in ok:
-        fails = np.nonzero(~row)[0]
-        n = fails[0] if len(fails) else len(row)
-        out.append(float(MARGIN_STEPS_RAD[n - 1]) if n else 0.0)
-    return out[0], out[1]
+def _held(push: Push, rules: FenceRules, angles: FloatArray, i: int, goal: float,
+          admissible_only: bool = True) -> tuple[FloatArray, FloatArray]:
+    """For each design (rows of ``angles``, (K, N)), how far α_i may move up and down (the
+    others as designed) with it still collapsing to ``goal`` and (``admissible_only``) α_i
+    admissible: two (K,) arrays in radians, from ``MARGIN_STEPS_RAD``. One vectorised pass."""
+    K, N = angles.shape
+    M = len(MARGIN_STEPS_RAD)
+    trial = np.repeat(angles[:, None, :], 2 * M, axis=1)
+    trial[:, :, i] += np.concatenate([MARGIN_STEPS_RAD, -MARGIN_STEPS_RAD])[None, :]
+    ok = (collapse_width(push, trial.reshape(-1, N)) <= goal).reshape(K, 2, M)
+    if admissible_only:
+        ok &= rules.slacks(trial[:, :, i]).reshape(K, 2, M) > 0.0
+    n = np.where(ok.all(axis=2), M, np.argmin(ok, axis=2))  # leading steps that hold
+    held = np.where(n > 0, MARGIN_STEPS_RAD[np.maximum(n - 1, 0)], 0.0)
+    return held[:, 0], held[:, 1]
 
 
-def margins(push: Push, rules: FenceRules, angles: list[float], goal: float) -> list[float]:
-    """Per fence, the largest tried margin m with α_i ± m (the others as designed) still
-    collapsing to ``goal`` and within the admissible angles (radians; 0: not even the smallest)."""
-    return [min(min(_held(push, rules, angles, i, goal)), max(rules.slack(angles[i]), 0.0))
-            for i in range(len(angles))]
+def margins(push: Push, rules: FenceRules, angles: FloatArray, goal: float) -> FloatArray:
+    """(K, N): per design and fence, the largest tried margin m with α_i ± m (the others as
+    designed) still collapsing to ``goal`` and admissible (radians; 0: not even the smallest)."""
+    out = np.zeros(angles.shape)
+    for i in range(angles.shape[1]):
+        up, down = _held(push, rules, angles, i, goal)
+        out[:, i] = np.minimum(np.minimum(up, down), np.maximum(rules.slacks(angles[:, i]), 0.0))
+    return out
 
 
-def centred(push: Push, rules: FenceRules, angles: list[float], goal: float, sweeps: int = 3) -> list[float]:
-    """The design with each angle moved, in turn, to the middle of the range it may take
-    with the others fixed (``sweeps`` passes): the search's grid angles sit at the edges."""
-    out = list(angles)
+def centred(push: Push, rules: FenceRules, angles: FloatArray, goal: float, sweeps: int = 3) -> FloatArray:
+    """The designs (K, N) with each angle moved, in turn, to the middle of the range it may
+    take with the others fixed (``sweeps`` passes): the search's grid angles sit at the edges."""
+    out = np.array(angles, dtype=float)
     for _ in range(sweeps):
-        for i in range(len(out)):
+        for i in range(out.shape[1]):
             up, down = _held(push, rules, out, i, goal)
-            out[i] += 0.5 * (up - down)
+            out[:, i] += 0.5 * (up - down)
     return out
 
 
@@ -333,21 +344,38 @@ def _search(analysis: Analysis, push: Push, rules: FenceRules, margin: float,
     while True:
         last = levels[-1]
         hits = np.nonzero(last.hi - last.lo <= goal)[0]
-        hits = hits[np.argsort(last.hi[hits] - last.lo[hits], kind="stable")][: 4 * CANDIDATES]
-        designs = [d for d in (_design(analysis, push, rules, _chain(levels, int(k)), goal) for k in hits)
-                   if min(d.margins) >= margin - ROUNDING and d.final_uncertainty <= MAX_UNCERTAINTY_RAD]
+        designs = _candidates(analysis, push, rules, levels, hits, goal, margin)
         if designs:
-            return _best(designs, length)
+            return turned(push, rules, _best(designs, length), goal, margin, length)
         if len(last.lo) == 0 or len(levels) == MAX_FENCES:
             return None
         levels.append(_next_level(push, rules, last))
 
 
+def _candidates(analysis: Analysis, push: Push, rules: FenceRules, levels: list[_Level], hits: np.ndarray,
+                goal: float, margin: float) -> list[FenceDesign]:
+    """Designs of the states ``hits`` of the last level, centred, that hold ``margin`` and
+    a claimable uncertainty: ``CANDIDATES`` spread evenly over them, and when none holds, up
+    to ``MAX_HITS`` (a level is only given up when those fail too). Vectorised over designs."""
+    tried: set[int] = set()
+    for n in (CANDIDATES, MAX_HITS):
+        pick = [int(k) for k in hits[np.unique(np.linspace(0, len(hits) - 1, min(len(hits), n)).astype(int))]
+                if int(k) not in tried]
+        tried.update(pick)
+        if not pick:
+            continue
+        A = centred(push, rules, np.array([_chain(levels, k) for k in pick]), goal)
+        m = margins(push, rules, A, goal)
+        keep = np.nonzero(m.min(axis=1) >= margin - ROUNDING)[0]
+        designs = [d for d in (_design(analysis, push, rules, A[k].tolist(), m[k].tolist()) for k in keep)
+                   if d.final_uncertainty <= MAX_UNCERTAINTY_RAD]
+        if designs:
+            return designs
+    return []
+
+
 def _best(designs: list[FenceDesign], length: LengthOf | None) -> FenceDesign:
-    """Precise designs first (final arc ≤ 1°), then the shortest of the widest-margin
-    candidates, then the widest margins."""
-    designs = sorted(designs, key=lambda d: (d.final_uncertainty > PRECISE_RAD, -min(d.margins),
-                                             -sum(d.margins)))[:CANDIDATES]
+    """Precise designs first (final arc ≤ 1°), then the shortest, then the widest margins."""
 
     def key(d: FenceDesign) -> tuple[bool, float, float, float]:
         size = 0.0 if length is None else round(length(d), 6)
@@ -356,9 +384,37 @@ def _best(designs: list[FenceDesign], length: LengthOf | None) -> FenceDesign:
     return min(designs, key=key)
 
 
-def _design(analysis: Analysis, push: Push, rules: FenceRules, angles: list[float], goal: float) -> FenceDesign:
-    """The design of a fence sequence (centred first): inputs, margins, final orientations, uncertainty."""
-    angles = centred(push, rules, angles, goal)
+TURNS_RAD = to_rad(np.arange(-60.0, 60.01, 0.25))
+"""Whole-design turns γ tried for the shortest layout."""
+
+
+def turned(push: Push, rules: FenceRules, design: FenceDesign, goal: float, margin: float,
+           length: LengthOf | None) -> FenceDesign:
+    """The design turned as a whole by the γ of ``TURNS_RAD`` giving the least ``length``
+    (then the widest margins): every α_i + γ makes the same relative turns, so the part
+    collapses from every start as before and only the final orientations turn by γ; every
+    angle must stay admissible on its rail with its margin ≥ ``margin``."""
+    if length is None:
+        return design
+    held = [_held(push, rules, np.array([design.angles]), i, goal, admissible_only=False)
+            for i in range(len(design.angles))]
+    best, best_key = design, (round(length(design), 6), -min(design.margins))
+    for g in TURNS_RAD.tolist():
+        angles = [a + g for a in design.angles]
+        ms = [min(float(up[0]), float(down[0]), rules.slack(a)) for (up, down), a in zip(held, angles)]
+        if min(ms) < margin - ROUNDING or min(ms) <= 0.0 or any((a < 0.5 * np.pi) != (s == 0)
+                                                                  for a, s in zip(angles, design.sides)):
+            continue
+        finals = tuple(sorted(float(np.mod(f + g, 2 * np.pi)) for f in design.final_orientations))
+        cand = replace(design, angles=tuple(angles), margins=tuple(ms), final_orientations=finals)
+        key = (round(length(cand), 6), -min(ms))
+        if key < best_key:
+            best, best_key = cand, key
+    return best
+
+
+def _design(analysis: Analysis, push: Push, rules: FenceRules, angles: list[float], held: list[float]) -> FenceDesign:
+    """The design of a fence sequence with its margins ``held``: inputs, final orientations, uncertainty."""
     inputs = [(0.0, 2.0 * np.pi)]
     lo, hi = np.array([push.circle[0]]), np.array([push.circle[1]])
     for a0, a1 in zip(angles[:-1], angles[1:]):
@@ -372,7 +428,7 @@ def _design(analysis: Analysis, push: Push, rules: FenceRules, angles: list[floa
                                                                                         float(hi[0])),
                                      UNCERTAINTY_FLOOR_RAD)
     sides = tuple(0 if a < 0.5 * np.pi else 1 for a in angles)
-    return FenceDesign(tuple(angles), sides, tuple(margins(push, rules, angles, goal)), tuple(inputs), finals,
+    return FenceDesign(tuple(angles), sides, tuple(held), tuple(inputs), finals,
                        unc, T, rules, push.exact)
 
 

@@ -201,10 +201,10 @@ def test_disk_is_refused_with_its_reason() -> None:
 
 
 def test_refusal_names_the_friction_under_which_a_design_exists() -> None:
-    """Fig. 11 with 2z = 50°: each fence shrinks the arc by at most z, and with μ_f ≤ 0.3 the
+    """Fig. 11 with 2z = 44°: each fence shrinks the arc by at most z, and with μ_f ≤ 0.3 the
     alternating window forbids the turns needed within 12 fences; the refusal names the
     friction limit, and a design exists there."""
-    analysis = analyse_document(_fig11_doc(25.0), EXACT)
+    analysis = analyse_document(_fig11_doc(22.0), EXACT)
     with pytest.raises(NotOrientableError) as e:
         design_fences(analysis)
     assert e.value.reason == "no_fence_design"
