@@ -1,27 +1,21 @@
 """Conveyor fences (conventions §9): the fewest fences that orient a part on a belt.
 
-The belt moves along world +x. Fence i is a wall at world angle α_i that acts on the part
-as the gripper's lower jaw L at α_i, so passing it maps the world orientation φ to
-``p(φ − α_i) + α_i`` (p the push function: exact, or the set-valued push of §7). A part
-slides along a fence only when the fence's steepness β (its angle to the belt direction)
-satisfies ``β_min ≤ β < 90° − atan μ_f`` for the largest part–fence friction μ_f; a fence on
-the right side (y = 0) has α = β, one on the left side (y = W) α = 180° − β, and fences
-alternate sides. So consecutive angles differ by δ = α_{i+1} − α_i in
-``(2 atan μ_f, 180° − 2β_min]`` (right → left) or its negative (left → right), and the
-angles themselves stay in the admissible set.
+The model — the push a fence applies, admissible angles, designs and margins — is
+:mod:`algrasp.planning.fence_model`. Fences alternate rails, so consecutive angles differ
+by δ = α_{i+1} − α_i in ``(2 atan μ_f, 180° − 2β_min]`` (right → left) or its negative
+(left → right), and the angles themselves stay in the admissible set.
 
 The search is breadth-first over designs: fence angles on a grid of each side's
 admissible set; a state is the arc of orientations (relative to its last fence) the part
 may be in and the last fence's angle; for each fence angle the ``BEAM`` narrowest arcs
 are kept. The first level with an arc that collapses to one orientation (up to p's
 symmetry T) with every fence angle holding ``min_margin`` wins; among its designs the
-shortest (an injected length, the fence layout's) then the widest margin is taken.
-Pure: no I/O; angles in radians.
+shortest (an injected length, the fence layout's) then the widest margin is taken, and
+the winner is turned as a whole for the shortest layout. Pure: no I/O; angles in radians.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 
@@ -31,25 +25,31 @@ from algrasp.errors import ConfigError, NotOrientableError
 from algrasp.geometry.angles import to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.tolerances import MAX_UNCERTAINTY_RAD, ROUNDING, SYMMETRY_TOL_RAD, UNCERTAINTY_FLOOR_RAD
-from algrasp.planning.analysis import Analysis, robust_analysis
+from algrasp.planning.analysis import Analysis
+from algrasp.planning.fence_model import (
+    DEFAULT_FENCE_FRICTION,
+    DEFAULT_RULES,
+    FenceDesign,
+    FenceRules,
+    Push,
+    centred,
+    fence_rules,
+    held_range,
+    margins,
+    on_belt,
+    push_of,
+)
 from algrasp.planning.planner import GUARD_RAD, PRECISE_RAD
 from algrasp.planning.plans import _edge_tilt
-from algrasp.planning.transfer import TransferFunction
 
-DEFAULT_FENCE_FRICTION = (0.1, 0.3)
-"""μ_f: UHMW-PE guide rail (the usual fence facing) on dry metal or plastic parts:
-handbook 0.1–0.2, up to 0.3 worn or dusty (conventions §9)."""
-MIN_STEEPNESS_RAD = to_rad(10.0)
-"""β_min: a fence flatter than 10° to the belt is over 5.8 belt widths long."""
-GRID_RAD = to_rad(0.5)
-"""Fence angles tried: every 0.5° of each side's admissible set."""
+__all__ = ["DEFAULT_FENCE_FRICTION", "DEFAULT_MIN_MARGIN_DEG", "DEFAULT_RULES", "FenceDesign", "FenceRules", "Push",
+           "design_fences", "fence_rules", "friction_limit", "on_belt", "push_of", "turned"]
+
 BEAM = 4
 """Arcs kept per fence angle and level (the narrowest)."""
 MAX_FENCES = 12
 DEFAULT_MIN_MARGIN_DEG = 1.0
 """How far (°) every fence angle may be off by default: a fence is set by hand to about a degree."""
-MARGIN_STEPS_RAD = to_rad(np.arange(0.25, 10.01, 0.25))
-"""Margins tried per fence (each must hold on both sides)."""
 CANDIDATES = 64
 """Designs of the winning level compared (spread evenly over the fence angles that reach it)."""
 MAX_HITS = 1024
@@ -57,144 +57,6 @@ MAX_HITS = 1024
 EXACT_GOAL_RAD = 1e-9
 LIMIT_PROBES = 6
 """Bisection steps of the friction limit named in a refusal."""
-
-
-@dataclass(frozen=True, eq=False)
-class Push:
-    """The push function as a fence sees it: bounds of its images, the symmetry period T
-    and the arc (relative, lifted) every orientation lands in after one fence."""
-
-    lower: TransferFunction
-    upper: TransferFunction
-    symmetry: float
-    circle: tuple[float, float]
-    exact: bool
-
-    def image(self, lo: FloatArray, hi: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """Hull of the images of the closed arcs [lo, hi] (radians, lifted), lo moved to [0, T)."""
-        k = np.floor(lo / self.symmetry) * self.symmetry
-        a, b = self.lower.apply(lo - k), self.upper.apply(hi - k)
-        k2 = np.floor(a / self.symmetry) * self.symmetry
-        return a - k2, b - k2
-
-
-def on_belt(analysis: Analysis) -> Analysis:
-    """The analysis as a fence sees the part: a part pushed by a fence slides on the belt
-    (in the belt's frame a fence pushes it across a still support), so it turns whichever
-    way the contact normal passes its centre of mass, at any support friction (Mason's
-    voting theorem): the set-valued push has no stall band; the shape, profile and
-    centre-of-mass bands of §7–§8 stay. The exact model is returned as it is."""
-    if analysis.robust is None or analysis.robust.physics.support_friction == (0.0, 0.0):
-        return analysis
-    physics = analysis.robust.physics.merged({"support_friction": [0.0, 0.0]})
-    robust = robust_analysis(analysis.part, analysis.diameter, analysis.radius, physics, analysis.tol,
-                             analysis.robust.terms)
-    return replace(analysis, robust=robust)
-
-
-def push_of(analysis: Analysis) -> Push:
-    """The exact push (``--exact``) or the set-valued one of the robust model (§7) on the
-    belt (:func:`on_belt`).
-
-    Raises NotOrientableError (``no_step``, ``dead_band``) when no fence can orient the part."""
-    analysis = on_belt(analysis)
-    p = analysis.push
-    if not p.steps:
-        raise NotOrientableError("no_step", "the push function has no step (constant radius about the centre of "
-                                 "mass, e.g. a disk): no fence can orient the part")
-    if analysis.robust is None:
-        T = p.symmetry_period(SYMMETRY_TOL_RAD)
-        return Push(p, p, T, p.circle_images(T)[0], True)
-    S = analysis.robust.push
-    if S is None or not S.orientable:
-        raise NotOrientableError("dead_band", analysis.robust.reasons.get("push") or "with the dead band every "
-                                 "orientation may stay where it is: no fence can orient the part")
-    return Push(S.lower, S.upper, S.symmetry, S.circle_images()[0], False)
-
-
-@dataclass(frozen=True)
-class FenceRules:
-    """Which fence angles are admissible: friction range μ_f and the least steepness."""
-
-    friction: tuple[float, float] = DEFAULT_FENCE_FRICTION
-    min_steepness: float = MIN_STEEPNESS_RAD
-
-    @property
-    def max_steepness(self) -> float:
-        """β < 90° − atan μ_f,hi: steeper fences hold the part (radians)."""
-        return 0.5 * np.pi - math.atan(self.friction[1])
-
-    def grid(self, side: int) -> FloatArray:
-        """Admissible world angles α (radians) of side 0 (right, α = β) or 1 (left, α = π − β)."""
-        beta = np.arange(self.min_steepness, self.max_steepness - ROUNDING, GRID_RAD)
-        return beta if side == 0 else np.pi - beta
-
-    def slacks(self, alpha: FloatArray) -> FloatArray:
-        """:meth:`slack` of every angle of an array (radians)."""
-        beta = np.where(alpha < 0.5 * np.pi, alpha, np.pi - alpha)
-        return np.asarray(np.minimum(beta - self.min_steepness, self.max_steepness - beta))
-
-    def slack(self, alpha: float) -> float:
-        """How far α may move and stay admissible (radians; ≤ 0: not admissible)."""
-        beta = alpha if alpha < 0.5 * np.pi else np.pi - alpha
-        return min(beta - self.min_steepness, self.max_steepness - beta)
-
-
-DEFAULT_RULES = FenceRules()
-
-
-def fence_rules(friction: tuple[float, float] | list[float] | float | None = None) -> FenceRules:
-    """Rules for a friction range (a number or [lo, hi]; None: the default)."""
-    lo, hi = (DEFAULT_FENCE_FRICTION if friction is None else
-              (friction, friction) if isinstance(friction, (int, float)) else tuple(friction) * (2 // len(friction)))
-    if not (0.0 <= lo <= hi < math.tan(0.5 * np.pi - MIN_STEEPNESS_RAD)):
-        raise ConfigError("fence_friction", f"expected 0 ≤ lo ≤ hi < {math.tan(0.5 * np.pi - MIN_STEEPNESS_RAD):.3g} "
-                          f"(μ_f ≥ tan {90 - to_deg(MIN_STEEPNESS_RAD):g}° leaves no admissible fence), got [{lo:g}, {hi:g}]")
-    return FenceRules((float(lo), float(hi)))
-
-
-@dataclass(frozen=True, eq=False)
-class FenceDesign:
-    """A verified fence sequence. Angles in radians.
-
-    Attributes
-    ----------
-    angles : tuple of float
-        α_i in the order the part meets them (world, (0, π)).
-    sides : tuple of int
-        0 right (y = 0, α = β), 1 left (y = W, α = π − β).
-    margins : tuple of float
-        How far each α_i may be off, the others as designed (radians).
-    inputs : tuple of (float, float)
-        The arc of orientations relative to each fence the part arrives in (lifted;
-        the first is the whole circle, (0, 2π)).
-    final_orientations : tuple of float
-        World orientations the part leaves in, [0, 2π), one per symmetry period.
-    final_uncertainty : float
-        Half-width (radians) around each final orientation.
-    symmetry : float
-        T of the push function (radians).
-    rules : FenceRules
-        The friction range and steepness the angles were chosen under.
-    """
-
-    angles: tuple[float, ...]
-    sides: tuple[int, ...]
-    margins: tuple[float, ...]
-    inputs: tuple[tuple[float, float], ...]
-    final_orientations: tuple[float, ...]
-    final_uncertainty: float
-    symmetry: float
-    rules: FenceRules
-    exact: bool
-
-    def run(self, push: Push, phi: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """Hull of the world orientations after every fence from each φ (radians)."""
-        lo = hi = np.asarray(phi, dtype=float)
-        for a in self.angles:
-            lo, hi = push.image(lo - a, hi - a)
-            lo, hi = lo + a, hi + a
-        return lo, hi
 
 
 @dataclass(frozen=True)
@@ -255,55 +117,6 @@ def _chain(levels: list[_Level], k: int) -> list[float]:
         out.append(float(level.alpha[k]))
         k = int(level.parent[k])
     return out[::-1]
-
-
-def collapse_width(push: Push, angles: FloatArray) -> FloatArray:
-    """Width of the final arc of each design (rows of ``angles``, (m, N), radians), from
-    every start: the first fence leaves the part in ``push.circle``."""
-    lo = np.full(angles.shape[0], push.circle[0])
-    hi = np.full(angles.shape[0], push.circle[1])
-    for i in range(1, angles.shape[1]):
-        shift = angles[:, i - 1] - angles[:, i]
-        lo, hi = push.image(lo + shift, hi + shift)
-    return np.asarray(hi - lo)
-
-
-def _held(push: Push, rules: FenceRules, angles: FloatArray, i: int, goal: float,
-          admissible_only: bool = True) -> tuple[FloatArray, FloatArray]:
-    """For each design (rows of ``angles``, (K, N)), how far α_i may move up and down (the
-    others as designed) with it still collapsing to ``goal`` and (``admissible_only``) α_i
-    admissible: two (K,) arrays in radians, from ``MARGIN_STEPS_RAD``. One vectorised pass."""
-    K, N = angles.shape
-    M = len(MARGIN_STEPS_RAD)
-    trial = np.repeat(angles[:, None, :], 2 * M, axis=1)
-    trial[:, :, i] += np.concatenate([MARGIN_STEPS_RAD, -MARGIN_STEPS_RAD])[None, :]
-    ok = (collapse_width(push, trial.reshape(-1, N)) <= goal).reshape(K, 2, M)
-    if admissible_only:
-        ok &= rules.slacks(trial[:, :, i]).reshape(K, 2, M) > 0.0
-    n = np.where(ok.all(axis=2), M, np.argmin(ok, axis=2))  # leading steps that hold
-    held = np.where(n > 0, MARGIN_STEPS_RAD[np.maximum(n - 1, 0)], 0.0)
-    return held[:, 0], held[:, 1]
-
-
-def margins(push: Push, rules: FenceRules, angles: FloatArray, goal: float) -> FloatArray:
-    """(K, N): per design and fence, the largest tried margin m with α_i ± m (the others as
-    designed) still collapsing to ``goal`` and admissible (radians; 0: not even the smallest)."""
-    out = np.zeros(angles.shape)
-    for i in range(angles.shape[1]):
-        up, down = _held(push, rules, angles, i, goal)
-        out[:, i] = np.minimum(np.minimum(up, down), np.maximum(rules.slacks(angles[:, i]), 0.0))
-    return out
-
-
-def centred(push: Push, rules: FenceRules, angles: FloatArray, goal: float, sweeps: int = 3) -> FloatArray:
-    """The designs (K, N) with each angle moved, in turn, to the middle of the range it may
-    take with the others fixed (``sweeps`` passes): the search's grid angles sit at the edges."""
-    out = np.array(angles, dtype=float)
-    for _ in range(sweeps):
-        for i in range(out.shape[1]):
-            up, down = _held(push, rules, out, i, goal)
-            out[:, i] += 0.5 * (up - down)
-    return out
 
 
 LengthOf = Callable[[FenceDesign], float]
@@ -396,7 +209,7 @@ def turned(push: Push, rules: FenceRules, design: FenceDesign, goal: float, marg
     angle must stay admissible on its rail with its margin ≥ ``margin``."""
     if length is None:
         return design
-    held = [_held(push, rules, np.array([design.angles]), i, goal, admissible_only=False)
+    held = [held_range(push, rules, np.array([design.angles]), i, goal, admissible_only=False)
             for i in range(len(design.angles))]
     best, best_key = design, (round(length(design), 6), -min(design.margins))
     for g in TURNS_RAD.tolist():
