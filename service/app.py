@@ -37,6 +37,8 @@ from service.work import analysis_task, fences_task, import_task, plan_task
 if TYPE_CHECKING:  # the planning stack loads in the route, on first use
     from algrasp.pipeline import PlanRequest
 
+DRAWING_TYPES = {"svg": "image/svg+xml", "dxf": "application/dxf"}
+"""Media types of the fence drawings ``POST /v1/fences`` answers."""
 SLOW_NICENESS = 5
 """The slow pool's workers (and the job pool's) run at this OS niceness: on a loaded
 machine the cheap requests get the CPU first."""
@@ -219,10 +221,15 @@ async def plans(request: Request, body: PlanBody) -> Response:
 @router.post("/v1/fences", tags=["plans"], dependencies=AUTH, responses=ok(FencesOut))
 async def fences(request: Request, body: FencesBody) -> Response:
     """The fewest conveyor fences orienting the part, laid out on a belt (the document of
-    ``algrasp fences --json``); a same-input request is answered from the cache."""
+    ``algrasp fences --json``; with ``drawing`` its SVG or DXF); a same-input request for
+    the document is answered from the cache."""
     svc = state(request)
     options = body.options(svc.settings.cell_physics)
     key = canonical_hash(["fences", VERSION, body.model_dump(by_alias=True)])
+    if body.drawing is not None:
+        text = await run_task(svc, "slow", who(request), fences_task, body.part, options, body.drawing,
+                              timeout_s=svc.settings.plan_time_limit_s, stage="fences")
+        return Response(text, media_type=DRAWING_TYPES[body.drawing])
 
     async def compute() -> Any:
         return await run_task(svc, "slow", who(request), fences_task, body.part, options,

@@ -138,6 +138,8 @@ class FencesBody(ModelOptions):
     belt_width: float | None = Field(None, gt=0.0, le=1e9, description="between the rails, part units "
                                      "(default: the least the design needs)")
     min_margin_deg: float = Field(1.0, ge=0.0, lt=45.0, description="every fence angle may be off by this much")
+    drawing: Literal["svg", "dxf"] | None = Field(None, description="answer the drawing of the belt and fences "
+                                                   "(image/svg+xml or application/dxf, part units) instead of the document")
 
     @field_validator("fence_friction")
     @classmethod

@@ -35,7 +35,23 @@ def _fence_lines(layout: FenceLayout) -> list[tuple[tuple[float, float], tuple[f
 
 
 def write_dxf(layout: FenceLayout, path: str | Path) -> Path:
-    """The layout as a DXF R2010 drawing (one LINE per fence on layer FENCES)."""
+    """The layout as a DXF R2010 file (one LINE per fence on layer FENCES)."""
+    out = Path(path)
+    _dxf_document(layout).saveas(out)
+    return out
+
+
+def dxf_text(layout: FenceLayout) -> str:
+    """The layout as DXF R2010 text (what :func:`write_dxf` writes)."""
+    import io
+
+    buf = io.StringIO()
+    _dxf_document(layout).write(buf)
+    return buf.getvalue()
+
+
+def _dxf_document(layout: FenceLayout) -> Any:
+    """The ezdxf document of the layout: rails, fences, dimensions and notes."""
     import ezdxf
 
     doc = ezdxf.new("R2010", setup=True)
@@ -56,9 +72,7 @@ def write_dxf(layout: FenceLayout, path: str | Path) -> Path:
     dim.render()
     msp.add_text(f"belt width {W:.4g} {layout.units}; belt moves +x", height=text_h,
                  dxfattribs={"layer": "TEXT"}).set_placement((x0, -3.0 * text_h))
-    out = Path(path)
-    doc.saveas(out)
-    return out
+    return doc
 
 
 def _dimension_fence(msp: Any, layout: FenceLayout, i: int, a: tuple[float, float], b: tuple[float, float], h: float) -> None:

@@ -56,3 +56,21 @@ def test_disk_is_refused(server: Server) -> None:
     assert r.status_code == 422, r.text
     err = r.json()["error"]
     assert err["type"] == "not_orientable" and err["reason"] in ("no_step", "dead_band")
+
+
+@pytest.mark.parametrize(("drawing", "media"), [("svg", "image/svg+xml"), ("dxf", "application/dxf")])
+def test_drawings_over_http(server: Server, drawing: str, media: str, tmp_path: Any) -> None:
+    import ezdxf
+
+    with server.client() as c:
+        r = c.post("/v1/fences", json={"part": RECT, "exact": True, "drawing": drawing})
+    assert r.status_code == 200, r.text
+    assert r.headers["content-type"].startswith(media)
+    if drawing == "svg":
+        assert r.text.startswith("<svg") and r.text.count('class="fence"') == 2
+        return
+    path = tmp_path / "belt.dxf"
+    path.write_text(r.text)
+    lines = list(ezdxf.readfile(path).modelspace().query('LINE[layer=="FENCES"]'))
+    want = algrasp.fences(RECT, exact=True).to_dict()["fences"]
+    assert [round(ln.dxf.start.x, 6) for ln in lines] == [round(f["position"], 6) for f in want]
