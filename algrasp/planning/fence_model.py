@@ -120,13 +120,20 @@ DEFAULT_RULES = FenceRules()
 
 
 def fence_rules(friction: tuple[float, float] | list[float] | float | None = None) -> FenceRules:
-    """Rules for a friction range (a number or [lo, hi]; None: the default)."""
-    lo, hi = (DEFAULT_FENCE_FRICTION if friction is None else
-              (friction, friction) if isinstance(friction, (int, float)) else tuple(friction) * (2 // len(friction)))
-    if not (0.0 <= lo <= hi < math.tan(0.5 * np.pi - MIN_STEEPNESS_RAD)):
-        raise ConfigError("fence_friction", f"expected 0 ≤ lo ≤ hi < {math.tan(0.5 * np.pi - MIN_STEEPNESS_RAD):.3g} "
-                          f"(μ_f ≥ tan {90 - to_deg(MIN_STEEPNESS_RAD):g}° leaves no admissible fence), got [{lo:g}, {hi:g}]")
-    return FenceRules((float(lo), float(hi)))
+    """Rules for a friction range (a number or [lo, hi]; None: the default).
+
+    Raises ConfigError (``fence_friction``) unless 0 ≤ lo ≤ hi < tan(90° − β_min)."""
+    if friction is None:
+        return DEFAULT_RULES
+    values = [friction] if isinstance(friction, (int, float)) else list(friction)
+    top = math.tan(0.5 * np.pi - MIN_STEEPNESS_RAD)
+    if len(values) not in (1, 2) or not all(isinstance(v, (int, float)) and math.isfinite(v) for v in values):
+        raise ConfigError("fence_friction", f"expected a number or [lo, hi], got {friction!r}")
+    lo, hi = float(values[0]), float(values[-1])
+    if not (0.0 <= lo <= hi < top):
+        raise ConfigError("fence_friction", f"expected 0 ≤ lo ≤ hi < {top:.3g} (μ_f ≥ tan "
+                          f"{90 - to_deg(MIN_STEEPNESS_RAD):g}° leaves no admissible fence), got [{lo:g}, {hi:g}]")
+    return FenceRules((lo, hi))
 
 
 @dataclass(frozen=True, eq=False)

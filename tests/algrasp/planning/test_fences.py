@@ -228,8 +228,9 @@ def test_rotating_the_drawing_changes_no_fence_count(beta: float) -> None:
     assert len(design_fences(analyse_document(_poly(turned), EXACT)).angles) == n0
 
 
-@pytest.mark.parametrize("friction", [[0.5, 0.2], [-0.1, 0.2], [0.0, 10.0]])
+@pytest.mark.parametrize("friction", [[0.5, 0.2], [-0.1, 0.2], [0.0, 10.0], [], [0.1, 0.2, 0.3], [float("nan")]])
 def test_bad_fence_friction_is_a_config_error(friction: list[float]) -> None:
+    assert fence_rules(None) == FenceRules() and fence_rules(0.2).friction == (0.2, 0.2)
     with pytest.raises(ConfigError) as e:
         fence_rules(friction)
     assert e.value.field == "fence_friction"
