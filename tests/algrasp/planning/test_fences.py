@@ -42,9 +42,14 @@ def _exact_part(vertices: list[list[float]]) -> brute.ExactPart:
     return brute.ExactPart(v, (), com)
 
 
+_FLOWS: dict[int, tuple[brute.ExactPart, brute.Flow]] = {}
+
+
 def _simulate(part: brute.ExactPart, angles: tuple[float, ...], starts: np.ndarray = STARTS) -> np.ndarray:
     """World orientations after the fences, by the brute-force push (radians, [0, 2π))."""
-    push = brute.Flow(part.radius, 0.0)
+    if id(part) not in _FLOWS:  # the part is kept with its flow, so its id is not reused
+        _FLOWS[id(part)] = (part, brute.Flow(part.radius, 0.0))
+    push = _FLOWS[id(part)][1]
     phi = starts.copy()
     for a in angles:
         phi = push(phi - a) + a
