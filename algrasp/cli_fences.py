@@ -29,6 +29,7 @@ def add_fences_command(sub: Any) -> None:
     p.add_argument("--json", action="store_true", help="print the fence document as JSON")
     p.add_argument("--svg", metavar="OUT.svg", help="draw the belt and fences (dimensioned, part units)")
     p.add_argument("--dxf", metavar="OUT.dxf", help="the same drawing as DXF (layer FENCES: one line per fence)")
+    p.add_argument("--drawing", metavar="OUT.dxf|OUT.svg", help="the drawing, as its suffix says")
     model_options(p)
     p.set_defaults(func=cmd_fences)
 
@@ -52,9 +53,11 @@ def cmd_fences(args: argparse.Namespace) -> int:
 
 
 def _drawings(layout: FenceLayout, args: argparse.Namespace) -> list[str]:
-    from algrasp.io.fence_drawing import write_dxf, write_svg
+    from algrasp.io.fence_drawing import write_drawing, write_dxf, write_svg
 
     out = []
+    if args.drawing:
+        out.append(str(write_drawing(layout, args.drawing)))
     if args.svg:
         out.append(str(write_svg(layout, args.svg)))
     if args.dxf:

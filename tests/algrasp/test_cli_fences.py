@@ -100,3 +100,11 @@ def test_api_matches_the_cli(rect_file: Path, capsys: pytest.CaptureFixture[str]
     api = algrasp.fences(RECT, exact=True, fence_friction=0.2).to_dict()
     assert json.loads(json.dumps(api)) == cli
     assert cli["fence_friction"] == [0.2, 0.2]
+
+
+def test_drawing_by_suffix(rect_file: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "belt.dxf"
+    assert main(["fences", str(rect_file), "--exact", "--drawing", str(out)]) == 0
+    assert out.read_text().lstrip().startswith("0")
+    assert main(["fences", str(rect_file), "--exact", "--drawing", str(tmp_path / "belt.png")]) == 2
+    assert capsys.readouterr().err.startswith("algrasp: error: --drawing: expected a .dxf or .svg file name")
