@@ -15,7 +15,8 @@ __version__ = "0.1.0"
 
 _API = {
     "load_part": "algrasp.api", "analyse": "algrasp.api", "plan": "algrasp.api", "validate": "algrasp.api",
-    "import_drawing": "algrasp.api", "document": "algrasp.api", "model": "algrasp.api", "Drawing": "algrasp.api",
+    "import_drawing": "algrasp.api", "document": "algrasp.api", "fences": "algrasp.api", "model": "algrasp.api",
+    "Drawing": "algrasp.api",
     "Validation": "algrasp.sim.validate",
     "Part": "algrasp.geometry.part", "Tolerances": "algrasp.geometry.tolerances",
     "DEFAULT_TOLERANCES": "algrasp.geometry.tolerances",
@@ -29,12 +30,12 @@ _API = {
 __all__ = ["AlgraspError", "Analysis", "ConfigError", "DEFAULT_PHYSICS", "DEFAULT_TOLERANCES", "Drawing",
            "GeometryError", "LimitExceededError", "Model", "NotOrientableError", "Part", "PartDocumentError",
            "Physics", "Plan", "SimulationError", "StorageError", "TimeLimitError", "Tolerances",
-           "UnavailableError", "Validation", "analyse", "document", "import_drawing", "load_part", "model", "plan",
+           "UnavailableError", "Validation", "analyse", "document", "fences", "import_drawing", "load_part", "model", "plan",
            "validate"]
 # (kept literal for linters; a test checks it equals the lazy table)
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
-    from algrasp.api import Drawing, analyse, document, import_drawing, load_part, model, plan, validate
+    from algrasp.api import Drawing, analyse, document, fences, import_drawing, load_part, model, plan, validate
     from algrasp.errors import (
         AlgraspError,
         ConfigError,

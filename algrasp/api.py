@@ -33,7 +33,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from algrasp.errors import ConfigError
 from algrasp.geometry.part import Part
@@ -42,6 +42,9 @@ from algrasp.planning.actions import Action, parse_action
 from algrasp.planning.analysis import Analysis, Model, analyse_part
 from algrasp.planning.deadband import DEFAULT_PHYSICS, Physics
 from algrasp.planning.plans import LimitsWanted, Plan, make_plan
+
+if TYPE_CHECKING:  # the layout layer loads on first use
+    from optimisation.fence_layout import FenceLayout
 
 
 @dataclass(frozen=True)
@@ -342,6 +345,62 @@ def plan(source: PartSource, *, action: Action | str = "squeeze", min_margin_deg
     analysis = analyse(source, exact=exact, physics=physics)
     out = make_plan(analysis, req.action, req.min_margin_deg, "none" if analysis.robust is None else req.limits)
     return optimise_plan(out, req.gripper_profile, req.push_scale) if optimise else out
+
+
+def fences(source: PartSource, *, fence_friction: float | list[float] | tuple[float, float] | None = None,
+           belt_width: float | None = None, min_margin_deg: float = 1.0, exact: bool | None = None,
+           physics: PhysicsSource = None) -> FenceLayout:
+    """The fewest conveyor fences that bring the part from any orientation to one (up to
+    its push function's symmetry), laid out on a belt moving along +x (conventions §9).
+
+    Parameters
+    ----------
+    source : PartSource
+        The part (as :func:`analyse`).
+    fence_friction : float or [lo, hi], optional
+        μ_f between part and fence (default 0.1–0.3: UHMW-PE rails); a fence slides the
+        part along only when its angle to the belt is below 90° − atan μ_f,hi.
+    belt_width : float, optional
+        Between the rails (part units; default the least the design needs).
+    min_margin_deg : float, default 1
+        How far every fence angle may be off (degrees).
+    exact, physics
+        The model (as :func:`analyse`); ``physics.support_friction`` is the belt's.
+
+    Returns
+    -------
+    FenceLayout
+        ``optimisation.fence_layout.FenceLayout``: ``design`` (radians), lengths, positions,
+        belt width; ``to_dict()`` is the fence document (degrees).
+
+    Raises
+    ------
+    NotOrientableError
+        No fence design exists (``limits["fence_friction_max"]``: the friction under which one would).
+
+    Examples
+    --------
+    >>> out = fences({"name": "r", "boundary": [[0, 0], [4, 0], [4, 2], [0, 2]]}, exact=True)
+    >>> len(out.to_dict()["fences"]), [f["side"] for f in out.to_dict()["fences"]]
+    (2, ['left', 'right'])
+    """
+    from algrasp.planning.fences import fence_rules
+    from optimisation.fence_layout import plan_fences
+
+    rules = fence_rules(_friction(fence_friction))
+    width = None if belt_width is None else _number(belt_width, "belt_width")
+    analysis = analyse(source, exact=exact, physics=physics)
+    return plan_fences(analysis, rules, _number(min_margin_deg, "min_margin_deg"), width)
+
+
+def _friction(value: object) -> float | tuple[float, float] | None:
+    """``fence_friction`` as a number or (lo, hi) of numbers; ConfigError naming it otherwise."""
+    if value is None or (isinstance(value, (int, float)) and not isinstance(value, bool)):
+        return value
+    if isinstance(value, (list, tuple)) and len(value) in (1, 2):
+        nums = [_number(v, "fence_friction") for v in value]
+        return (nums[0], nums[-1])
+    raise ConfigError("fence_friction", f"expected a number or [lo, hi], got {value!r}")
 
 
 def _number(value: object, name: str) -> float:

@@ -359,6 +359,9 @@ def build_parser() -> argparse.ArgumentParser:
     _record_options(p)
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_validate)
+    from algrasp.cli_fences import add_fences_command
+
+    add_fences_command(sub)
     _registered_commands(sub)
     return parser
 

@@ -137,9 +137,10 @@ class NotOrientableError(AlgraspError):
     ----------
     reason : str
         Why, as a word: ``constant_width``, ``no_step``, ``dead_band``, ``margin_too_large``,
-        ``uncertain``, ``verification_failed``.
+        ``uncertain``, ``verification_failed``, ``no_fence_design`` (conveyor fences).
     limits : dict or None
-        The physics limits under which a plan exists (``algrasp.planning.limits``), if searched.
+        The physics limits under which a plan exists (``algrasp.planning.limits``), if searched;
+        for fences ``fence_friction_max``, the friction under which a design exists.
     http_status, exit_code : int
         422 and 2.
 

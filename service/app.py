@@ -24,19 +24,21 @@ from algrasp.errors import ConfigError
 from algrasp.planning.sampled import MAX_SAMPLES
 from service.admission import FAST_COST, Gate, estimated_cost
 from service.catalogue import canonical_hash
-from service.contract import ERRORS, IMPORTED, NOT_FOUND, AnalysisOut, PlanOut, ok, typed
+from service.contract import ERRORS, IMPORTED, NOT_FOUND, AnalysisOut, FencesOut, PlanOut, ok, typed
 from service.executor import make_executor
 from service.jobs import JobRunner, RunnerConfig
 from service.middleware import Metrics, MetricsMiddleware, ParsedJsonRoute, RequestGuard, install_error_handlers
-from service.models import PartJson, PlanBody
+from service.models import FencesBody, PartJson, PlanBody
 from service.runtime import AUTH, VERSION, ServiceState, check_samples, encoded, require_key, run_task, state, who
 from service.settings import Settings
 from service.store import Store
-from service.work import analysis_task, import_task, plan_task
+from service.work import analysis_task, fences_task, import_task, plan_task
 
 if TYPE_CHECKING:  # the planning stack loads in the route, on first use
     from algrasp.pipeline import PlanRequest
 
+DRAWING_TYPES = {"svg": "image/svg+xml", "dxf": "application/dxf"}
+"""Media types of the fence drawings ``POST /v1/fences`` answers."""
 SLOW_NICENESS = 5
 """The slow pool's workers (and the job pool's) run at this OS niceness: on a loaded
 machine the cheap requests get the CPU first."""
@@ -213,6 +215,27 @@ async def plans(request: Request, body: PlanBody) -> Response:
         svc.metrics.validations.inc()
         svc.metrics.samples.inc(body.validate_.samples)
     svc.metrics.plans.labels(body.action, str(cached).lower()).inc()
+    return response
+
+
+@router.post("/v1/fences", tags=["plans"], dependencies=AUTH, responses=ok(FencesOut))
+async def fences(request: Request, body: FencesBody) -> Response:
+    """The fewest conveyor fences orienting the part, laid out on a belt (the document of
+    ``algrasp fences --json``; with ``drawing`` its SVG or DXF); a same-input request for
+    the document is answered from the cache."""
+    svc = state(request)
+    options = body.options(svc.settings.cell_physics)
+    key = canonical_hash(["fences", VERSION, body.model_dump(by_alias=True)])
+    if body.drawing is not None:
+        text = await run_task(svc, "slow", who(request), fences_task, body.part, options, body.drawing,
+                              timeout_s=svc.settings.plan_time_limit_s, stage="fences")
+        return Response(text, media_type=DRAWING_TYPES[body.drawing])
+
+    async def compute() -> Any:
+        return await run_task(svc, "slow", who(request), fences_task, body.part, options,
+                              timeout_s=svc.settings.plan_time_limit_s, stage="fences")
+
+    response, _ = await _cached(request, key, compute, "the part's size")
     return response
 
 

@@ -59,8 +59,12 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
     from algrasp.planning.cells import parse_cells
 
     parse_cells(args.sim_physics)
+    if args.fence_friction is not None:
+        from algrasp.planning.fences import fence_rules
+
+        fence_rules(args.fence_friction)
     return asdict(DesignOptions(args.min_margin_deg, args.validate_samples, args.seed, None, profile,
-                                model["exact"], model.get("physics"), args.sim_physics))
+                                model["exact"], model.get("physics"), args.sim_physics, args.fences, args.fence_friction))
 
 
 def cmd_batch(args: argparse.Namespace) -> int:
@@ -141,6 +145,11 @@ def add_commands(sub: Any) -> None:
                    help="which cells of the physics ranges validation simulates (as for algrasp validate)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--gripper", metavar="PROFILE.yaml|json")
+    p.add_argument("--fences", action="store_true", help="also design conveyor fences for every part (conventions §9)")
+    from algrasp.cli_physics import span
+
+    p.add_argument("--fence-friction", "--belt-friction", dest="fence_friction", type=span, metavar="V|LO,HI",
+                   help="with --fences: part–fence friction μ_f (default 0.1,0.3)")
     from algrasp.cli import model_options
 
     model_options(p)

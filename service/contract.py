@@ -16,6 +16,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from algrasp.io.documents import (
     AnalysisDocument,
     ErrorBody,
+    FenceDocument,
     JobDocument,
     JobProgress,
     PartDocument,
@@ -39,6 +40,10 @@ class PlanOut(PlanDocument):
     model: str = Field(description="robust or exact")
     run_id: str
     validation: ValidationDocument | None = Field(None, description="with validate: agreement and per-sample outcomes")
+
+
+class FencesOut(FenceDocument):
+    """``POST /v1/fences``: the fence document (conventions §9)."""
 
 
 class GeometryOut(_Open):

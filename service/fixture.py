@@ -36,6 +36,9 @@ class DesignOptions:
     exact: bool = False
     physics: dict[str, Any] | None = None
     sim_physics: str = "nominal"
+    fences: bool = False
+    """Also design conveyor fences for the part (conventions §9)."""
+    fence_friction: list[float] | None = None
 
     @property
     def model(self) -> Model:
@@ -84,6 +87,8 @@ def design_part(doc: dict[str, Any], opts: DesignOptions, rec: Any, analysis: An
     best, compared = choose_plan(analysis, opts.min_margin_deg)
     units = analysis.part.units
     out: dict[str, Any] = {"name": analysis.part.name, "units": units, "compared": compared, "orientable": best is not None}
+    if opts.fences:
+        out["fences"] = fence_design(analysis, opts)
     if best is None:
         out["reasons"] = {a: c["error"]["message"] for a, c in compared.items()}
         return out
@@ -104,6 +109,19 @@ def design_part(doc: dict[str, Any], opts: DesignOptions, rec: Any, analysis: An
     out["gripper"]["jaw_friction_max"] = jaw.get("value") if jaw.get("bounded", True) else None
     out["limits"] = limits
     return out
+
+
+def fence_design(analysis: Analysis, opts: DesignOptions) -> dict[str, Any]:
+    """The part's conveyor fence document (conventions §9), or why none exists
+    (``{"orientable": false, "reason", "message", "limits"}``); margins as the job's."""
+    from algrasp.planning.fences import fence_rules
+    from optimisation.fence_layout import plan_fences
+
+    try:
+        return {"orientable": True, **plan_fences(analysis, fence_rules(opts.fence_friction),
+                                                  max(opts.min_margin_deg, 1.0)).to_dict()}
+    except NotOrientableError as e:
+        return {"orientable": False, "reason": e.reason, "message": e.message, "limits": e.limits}
 
 
 def _requirements(analysis: Analysis, plan_doc: dict[str, Any]) -> dict[str, Any]:

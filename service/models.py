@@ -129,17 +129,61 @@ class PlanBody(ModelOptions):
         return out
 
 
+def _fence_friction(v: Range | None) -> Range | None:
+    """A fence friction range as the core's rules take it (``ValueError`` naming the problem)."""
+    from algrasp.planning.fences import fence_rules
+
+    if v is not None:
+        try:
+            fence_rules(v)
+        except ConfigError as e:
+            raise ValueError(e.problem) from None
+    return v
+
+
+class FencesBody(ModelOptions):
+    """``POST /v1/fences``: the part and the fence rules (conventions §9)."""
+
+    part: PartJson = Field(description="part document (conventions §5)")
+    fence_friction: Range | None = Field(None, description="part–fence friction μ_f: one value or [lo, hi] "
+                                         "(default [0.1, 0.3]: UHMW-PE guide rails on dry parts)")
+    belt_width: float | None = Field(None, gt=0.0, le=1e9, description="between the rails, part units "
+                                     "(default: the least the design needs)")
+    min_margin_deg: float = Field(1.0, ge=0.0, lt=45.0, description="every fence angle may be off by this much")
+    drawing: Literal["svg", "dxf"] | None = Field(None, description="answer the drawing of the belt and fences "
+                                                   "(image/svg+xml or application/dxf, part units) instead of the document")
+
+    @field_validator("fence_friction")
+    @classmethod
+    def _friction(cls, v: Range | None) -> Range | None:
+        return _fence_friction(v)
+
+    def options(self, cell: Physics = DEFAULT_PHYSICS) -> dict[str, Any]:
+        """Keyword arguments of ``algrasp.api.fences`` but the part (physics over ``cell``)."""
+        model = self.model_options(cell)
+        return {"fence_friction": self.fence_friction, "belt_width": self.belt_width,
+                "min_margin_deg": self.min_margin_deg, "exact": model["exact"], "physics": model["physics"]}
+
+
 class JobOptions(ModelOptions):
     """Options applied to every part of a job."""
 
     min_margin_deg: float = Field(0.0, ge=0.0, lt=180.0)
     validate_: ValidateOptions | None = Field(None, alias="validate")
     gripper: dict[str, Any] | None = None
+    fences: bool = Field(False, description="also design conveyor fences for every part (conventions §9)")
+    fence_friction: Range | None = Field(None, description="with fences: part–fence friction μ_f, one value or [lo, hi]")
+
+    @field_validator("fence_friction")
+    @classmethod
+    def _friction(cls, v: Range | None) -> Range | None:
+        return _fence_friction(v)
 
     def design(self, cell: Physics = DEFAULT_PHYSICS) -> dict[str, Any]:
         """Keyword arguments of :class:`service.fixture.DesignOptions` (physics over ``cell``)."""
+        friction = [self.fence_friction] if isinstance(self.fence_friction, (int, float)) else self.fence_friction
         out: dict[str, Any] = {"min_margin_deg": self.min_margin_deg, "gripper_profile": self.gripper,
-                               **self.model_options(cell)}
+                               **self.model_options(cell), "fences": self.fences, "fence_friction": friction}
         if self.validate_ is not None:
             v = self.validate_
             out.update(samples=v.samples, seed=v.seed, placement=v.placement, sim_physics=v.sim_physics)

@@ -80,7 +80,26 @@ def report_markdown(results: list[dict[str, Any]], job: dict[str, Any]) -> str:
     if unjudged:
         lines += ["", "## Parts without a result (failed, cancelled or pending)", ""]
         lines += [f"- {p['index']} `{p['name']}`: {p['why']}" for p in unjudged]
-    return "\n".join(lines) + "\n"
+    return "\n".join(lines + _fence_lines(results)) + "\n"
+
+
+def _fence_lines(results: list[dict[str, Any]]) -> list[str]:
+    """The report's conveyor-fence section (conventions §9), when the job designed fences."""
+    rows: list[tuple[dict[str, Any], dict[str, Any]]] = [
+        (r, r["result"]["fences"]) for r in results if (r.get("result") or {}).get("fences") is not None]
+    if not rows:
+        return []
+    out = ["", "## Conveyor fences", "", "| index | name | fences | belt width | total length | final ± | note |",
+           "|---|---|---|---|---|---|---|"]
+    for r, f in rows:
+        if f.get("orientable"):
+            unit = f["units"]
+            out.append(f"| {r['index']} | {r['name']} | {len(f['fences'])} | {f['belt_width']:.4g} {unit} | "
+                       f"{f['total_length']:.4g} {unit} | ±{f['final_uncertainty_deg']:.3g}° | "
+                       + ", ".join(f"{x['angle_deg']:.2f}°" for x in f["fences"]) + " |")
+        else:
+            out.append(f"| {r['index']} | {r['name']} | — | — | — | — | {f['message'].replace('|', '/')} |")
+    return out
 
 
 def report_files(results: list[dict[str, Any]], job: dict[str, Any]) -> dict[str, str]:

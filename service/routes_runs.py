@@ -55,7 +55,7 @@ async def schemas_index() -> dict[str, list[str]]:
 @router.get("/v1/schemas/{name}", tags=["service"], dependencies=AUTH,
             responses=media("JSON Schema (draft 2020-12)", {"application/schema+json": {"type": "object"}}))
 async def schema_endpoint(name: str = Path(description="a document: part, analysis, plan, validation, request, "
-                                                       "run, job, error, sim-state")) -> JSONResponse:
+                                                       "run, job, error, sim-state, fences")) -> JSONResponse:
     """A document's JSON Schema (docs/conventions.md §4–§6), derived from the typed
     documents the service and the run records use; ``part`` is the file
     ``algrasp/schemas/part.schema.json``."""

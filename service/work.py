@@ -53,6 +53,18 @@ def analysis_task(doc: dict[str, Any], record_dir: str, options: dict[str, Any] 
     return {**out, "run_id": rec.run_id}, _run_row(rec, "analyze", doc, None, None), None
 
 
+def fences_task(doc: dict[str, Any], options: dict[str, Any], drawing: str | None = None) -> dict[str, Any] | str:
+    """``POST /v1/fences``: the fence document, or with ``drawing`` ("svg", "dxf") the
+    drawing's text (not recorded: no run of the gripper cell)."""
+    from algrasp.api import fences
+    from algrasp.io.fence_drawing import dxf_text, svg_text
+
+    layout = fences(doc, **options)
+    if drawing is None:
+        return dict(layout.to_dict())
+    return svg_text(layout) if drawing == "svg" else dxf_text(layout)
+
+
 def plan_task(doc: dict[str, Any], req: PlanRequest, record_dir: str, sim_workers: int,
               run_id: str | None = None) -> TaskResult:
     """``POST /v1/plans``: the plan document (+ ``validation`` when asked for). ``req`` is

@@ -170,6 +170,34 @@ class PlanDocument(Open):
     cycle_time_s: float | None = Field(None, description="with optimise")
 
 
+# ------------------------------------------------------------------ conveyor fences (§9)
+class Fence(Open):
+    """One fence of a layout, in the order the part meets it."""
+
+    side: Literal["left", "right"] = Field(description="the rail it stands on, looking downstream (+x): right is y = 0")
+    angle_deg: float = Field(description="world angle α of the wall, (0, 180): the lower jaw's angle (§2)")
+    position: float = Field(description="its root on the rail, along the belt from the first fence's root (part units)")
+    length: float = Field(gt=0, description="along the wall (part units)")
+    steepness_deg: float | None = Field(None, description="β: its angle to the belt direction")
+    margin_deg: float | None = Field(None, description="how far the angle may be off, the others as designed")
+    push_distance_bound: float | None = Field(None, description="Peshkin's push distance along its normal (part units)")
+
+
+class FenceDocument(Open):
+    """``algrasp fences --json`` and ``POST /v1/fences``: a fence design laid out on a belt
+    moving along world +x (lengths in ``units``)."""
+
+    units: str
+    model: Literal["exact", "robust"]
+    belt_width: float = Field(gt=0, description="between the side rails (part units)")
+    fence_friction: list[float] = Field(min_length=2, max_length=2, description="μ_f range the angles hold for")
+    fences: list[Fence] = Field(min_length=1)
+    total_length: float
+    symmetry_period_deg: float
+    final_orientations_deg: list[float] = Field(description="world orientations the part leaves in, [0, 360)")
+    final_uncertainty_deg: float
+
+
 # ------------------------------------------------------------------ validation (Drake)
 class ValidationSample(Open):
     initial_deg: float
@@ -288,6 +316,7 @@ class JobDocument(Open):
 DOCUMENTS: dict[str, type[BaseModel]] = {
     "part": PartDocument, "analysis": AnalysisDocument, "plan": PlanDocument, "validation": ValidationDocument,
     "request": RequestDocument, "run": RunSummary, "job": JobDocument, "error": ErrorBody, "sim-state": SimState,
+    "fences": FenceDocument,
 }
 """The published documents by name (``/v1/schemas/{name}``)."""
 

@@ -72,4 +72,5 @@ def test_bezier_degree_limit_is_the_core_limit() -> None:
 def test_plan_document_rejects_a_third_spelling() -> None:
     schema = json_schema(PlanDocument)
     assert schema["properties"]["action"]["enum"] == ["squeeze", "push_grasp"]
-    assert set(DOCUMENTS) == {"part", "analysis", "plan", "validation", "request", "run", "job", "error", "sim-state"}
+    assert set(DOCUMENTS) == {"part", "analysis", "plan", "validation", "request", "run", "job", "error", "sim-state",
+                              "fences"}

@@ -1,0 +1,88 @@
+"""``algrasp fences PART``: the conveyor fence design of a part (conventions §9), printed,
+as JSON, and drawn (SVG, DXF)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from typing import TYPE_CHECKING, Any
+
+from algrasp.cli_physics import span
+
+if TYPE_CHECKING:  # the planning stack loads on first use, not for --help
+    from optimisation.fence_layout import FenceLayout
+
+
+def add_fences_command(sub: Any) -> None:
+    """Register ``fences`` on the CLI's sub-parsers."""
+    from algrasp.cli import _cad_options, model_options
+
+    p = sub.add_parser("fences", help="fewest conveyor fences that orient the part, laid out on a belt")
+    p.add_argument("part", metavar="PART.json")
+    _cad_options(p)
+    p.add_argument("--fence-friction", "--belt-friction", dest="fence_friction", type=span, metavar="V|LO,HI",
+                   help="part–fence friction μ_f (default 0.1,0.3: UHMW-PE guide rails on dry parts); a fence "
+                        "slides the part only if its angle to the belt is below 90° − atan μ_f")
+    p.add_argument("--belt-width", type=float, metavar="W", help="between the rails, part units (default: the least needed)")
+    p.add_argument("--min-margin-deg", type=float, default=1.0, metavar="M",
+                   help="every fence angle may be off by M degrees (default 1)")
+    p.add_argument("--json", action="store_true", help="print the fence document as JSON")
+    p.add_argument("--svg", metavar="OUT.svg", help="draw the belt and fences (dimensioned, part units)")
+    p.add_argument("--dxf", metavar="OUT.dxf", help="the same drawing as DXF (layer FENCES: one line per fence)")
+    p.add_argument("--drawing", metavar="OUT.dxf|OUT.svg", help="the drawing, as its suffix says")
+    model_options(p)
+    p.set_defaults(func=cmd_fences)
+
+
+def cmd_fences(args: argparse.Namespace) -> int:
+    from algrasp.api import fences
+    from algrasp.cli import model_from_args, read_document
+
+    doc = read_document(args.part, args)
+    model = model_from_args(args)
+    layout = fences(doc, fence_friction=args.fence_friction, belt_width=args.belt_width,
+                    min_margin_deg=args.min_margin_deg, exact=model.exact, physics=model.physics)
+    written = _drawings(layout, args)
+    if args.json:
+        print(json.dumps(layout.to_dict(), indent=2))
+        return 0
+    print_layout(layout.to_dict())
+    for path in written:
+        print(f"drawing written to {path}")
+    return 0
+
+
+def _drawings(layout: FenceLayout, args: argparse.Namespace) -> list[str]:
+    from algrasp.io.fence_drawing import write_drawing, write_dxf, write_svg
+
+    out = []
+    if args.drawing:
+        out.append(str(write_drawing(layout, args.drawing)))
+    if args.svg:
+        out.append(str(write_svg(layout, args.svg)))
+    if args.dxf:
+        out.append(str(write_dxf(layout, args.dxf)))
+    return out
+
+
+def print_layout(doc: dict[str, Any]) -> None:
+    """The fence document as a table."""
+    from rich.console import Console
+    from rich.table import Table
+
+    u = doc["units"]
+    n = len(doc["fences"])
+    finals = ", ".join(f"{f:.4g}°" for f in doc["final_orientations_deg"])
+    print(f"{n} fence{'s' if n > 1 else ''} ({doc['model']} model, fence friction {doc['fence_friction'][0]:g}–"
+          f"{doc['fence_friction'][1]:g}: steepness below {doc['max_steepness_deg']:.4g}°); belt width "
+          f"{doc['belt_width']:.4g} {u}, total fence length {doc['total_length']:.4g} {u}")
+    table = Table()
+    for col in ("fence", "side", "angle (deg)", "to belt (deg)", "margin (deg)", f"position ({u})", f"length ({u})",
+                f"push bound ({u})"):
+        table.add_column(col, justify="right")
+    for i, f in enumerate(doc["fences"], 1):
+        table.add_row(str(i), f["side"], f"{f['angle_deg']:.2f}", f"{f['steepness_deg']:.2f}", f"±{f['margin_deg']:.2f}",
+                      f"{f['position']:.4g}", f"{f['length']:.4g}", f"{f['push_distance_bound']:.4g}")
+    Console().print(table)
+    print(f"final orientation{'s' if len(doc['final_orientations_deg']) > 1 else ''}: {finals} "
+          f"± {doc['final_uncertainty_deg']:.3g}°")

@@ -1,0 +1,274 @@
+"""Conveyor fences (conventions §9): the fewest fences that orient a part on a belt.
+
+The model — the push a fence applies, admissible angles, designs and margins — is
+:mod:`algrasp.planning.fence_model`. Fences alternate rails, so consecutive angles differ
+by δ = α_{i+1} − α_i in ``(2 atan μ_f, 180° − 2β_min]`` (right → left) or its negative
+(left → right), and the angles themselves stay in the admissible set.
+
+The search is breadth-first over designs: fence angles on a grid of each side's
+admissible set; a state is the arc of orientations (relative to its last fence) the part
+may be in and the last fence's angle; for each fence angle the ``BEAM`` narrowest arcs
+are kept. The first level with an arc that collapses to one orientation (up to p's
+symmetry T) with every fence angle holding ``min_margin`` wins; among its designs the
+shortest (an injected length, the fence layout's) then the widest margin is taken, and
+the winner is turned as a whole for the shortest layout. Pure: no I/O; angles in radians.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from algrasp.errors import ConfigError, NotOrientableError
+from algrasp.geometry.angles import to_deg, to_rad
+from algrasp.geometry.curves import FloatArray
+from algrasp.geometry.tolerances import MAX_UNCERTAINTY_RAD, ROUNDING, SYMMETRY_TOL_RAD, UNCERTAINTY_FLOOR_RAD
+from algrasp.planning.analysis import Analysis
+from algrasp.planning.fence_model import (
+    DEFAULT_FENCE_FRICTION,
+    DEFAULT_RULES,
+    FenceDesign,
+    FenceRules,
+    Push,
+    centred,
+    fence_rules,
+    held_range,
+    margins,
+    on_belt,
+    push_of,
+)
+from algrasp.planning.planner import GUARD_RAD, PRECISE_RAD
+from algrasp.planning.plans import _edge_tilt
+
+__all__ = ["DEFAULT_FENCE_FRICTION", "DEFAULT_MIN_MARGIN_DEG", "DEFAULT_RULES", "FenceDesign", "FenceRules", "Push",
+           "design_fences", "fence_rules", "friction_limit", "on_belt", "push_of", "turned"]
+
+BEAM = 4
+"""Arcs kept per fence angle and level (the narrowest)."""
+MAX_FENCES = 12
+DEFAULT_MIN_MARGIN_DEG = 1.0
+"""How far (°) every fence angle may be off by default: a fence is set by hand to about a degree."""
+CANDIDATES = 64
+"""Designs of the winning level compared (spread evenly over the fence angles that reach it)."""
+MAX_HITS = 1024
+"""States of a level tried before it is given up when none of the first ``CANDIDATES`` holds."""
+EXACT_GOAL_RAD = 1e-9
+LIMIT_PROBES = 6
+"""Bisection steps of the friction limit named in a refusal."""
+
+
+@dataclass(frozen=True)
+class _Level:
+    """States of one search level: arcs [lo, hi] relative to the last fence, its angle
+    and side, and the index of the parent state in the level before."""
+
+    lo: FloatArray
+    hi: FloatArray
+    alpha: FloatArray
+    side: np.ndarray
+    parent: np.ndarray
+
+
+def _first_level(push: Push, rules: FenceRules) -> _Level:
+    alpha = np.concatenate([rules.grid(0), rules.grid(1)])
+    side = np.repeat([0, 1], [len(rules.grid(0)), len(rules.grid(1))])
+    n = len(alpha)
+    return _Level(np.full(n, push.circle[0]), np.full(n, push.circle[1]), alpha, side, np.full(n, -1))
+
+
+def _next_level(push: Push, rules: FenceRules, level: _Level) -> _Level:
+    """Every state followed by every admissible angle of the other side, pruned to the
+    ``BEAM`` narrowest distinct arcs per angle."""
+    parts = []
+    for s in (0, 1):
+        idx = np.nonzero(level.side == s)[0]
+        grid = rules.grid(1 - s)
+        shift = level.alpha[idx, None] - grid[None, :]
+        lo, hi = push.image(level.lo[idx, None] + shift, level.hi[idx, None] + shift)
+        cols = np.broadcast_to(grid[None, :], lo.shape)
+        parts.append((lo.ravel(), hi.ravel(), cols.ravel(), np.full(lo.size, 1 - s), np.repeat(idx, len(grid))))
+    lo, hi, alpha, side, parent = (np.concatenate(x) for x in zip(*parts))
+    keep = _prune(lo, hi, alpha, push.symmetry)
+    return _Level(lo[keep], hi[keep], alpha[keep], side[keep], parent[keep])
+
+
+def _prune(lo: FloatArray, hi: FloatArray, alpha: FloatArray, T: float) -> np.ndarray:
+    """Indices of the ``BEAM`` narrowest distinct arcs per angle (arcs of width ≥ T dropped)."""
+    w = hi - lo
+    key_a, key_lo, key_hi = np.round(alpha, 9), np.round(lo, 9), np.round(hi, 9)
+    order = np.lexsort((key_hi, key_lo, w, key_a))
+    order = order[w[order] < T - SYMMETRY_TOL_RAD]
+    a, l_, h = key_a[order], key_lo[order], key_hi[order]
+    new = np.ones(len(order), dtype=bool)
+    new[1:] = (a[1:] != a[:-1]) | (l_[1:] != l_[:-1]) | (h[1:] != h[:-1])
+    order, a = order[new], a[new]
+    start = np.ones(len(order), dtype=bool)
+    start[1:] = a[1:] != a[:-1]
+    group_start = np.maximum.accumulate(np.where(start, np.arange(len(order)), 0))
+    return order[np.arange(len(order)) - group_start < BEAM]
+
+
+def _chain(levels: list[_Level], k: int) -> list[float]:
+    """The fence angles leading to state k of the last level, in passing order."""
+    out: list[float] = []
+    for level in levels[::-1]:
+        out.append(float(level.alpha[k]))
+        k = int(level.parent[k])
+    return out[::-1]
+
+
+LengthOf = Callable[[FenceDesign], float]
+"""The total fence length of a design (part units): the layout's, injected by the caller."""
+
+
+def design_fences(analysis: Analysis, rules: FenceRules = DEFAULT_RULES, min_margin_deg: float = DEFAULT_MIN_MARGIN_DEG,
+                  length: LengthOf | None = None) -> FenceDesign:
+    """The fewest fences orienting the part (see module docs), ties by ``length`` then margin.
+
+    Raises
+    ------
+    NotOrientableError
+        ``no_step``/``dead_band`` when the push cannot orient the part; ``no_fence_design``
+        when no admissible sequence of at most ``MAX_FENCES`` does (with ``limits``:
+        the largest fence friction under which one would, if any).
+    """
+    if not (np.isfinite(min_margin_deg) and 0.0 <= min_margin_deg < 45.0):
+        raise ConfigError("min_margin_deg", f"must be in [0, 45), got {min_margin_deg}")
+    push = push_of(analysis)
+    found = _search(analysis, push, rules, to_rad(min_margin_deg), length)
+    if found is not None:
+        return found
+    raise _refusal(analysis, push, rules, to_rad(min_margin_deg))
+
+
+def _goal(push: Push) -> float:
+    """The widest final arc accepted (radians): a point, or twice the uncertainty a design may claim."""
+    return EXACT_GOAL_RAD if push.exact else 2.0 * (MAX_UNCERTAINTY_RAD - GUARD_RAD)
+
+
+def _search(analysis: Analysis, push: Push, rules: FenceRules, margin: float,
+            length: LengthOf | None) -> FenceDesign | None:
+    """Breadth-first over levels; the first level holding a design with every margin ≥
+    ``margin`` and an uncertainty a design may claim."""
+    goal = _goal(push)
+    levels = [_first_level(push, rules)]
+    while True:
+        last = levels[-1]
+        hits = np.nonzero(last.hi - last.lo <= goal)[0]
+        designs = _candidates(analysis, push, rules, levels, hits, goal, margin)
+        if designs:
+            return turned(push, rules, _best(designs, length), goal, margin, length)
+        if len(last.lo) == 0 or len(levels) == MAX_FENCES:
+            return None
+        levels.append(_next_level(push, rules, last))
+
+
+def _candidates(analysis: Analysis, push: Push, rules: FenceRules, levels: list[_Level], hits: np.ndarray,
+                goal: float, margin: float) -> list[FenceDesign]:
+    """Designs of the states ``hits`` of the last level, centred, that hold ``margin`` and
+    a claimable uncertainty: ``CANDIDATES`` spread evenly over them, and when none holds, up
+    to ``MAX_HITS`` (a level is only given up when those fail too). Vectorised over designs."""
+    tried: set[int] = set()
+    for n in (CANDIDATES, MAX_HITS):
+        pick = [int(k) for k in hits[np.unique(np.linspace(0, len(hits) - 1, min(len(hits), n)).astype(int))]
+                if int(k) not in tried]
+        tried.update(pick)
+        if not pick:
+            continue
+        A = centred(push, rules, np.array([_chain(levels, k) for k in pick]), goal)
+        m = margins(push, rules, A, goal)
+        keep = np.nonzero(m.min(axis=1) >= margin - ROUNDING)[0]
+        designs = [d for d in (_design(analysis, push, rules, A[k].tolist(), m[k].tolist()) for k in keep)
+                   if d.final_uncertainty <= MAX_UNCERTAINTY_RAD]
+        if designs:
+            return designs
+    return []
+
+
+def _best(designs: list[FenceDesign], length: LengthOf | None) -> FenceDesign:
+    """Precise designs first (final arc ≤ 1°), then the shortest, then the widest margins."""
+
+    def key(d: FenceDesign) -> tuple[bool, float, float, float]:
+        size = 0.0 if length is None else round(length(d), 6)
+        return d.final_uncertainty > PRECISE_RAD, size, -min(d.margins), -sum(d.margins)
+
+    return min(designs, key=key)
+
+
+TURNS_RAD = to_rad(np.arange(-60.0, 60.01, 0.25))
+"""Whole-design turns γ tried for the shortest layout."""
+
+
+def turned(push: Push, rules: FenceRules, design: FenceDesign, goal: float, margin: float,
+           length: LengthOf | None) -> FenceDesign:
+    """The design turned as a whole by the γ of ``TURNS_RAD`` giving the least ``length``
+    (then the widest margins): every α_i + γ makes the same relative turns, so the part
+    collapses from every start as before and only the final orientations turn by γ; every
+    angle must stay admissible on its rail with its margin ≥ ``margin``."""
+    if length is None:
+        return design
+    held = [held_range(push, rules, np.array([design.angles]), i, goal, admissible_only=False)
+            for i in range(len(design.angles))]
+    best, best_key = design, (round(length(design), 6), -min(design.margins))
+    for g in TURNS_RAD.tolist():
+        angles = [a + g for a in design.angles]
+        ms = [min(float(up[0]), float(down[0]), rules.slack(a)) for (up, down), a in zip(held, angles)]
+        if min(ms) < margin - ROUNDING or min(ms) <= 0.0 or any((a < 0.5 * np.pi) != (s == 0)
+                                                                  for a, s in zip(angles, design.sides)):
+            continue
+        finals = tuple(sorted(float(np.mod(f + g, 2 * np.pi)) for f in design.final_orientations))
+        cand = replace(design, angles=tuple(angles), margins=tuple(ms), final_orientations=finals)
+        key = (round(length(cand), 6), -min(ms))
+        if key < best_key:
+            best, best_key = cand, key
+    return best
+
+
+def _design(analysis: Analysis, push: Push, rules: FenceRules, angles: list[float], held: list[float]) -> FenceDesign:
+    """The design of a fence sequence with its margins ``held``: inputs, final orientations, uncertainty."""
+    inputs = [(0.0, 2.0 * np.pi)]
+    lo, hi = np.array([push.circle[0]]), np.array([push.circle[1]])
+    for a0, a1 in zip(angles[:-1], angles[1:]):
+        lo, hi = lo + a0 - a1, hi + a0 - a1
+        inputs.append((float(lo[0]), float(hi[0])))
+        lo, hi = push.image(lo, hi)
+    T = push.symmetry
+    mid = 0.5 * float(lo[0] + hi[0]) + angles[-1]
+    finals = tuple(sorted(float(np.mod(mid + i * T, 2 * np.pi)) for i in range(int(round(2 * np.pi / T)))))
+    unc = 0.0 if push.exact else max(0.5 * float(hi[0] - lo[0]) + GUARD_RAD + _edge_tilt(analysis, float(lo[0]),
+                                                                                        float(hi[0])),
+                                     UNCERTAINTY_FLOOR_RAD)
+    sides = tuple(0 if a < 0.5 * np.pi else 1 for a in angles)
+    return FenceDesign(tuple(angles), sides, tuple(held), tuple(inputs), finals,
+                       unc, T, rules, push.exact)
+
+
+def _refusal(analysis: Analysis, push: Push, rules: FenceRules, margin: float) -> NotOrientableError:
+    """Why no design exists, and the largest fence friction under which one would."""
+    mu = friction_limit(analysis, push, rules, margin)
+    base = (f"no sequence of at most {MAX_FENCES} alternating fences with steepness in "
+            f"[{to_deg(rules.min_steepness):g}°, {to_deg(rules.max_steepness):.3g}°) (fence friction ≤ "
+            f"{rules.friction[1]:g}) and margins ≥ {to_deg(margin):g}° orients the part")
+    if mu is None:
+        why = "" if push.exact else (" (the shape, profile and centre-of-mass tolerances leave orientations that "
+                                     "may turn either way; --exact gives the drawing's design)")
+        return NotOrientableError("no_fence_design", base + ", even with frictionless fences" + why,
+                                  {"fence_friction_max": None})
+    return NotOrientableError("no_fence_design", f"{base}; a design exists with fence friction ≤ {mu:.3g}",
+                              {"fence_friction_max": mu})
+
+
+def friction_limit(analysis: Analysis, push: Push, rules: FenceRules, margin: float) -> float | None:
+    """The largest μ_f,hi (bisection, ``LIMIT_PROBES`` steps) with a design; None: none even at 0."""
+    def exists(mu: float) -> bool:
+        return _search(analysis, push, FenceRules((0.0, mu), rules.min_steepness), margin, None) is not None
+
+    if not exists(0.0):
+        return None
+    lo, hi = 0.0, rules.friction[1]
+    for _ in range(LIMIT_PROBES):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if exists(mid) else (lo, mid)
+    return lo

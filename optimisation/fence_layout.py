@@ -1,0 +1,151 @@
+"""Fence layout (conventions §9): lengths, positions and the belt width of a fence design.
+
+Each fence must be long enough for the part to finish its turn against it: the push
+distance s_i (Peshkin's bound of :mod:`optimisation.push`, c = a the covering radius: the
+slowest turn any support pressure allows, so every cell of the ranges is covered) from
+the worst orientation the part can arrive in relative to fence i (the whole circle for
+the first). In the belt's frame a fence at steepness β moves by s along its normal while
+the part slides s·cot β along it, so fence i must reach laterally ``s_i cos β_i`` past
+where the part can first touch it. A part leaves fence i−1 at its tip, within 2a of it,
+so with every fence reaching h = W − 2a − c (c = a/2, the clearance beside a tip):
+
+    h_{i−1} + h_i ≥ W + 2a + s_i cos β_i   ⇒   W ≥ 6a + 2c + s_i cos β_i,
+
+and the first fence (parts enter along its side, within 2a of it) needs W ≥ 6a + c +
+s_1 cos β_1. Fence i's root is at ``position`` along the belt, its tip h·cot β_i further;
+the next root is 2a past that tip. Lengths in the part's unit.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from algrasp.errors import ConfigError
+from algrasp.geometry.angles import to_deg, to_rad
+from algrasp.planning.analysis import Analysis
+from algrasp.planning.deadband import mean_radius
+from algrasp.planning.fences import DEFAULT_MIN_MARGIN_DEG, DEFAULT_RULES, FenceDesign, FenceRules, design_fences
+from optimisation.push import PushModel, push_distances, push_model
+
+PUSH_TOLERANCE_DEG = 0.5
+"""A turn is complete within this of the fixed point (as the gripper profile's default)."""
+UNSTABLE_BAND_DEG = 2.0
+"""Orientations this close to an unstable push equilibrium are left out of the worst case."""
+CLEARANCE = 0.5
+"""c: room beside a fence's tip, in covering radii a."""
+SPACING = 2.0
+"""Gap between a fence's tip and the next fence's root along the belt, in covering radii."""
+
+
+@dataclass(frozen=True)
+class FenceLayout:
+    """A fence design laid out on a belt (lengths in ``units``).
+
+    Attributes
+    ----------
+    design : FenceDesign
+        The angles, margins and final orientations.
+    belt_width : float
+        W, between the side rails.
+    reach : float
+        h: every fence's extent across the belt.
+    push_bounds : tuple of float
+        s_i: Peshkin's push distance along each fence's normal.
+    lengths, positions : tuple of float
+        Each fence's length along the wall and its root's position along the belt.
+    cover_radius : float
+        a: the part's largest distance from its centre of mass.
+    units : str
+        The part's unit.
+    """
+
+    design: FenceDesign
+    belt_width: float
+    reach: float
+    push_bounds: tuple[float, ...]
+    lengths: tuple[float, ...]
+    positions: tuple[float, ...]
+    cover_radius: float
+    units: str
+
+    @property
+    def steepness(self) -> tuple[float, ...]:
+        """β_i: each fence's angle to the belt direction (radians)."""
+        return tuple(a if a < 0.5 * np.pi else np.pi - a for a in self.design.angles)
+
+    def tip(self, i: int) -> tuple[float, float]:
+        """Fence i's free end (x, y) on the belt (y = 0 the right rail, y = W the left)."""
+        beta = self.steepness[i]
+        x = self.positions[i] + self.reach / math.tan(beta)
+        return x, self.reach if self.design.sides[i] == 0 else self.belt_width - self.reach
+
+    def root(self, i: int) -> tuple[float, float]:
+        """Fence i's end on its rail (x, y)."""
+        return self.positions[i], 0.0 if self.design.sides[i] == 0 else self.belt_width
+
+    def to_dict(self) -> dict[str, object]:
+        """The fence document (degrees; lengths in ``units``): ``FenceDocument``."""
+        d = self.design
+        fences = [{"side": "right" if s == 0 else "left", "angle_deg": _deg(a),
+                   "steepness_deg": _deg(b), "position": x, "length": n, "margin_deg": _deg(m),
+                   "push_distance_bound": p}
+                  for s, a, b, x, n, m, p in zip(d.sides, d.angles, self.steepness, self.positions, self.lengths,
+                                                 d.margins, self.push_bounds)]
+        return {"units": self.units, "model": "exact" if d.exact else "robust", "belt_direction_deg": 0.0,
+                "belt_width": self.belt_width, "reach": self.reach, "cover_radius": self.cover_radius,
+                "fence_friction": list(d.rules.friction), "max_steepness_deg": _deg(d.rules.max_steepness),
+                "min_steepness_deg": _deg(d.rules.min_steepness), "fences": fences,
+                "total_length": float(sum(self.lengths)), "symmetry_period_deg": _deg(d.symmetry),
+                "final_orientations_deg": [_deg(f) for f in d.final_orientations],
+                "final_uncertainty_deg": _deg(d.final_uncertainty)}
+
+
+def _deg(rad: float) -> float:
+    """Degrees, rounded to 1e-9 (grid angles carry rounding noise from radians)."""
+    return round(float(to_deg(rad)), 9)
+
+
+def _bounds(model: PushModel, analysis: Analysis, design: FenceDesign) -> list[float]:
+    """s_i for each fence: Peshkin's bound over the arc the part arrives in (part units)."""
+    found = push_distances(model, analysis, list(design.inputs), to_rad(PUSH_TOLERANCE_DEG), to_rad(UNSTABLE_BAND_DEG))
+    return [r.bound for r in found]
+
+
+def layout(analysis: Analysis, design: FenceDesign, belt_width: float | None = None,
+           model: PushModel | None = None) -> FenceLayout:
+    """Lengths, positions and belt width of ``design`` (see module docs); ``belt_width``
+    (part units) must be at least the least width, which is the default.
+
+    Raises ConfigError (``belt_width``) when the given belt is too narrow."""
+    model = model or push_model(analysis, mean_radius(analysis.part))
+    a = model.cover_radius
+    s = _bounds(model, analysis, design)
+    beta = [x if x < 0.5 * np.pi else np.pi - x for x in design.angles]
+    need = [s[0] * math.cos(beta[0]) - CLEARANCE * a] + [si * math.cos(b) for si, b in zip(s[1:], beta[1:])]
+    least = (6.0 + 2.0 * CLEARANCE) * a + max(need)
+    if belt_width is not None and not (np.isfinite(belt_width) and belt_width >= least):
+        raise ConfigError("belt_width", f"this design needs a belt at least {least:.4g} {analysis.part.units} wide, "
+                          f"got {belt_width!r}")
+    W = least if belt_width is None else float(belt_width)
+    h = W - (2.0 + CLEARANCE) * a
+    positions = [0.0]
+    for b in beta[:-1]:
+        positions.append(positions[-1] + h / math.tan(b) + SPACING * a)
+    lengths = tuple(h / math.sin(b) for b in beta)
+    return FenceLayout(design, W, h, tuple(s), lengths, tuple(positions), a, analysis.part.units)
+
+
+def plan_fences(analysis: Analysis, rules: FenceRules = DEFAULT_RULES, min_margin_deg: float = DEFAULT_MIN_MARGIN_DEG,
+                belt_width: float | None = None) -> FenceLayout:
+    """The fence design of :func:`~algrasp.planning.fences.design_fences`, ties broken by
+    the total fence length of its layout, laid out on the belt."""
+    model = push_model(analysis, mean_radius(analysis.part))
+
+    def total(design: FenceDesign) -> float:
+        return float(sum(layout(analysis, design, None, model).lengths))
+
+    design = design_fences(analysis, rules, min_margin_deg, total)
+    return layout(analysis, design, belt_width, model)

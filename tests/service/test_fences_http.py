@@ -1,0 +1,76 @@
+"""``POST /v1/fences``: the fence document over HTTP, the same as the API's; bad input a
+422 naming the field; a disk refused with its reason; the schema published."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import pytest
+
+import algrasp
+from algrasp.io.documents import FenceDocument
+from tests.service.conftest import Server
+
+RECT = {"name": "rect", "units": "mm", "boundary": [[0, 0], [40, 0], [40, 20], [0, 20]]}
+
+
+def test_fences_answer_the_document(server: Server) -> None:
+    with server.client() as c:
+        r = c.post("/v1/fences", json={"part": RECT, "exact": True, "fence_friction": [0.1, 0.3]})
+        again = c.post("/v1/fences", json={"part": RECT, "exact": True, "fence_friction": [0.1, 0.3]})
+        schema = c.get("/v1/schemas/fences")
+    assert r.status_code == 200, r.text
+    doc = r.json()
+    FenceDocument.model_validate(doc)
+    assert doc == json.loads(json.dumps(algrasp.fences(RECT, exact=True).to_dict()))
+    assert len(doc["fences"]) == 2 and again.headers["X-Cache"] == "hit"
+    assert schema.status_code == 200 and "fences" in schema.json()["properties"]
+
+
+@pytest.mark.parametrize(("body", "field"), [
+    ({"fence_friction": [0.5, 0.1]}, "fence_friction"),
+    ({"fence_friction": [0.1, 0.2, 0.3]}, "fence_friction"),
+    ({"belt_width": -5}, "belt_width"),
+    ({"min_margin_deg": 90}, "min_margin_deg"),
+    ({"wobble": 1}, "wobble"),
+])
+def test_bad_input_is_422_naming_the_field(server: Server, body: dict[str, Any], field: str) -> None:
+    with server.client() as c:
+        r = c.post("/v1/fences", json={"part": RECT, "exact": True, **body})
+    assert r.status_code == 422, r.text
+    assert field in json.dumps(r.json())
+
+
+def test_too_narrow_a_belt_is_422_naming_it(server: Server) -> None:
+    with server.client() as c:
+        r = c.post("/v1/fences", json={"part": RECT, "exact": True, "belt_width": 10})
+    assert r.status_code == 422, r.text
+    assert r.json()["error"]["field"] == "belt_width"
+
+
+def test_disk_is_refused(server: Server) -> None:
+    disk = {"name": "disk", "boundary": [{"type": "arc", "center": [0, 0], "radius": 5, "start_deg": 0, "end_deg": 360}]}
+    with server.client() as c:
+        r = c.post("/v1/fences", json={"part": disk})
+    assert r.status_code == 422, r.text
+    err = r.json()["error"]
+    assert err["type"] == "not_orientable" and err["reason"] in ("no_step", "dead_band")
+
+
+@pytest.mark.parametrize(("drawing", "media"), [("svg", "image/svg+xml"), ("dxf", "application/dxf")])
+def test_drawings_over_http(server: Server, drawing: str, media: str, tmp_path: Any) -> None:
+    import ezdxf
+
+    with server.client() as c:
+        r = c.post("/v1/fences", json={"part": RECT, "exact": True, "drawing": drawing})
+    assert r.status_code == 200, r.text
+    assert r.headers["content-type"].startswith(media)
+    if drawing == "svg":
+        assert r.text.startswith("<svg") and r.text.count('class="fence"') == 2
+        return
+    path = tmp_path / "belt.dxf"
+    path.write_text(r.text)
+    lines = list(ezdxf.readfile(path).modelspace().query('LINE[layer=="FENCES"]'))
+    want = algrasp.fences(RECT, exact=True).to_dict()["fences"]
+    assert [round(ln.dxf.start.x, 6) for ln in lines] == [round(f["position"], 6) for f in want]
