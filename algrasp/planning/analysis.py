@@ -184,6 +184,9 @@ def _transfer_document(name: str, F: TransferFunction) -> TransferDocument:
                             bool(F.steps), reason)
 
 
+NOT_BUILT = "not built: a probe of one action builds only what that action's plan reads"
+
+
 def analyse_part(part: Part, tol: Tolerances = DEFAULT_TOLERANCES, physics: Physics | None = None) -> Analysis:
     """Diameter/radius extrema and all three transfer functions. See module docs.
 
@@ -207,17 +210,20 @@ def analyse_document(doc: Mapping[str, Any], model: Model = ROBUST, tol: Toleran
 
 
 def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, physics: Physics,
-                    tol: Tolerances, terms: PartTerms | None = None) -> RobustAnalysis:
+                    tol: Tolerances, terms: PartTerms | None = None, action: str | None = None) -> RobustAnalysis:
     """Dead band and set-valued squeeze, push and push-grasp functions over the physics
     ranges; with ``placement="any"`` the squeeze starts with a partial push by either jaw
     (push-grasps are unaffected: the pushing jaw meets the part first by design).
-    ``terms``: the part's dead-band terms when already known (another analysis of it)."""
+    ``terms``: the part's dead-band terms when already known (another analysis of it).
+    ``action``: build only what a plan of that action reads (a limit search's probes);
+    the rest is None with the reason "not built"."""
     terms = part_terms(part, tol) if terms is None else terms
     band = dead_band(part, physics, tol, terms)
     # Creep: the weakest holding case holds nothing, so motion is possible wherever f slopes.
     stall = (0.0 if physics.creep else band.stall_lo, band.stall_hi)
     reasons: dict[str, str] = {}
     funcs: dict[str, SetTransfer | None] = {}
+    needs_push = action != "squeeze" or physics.placement == "any"
     # d has two contacts: its slope and value errors are twice one jaw's.
     # Shallow basins: the real part's f is within the profile tolerance per contact (and
     # r within ε_c more), so a basin less than twice that deep may not be one.
@@ -226,15 +232,21 @@ def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, 
              4.0 * band.profile_floor),
             ("push", r, band.sigma_r, band.value_tol_r, band.value_err + band.com_tolerance, 0.0,
              2.0 * (band.profile_floor + band.com_tolerance))):
+        if name == "push" and not needs_push:
+            funcs[name], reasons[name] = None, NOT_BUILT
+            continue
         try:
             funcs[name] = set_transfer(f, stall, sigma, eps, tol.angle_rad, mu, err, depth)
         except NotOrientableError as e:
             funcs[name], reasons[name] = None, str(e)
     sq, pu = funcs["squeeze"], funcs["push"]
-    funcs["push_grasp"] = None if sq is None or pu is None else sq.compose_after(pu, tol.angle_rad)
-    if funcs["push_grasp"] is None:
-        reasons["push_grasp"] = reasons.get("push", reasons.get("squeeze", ""))
-    if physics.placement == "any" and sq is not None:
+    if action == "squeeze":
+        funcs["push_grasp"], reasons["push_grasp"] = None, NOT_BUILT
+    else:
+        funcs["push_grasp"] = None if sq is None or pu is None else sq.compose_after(pu, tol.angle_rad)
+        if funcs["push_grasp"] is None:
+            reasons["push_grasp"] = reasons.get("push", reasons.get("squeeze", ""))
+    if physics.placement == "any" and sq is not None and action != "push_grasp":
         funcs["squeeze"] = None if pu is None else off_centre_squeeze(sq, pu, tol.angle_rad)
         if pu is None:
             reasons["squeeze"] = f"off-centre placement starts a squeeze with a push, and {reasons['push']}"

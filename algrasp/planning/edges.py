@@ -66,11 +66,12 @@ def slopes(f: SupportPairFunction, theta: FloatArray) -> tuple[FloatArray, Float
     return np.asarray(chord[:, 0] * s - chord[:, 1] * c), np.asarray(chord[:, 0] * c + chord[:, 1] * s)
 
 
-def _equations(rho: FloatArray, R: FloatArray, slopes: Sequence[float],
-               jaw: tuple[float, float] | None) -> tuple[FloatArray, FloatArray]:
-    """(δ, k) of every threshold equation sin(x − δ) = k, shapes (m, E)."""
-    delta = [np.zeros_like(rho) for _ in range(2 * len(slopes))]
-    k = [sign * t / rho for t in slopes for sign in (1.0, -1.0)]
+def _equations(rho: FloatArray, R: FloatArray, slopes: Sequence[float], jaw: tuple[float, float] | None,
+               levels: Sequence[float] = ()) -> tuple[FloatArray, FloatArray]:
+    """(δ, k) of every threshold equation sin(x − δ) = k, shapes (m, E); a level L of f
+    itself is ρ cos x = L − R, i.e. δ = −π/2, k = (L − R)/ρ."""
+    delta = [np.zeros_like(rho) for _ in range(2 * len(slopes))] + [np.full_like(rho, -np.pi / 2) for _ in levels]
+    k = [sign * t / rho for t in slopes for sign in (1.0, -1.0)] + [(L - R) / rho for L in levels]
     if jaw is not None:
         mu, c = jaw
         beta, A = float(np.arctan(mu)), rho * float(np.hypot(1.0, mu))
@@ -80,7 +81,7 @@ def _equations(rho: FloatArray, R: FloatArray, slopes: Sequence[float],
 
 
 def _point_roots(cells: np.ndarray, centres: FloatArray, radii: FloatArray, slopes: Sequence[float],
-                 jaw: tuple[float, float] | None) -> FloatArray:
+                 jaw: tuple[float, float] | None, levels: Sequence[float]) -> FloatArray:
     """θ of every threshold crossing on the point-like cells (rows: near, far, ψ_a, ψ_b)."""
     near, far = cells[:, 0].astype(np.intp), cells[:, 1].astype(np.intp)
     delta_xy = centres[near] - centres[far]
@@ -88,7 +89,7 @@ def _point_roots(cells: np.ndarray, centres: FloatArray, radii: FloatArray, slop
     R = radii[near] + radii[far]
     live = rho > 0.0  # concentric contacts: f is constant, its slope crosses nothing
     rho, R, phi0, a, b = rho[live], R[live], np.arctan2(delta_xy[live, 1], delta_xy[live, 0]), cells[live, 2], cells[live, 3]
-    delta, k = _equations(rho, R, slopes, jaw)
+    delta, k = _equations(rho, R, slopes, jaw, levels)
     real = np.abs(k) <= 1.0
     s = np.arcsin(np.clip(k, -1.0, 1.0))
     x = np.stack([delta + s, delta + np.pi - s], axis=2)  # (m, E, 2)
@@ -111,21 +112,22 @@ def _curve_grid(cells: np.ndarray, grid_rad: float) -> tuple[FloatArray, np.ndar
 
 
 def _threshold_gaps(theta: FloatArray, f: SupportPairFunction, slopes_at: Sequence[float],
-                    jaw: tuple[float, float] | None) -> FloatArray:
-    """|f′| − threshold at each θ for every threshold, shape (E, m)."""
+                    jaw: tuple[float, float] | None, levels: Sequence[float]) -> FloatArray:
+    """|f′| − threshold (and f − level) at each θ for every threshold, shape (E, m)."""
     g, v = slopes(f, theta)
     a = np.abs(g)
     rows = [a - t for t in slopes_at]
     if jaw is not None:
         rows.append(a - (jaw[0] * v + jaw[1]))
+    rows += [v - L for L in levels]
     return np.stack(rows)
 
 
 def _curve_roots(f: SupportPairFunction, theta: FloatArray, cell: np.ndarray, slopes_at: Sequence[float],
-                 jaw: tuple[float, float] | None) -> FloatArray:
+                 jaw: tuple[float, float] | None, levels: Sequence[float]) -> FloatArray:
     """Threshold crossings between consecutive samples ``theta`` of the same curve cell,
     bracketed by a sign change and placed by ``SECANT_STEPS`` Illinois steps (all at once)."""
-    h = _threshold_gaps(theta, f, slopes_at, jaw)
+    h = _threshold_gaps(theta, f, slopes_at, jaw, levels)
     change = (np.sign(h[:, :-1]) != np.sign(h[:, 1:])) & (cell[:-1] == cell[1:])[None, :]
     row, col = np.nonzero(change)
     if not len(row):
@@ -134,7 +136,7 @@ def _curve_roots(f: SupportPairFunction, theta: FloatArray, cell: np.ndarray, sl
     x = hi
     for _ in range(SECANT_STEPS):  # Illinois regula falsi: superlinear, never leaves the bracket
         x = np.clip(hi - h_hi * (hi - lo) / np.where(h_hi != h_lo, h_hi - h_lo, 1.0), np.minimum(lo, hi), np.maximum(lo, hi))
-        h_x = _threshold_gaps(x, f, slopes_at, jaw)[row, np.arange(len(row))]
+        h_x = _threshold_gaps(x, f, slopes_at, jaw, levels)[row, np.arange(len(row))]
         flip = np.sign(h_x) != np.sign(h_hi)
         lo, h_lo = np.where(flip, hi, lo), np.where(flip, h_hi, 0.5 * h_lo)
         hi, h_hi = x, h_x
@@ -142,12 +144,12 @@ def _curve_roots(f: SupportPairFunction, theta: FloatArray, cell: np.ndarray, sl
 
 
 def crossings(f: SupportPairFunction, slopes: Sequence[float], jaw: tuple[float, float] | None,
-              tol: Tolerances, grid_rad: float) -> tuple[FloatArray, FloatArray]:
+              tol: Tolerances, grid_rad: float, levels: Sequence[float] = ()) -> tuple[FloatArray, FloatArray]:
     """θ (radians, lifted; fold them with mod) where |f′| crosses each of ``slopes`` or,
     with ``jaw = (μ, c)``, μ·f + c; and a grid of ``grid_rad`` on the cells with a curve
-    contact, whose crossings are bracketed on it and placed
-    by regula falsi. Thresholds ≤ 0 are
-    skipped (|f′| ≥ 0 crosses nothing below 0)."""
+    contact, whose crossings are bracketed on it and placed by regula falsi; and where f
+    crosses each of ``levels`` (a basin's rim). Thresholds ≤ 0 are skipped (|f′| ≥ 0
+    crosses nothing below 0)."""
     table = f.hull.table
     # Row −1 of the centre table is the centre of mass (the radius's near contact).
     centres = np.vstack([table.centers, np.asarray(f.com, dtype=float)[None, :]])
@@ -158,7 +160,7 @@ def crossings(f: SupportPairFunction, slopes: Sequence[float], jaw: tuple[float,
     curved = curve[near] | curve[far]
     positive = tuple(t for t in slopes if t > 0.0)
     grid, cell = _curve_grid(cells[curved], grid_rad)
-    exact = _point_roots(cells[~curved], centres, radii, positive, jaw)
+    exact = _point_roots(cells[~curved], centres, radii, positive, jaw, levels)
     if not len(grid):
         return exact, grid
-    return np.concatenate([exact, _curve_roots(f, grid, cell, positive, jaw)]), grid
+    return np.concatenate([exact, _curve_roots(f, grid, cell, positive, jaw, levels)]), grid

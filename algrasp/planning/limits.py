@@ -95,7 +95,7 @@ def plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Plan
 def _plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float) -> bool:
     try:
         terms = None if analysis.robust is None else analysis.robust.terms
-        robust = robust_analysis(analysis.part, analysis.diameter, analysis.radius, physics, analysis.tol, terms)
+        robust = robust_analysis(analysis.part, analysis.diameter, analysis.radius, physics, analysis.tol, terms, action)
         planner(replace(analysis, robust=robust), action, margin_deg)
     except NotOrientableError:
         return False

@@ -184,23 +184,39 @@ def shallow_basins(values: FloatArray, depth: float) -> np.ndarray:
     >>> shallow_basins(np.array([5, 4, 3, 2.9, 2.95, 2, 1, 2, 3, 4.0]), 0.1).astype(int).tolist()
     [0, 0, 0, 1, 1, 0, 0, 0, 0, 0]
     """
+    out = np.zeros(len(values), dtype=bool)
+    for span, rim in _basins(values, depth):
+        out[span[values[span] <= rim]] = True  # the basin below its lower rim
+    return out
+
+
+def basin_rims(values: FloatArray, depth: float) -> list[float]:
+    """The rim (the lower bounding maximum) of every shallow basin of :func:`shallow_basins`.
+
+    >>> basin_rims(np.array([5, 4, 3, 2.9, 2.95, 2, 1, 2, 3, 4.0]), 0.1)
+    [2.95]
+    """
+    return [rim for _, rim in _basins(values, depth)]
+
+
+def _basins(values: FloatArray, depth: float) -> list[tuple[np.ndarray, float]]:
+    """(cells from maximum to maximum, rim) of each basin shallower than ``depth``."""
     m = len(values)
-    out = np.zeros(m, dtype=bool)
     step = np.sign(np.diff(np.append(values, values[0])))
     nz = np.nonzero(step)[0]
     if depth <= 0.0 or len(nz) < 2:
-        return out
+        return []
     s = step[nz]
     turn = s != np.roll(s, 1)  # the sign changes at nz[k]: an extremum at its start index
     idx, kinds = nz[turn], s[turn]  # kinds +1: a minimum (f rises after it), −1: a maximum
     if len(idx) < 2:
-        return out
+        return []
+    out = []
     for k in np.nonzero(kinds > 0)[0].tolist():
         lo, hi = idx[k - 1], idx[(k + 1) % len(idx)]  # the maxima around minimum idx[k]
-        rim = min(values[lo], values[hi])
+        rim = float(min(values[lo], values[hi]))
         if rim - values[idx[k]] < depth:
-            span = np.arange(lo, hi + (m if hi < lo else 0) + 1) % m
-            out[span[values[span] <= rim]] = True  # the basin below its lower rim
+            out.append((np.arange(lo, hi + (m if hi < lo else 0) + 1) % m, rim))
     return out
 
 
@@ -356,31 +372,37 @@ def _classify(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatAr
 
 def _to_refine(p: _Pass, band: _Band) -> np.ndarray:
     """Cells whose one value may hide a staircase: where an energy barrier could cut a
-    run short for some start inside the cell (tested with the cell's least f, the
-    nearest barrier any start in it can have), where a barrier can land (movable cells
-    slower than s_lo + σ, where f ± s_lo·θ can climb), and shallow basins with their
-    neighbours (their rims are found on cell starts)."""
+    run short for some start inside the cell (tested with the cell's least f, the nearest
+    barrier any start in it can have) and, when one can, where barriers land (movable
+    cells slower than s_lo + σ, where f ± s_lo·θ can climb)."""
     c = p.cells
-    near_basin = p.basin | np.roll(p.basin, 1) | np.roll(p.basin, -1)
+    none = np.zeros(len(c.x), dtype=bool)
     if band.err <= 0.0:
-        return np.asarray(near_basin)
-    slow = (np.abs(p.g).min(axis=(1, 2)) < band.stall[0] + band.sigma) & (c.right | c.left)
+        return none
     near_r, near_l = barriers(c.x, c.T, p.v[:, 0, :].T, p.v.min(axis=1).T, band.stall[0], band.err)
     run_right, run_left = _run_limits(c)
     bind = (c.right & (near_r < run_right)) | (c.left & (near_l > run_left))
-    return np.asarray(slow | bind | near_basin)
+    if not bind.any():
+        return none
+    slow = (np.abs(p.g).min(axis=(1, 2)) < band.stall[0] + band.sigma) & (c.right | c.left)
+    return np.asarray(slow | bind)
 
 
 def _cells_of(f: SupportPairFunction, T: float, band: _Band, tol_rad: float) -> _Cells:
     """The cells of F_κ: nodes at every exact threshold crossing (closed form on
-    point-like contacts, a grid on curves), then the uniform grid of ``GRID_RAD`` added
-    only inside the cells :func:`_to_refine` marks, and the cells classified again."""
+    point-like contacts, bracketed on curves); then, if the first pass finds shallow
+    basins, nodes where f crosses their rims (their exact extent), and the uniform grid
+    of ``GRID_RAD`` only inside the cells :func:`_to_refine` marks; classified again."""
     slopes_at, jaw = band.thresholds()
-    edges, curves = crossings(f, slopes_at, jaw, Tolerances(angle_rad=tol_rad), CURVE_GRID_RAD)
+    tol = Tolerances(angle_rad=tol_rad)
+    edges, curves = crossings(f, slopes_at, jaw, tol, CURVE_GRID_RAD)
     first = _classify(f, T, edges, curves, band)
+    rims = basin_rims(first.v[:, 0, :].T.ravel(), band.shallow)
     refine = _to_refine(first, band)
-    if not refine.any():
+    if not rims and not refine.any():
         return first.cells
+    if rims:
+        edges = np.concatenate([edges, crossings(f, (), None, tol, CURVE_GRID_RAD, levels=tuple(rims))[0]])
     grid = np.linspace(0.0, T, max(8, int(np.ceil(T / GRID_RAD))), endpoint=False)
     inside = refine[np.searchsorted(first.cells.x, grid, side="right") - 1]
     return _classify(f, T, edges, np.concatenate([curves, grid[inside]]), band).cells

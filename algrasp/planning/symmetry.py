@@ -23,20 +23,28 @@ MAX_SYMMETRY_CANDIDATES = 4
 on f itself (best screened first): each costs one evaluation of f at every sample."""
 
 def tolerant_symmetry(f: SupportPairFunction, value_tol: float) -> float:
-    """The smallest T = P/k with |f(θ + T) − f(θ)| ≤ value_tol at every sample (radians).
+    """The smallest T = P/k with |f(θ + T) − f(θ)| ≤ value_tol at every extremum of the
+    exact analysis and every sample (radians).
 
-    Orders k dividing the sample count are tested by rolling the samples; the others (a
-    25-tooth gear) are screened with a bound from the samples' Fourier series
-    (:func:`_shift_bound`, the sampling's own error as slack) and confirmed by evaluating f
-    at the shifted points. Shifts so small that the slope alone keeps f within
-    the tolerance (|f′|·T ≤ 4·tol) prove nothing and are not tried."""
+    The extrema go first (:func:`_extremum_orders`): one evaluation of f at a few extrema
+    shifted by every P/k rules out most orders, and every order of a part without
+    symmetry, before any sample is taken. Orders k dividing the sample count are then
+    tested by rolling the samples; the others (a 25-tooth gear) are screened with a bound
+    from the samples' Fourier series (:func:`_shift_bound`, the sampling's own error as
+    slack) and confirmed by evaluating f at the shifted points. Shifts so small that the
+    slope alone keeps f within the tolerance (|f′|·T ≤ 4·tol) prove nothing and are not
+    tried."""
     P = f.period
+    allowed = _extremum_orders(f, value_tol)
+    if not len(allowed):
+        return P
     M = SYMMETRY_SAMPLES
     theta = np.linspace(0.0, P, M, endpoint=False)
     v = f.values(theta)
     jump = float(np.max(np.abs(np.diff(v))))
     top = min(MAX_SYMMETRY_ORDER, int(P * jump * M / P / (4.0 * value_tol)) if value_tol > 0 else MAX_SYMMETRY_ORDER)
     ks = np.arange(top, 1, -1)
+    ks = ks[np.isin(ks, allowed)]
     if not len(ks):
         return P
     screen = _shift_bound(v, ks)
@@ -54,6 +62,24 @@ def tolerant_symmetry(f: SupportPairFunction, value_tol: float) -> float:
     # only the true order and its divisors repeat f to the drawing's own noise.
     best = min(passing.values())
     return P / max(k for k, e in passing.items() if e <= 10.0 * best + ROUNDING * float(np.max(np.abs(v))))
+
+
+EXTREMA_TESTED = 16
+"""Extrema (those farthest from the median value first) at which every order is tried."""
+
+
+def _extremum_orders(f: SupportPairFunction, value_tol: float) -> np.ndarray:
+    """Orders k (2..MAX_SYMMETRY_ORDER) with |f(θ_e + P/k) − f(θ_e)| ≤ value_tol at the
+    tested extrema θ_e: a necessary condition, exact, in one vectorised evaluation of
+    O(EXTREMA_TESTED · MAX_SYMMETRY_ORDER) points. Without extrema (f constant) every order."""
+    ks = np.arange(MAX_SYMMETRY_ORDER, 1, -1)
+    if not f.extrema:
+        return ks
+    theta = np.array([e.theta for e in f.extrema])
+    value = np.array([e.value for e in f.extrema])
+    pick = np.argsort(-np.abs(value - np.median(value)), kind="stable")[:EXTREMA_TESTED]
+    shifted = f.values((theta[pick][None, :] + f.period / ks[:, None]).ravel()).reshape(len(ks), -1)
+    return np.asarray(ks[np.all(np.abs(shifted - value[pick][None, :]) <= value_tol, axis=1)])
 
 
 SCREEN_HARMONICS = 64
