@@ -54,7 +54,7 @@ def read_dxf(data: bytes) -> Any:
 
     with captured_ezdxf_log() as messages:
         try:
-            doc = _read_binary(data) if data.startswith(BINARY_SENTINEL) else _read_text(data)
+            doc = _read_binary(data) if data.startswith(BINARY_SENTINEL) else _read_text(data, messages)
         except Exception:  # noqa: BLE001 - a damaged file: let the recover mode repair it
             try:
                 doc, _ = recover.read(io.BytesIO(data))
@@ -72,9 +72,12 @@ _ACADVER = re.compile(rb"\$ACADVER\s*\r?\n\s*1\s*\r?\n\s*(AC\d{4})")
 _CODEPAGE = re.compile(rb"\$DWGCODEPAGE\s*\r?\n\s*3\s*\r?\n\s*(\S+)")
 
 
-def _read_text(data: bytes) -> Any:
+def _read_text(data: bytes, messages: list[str]) -> Any:
     """The fast path for a sound ASCII DXF: UTF-8 from R2007 (AC1021) on, before that the
-    $DWGCODEPAGE encoding; CR, LF or CRLF line ends all read as one."""
+    $DWGCODEPAGE encoding; CR, LF or CRLF line ends all read as one; LWPOLYLINEs written
+    without subclass markers get them (`algrasp.io.cad.dxf_repair`, said in ``messages``)."""
+    from algrasp.io.cad.dxf_repair import lwpolyline_markers
+
     import ezdxf
     from ezdxf.tools.codepage import toencoding
 
@@ -85,7 +88,10 @@ def _read_text(data: bytes) -> Any:
     else:
         encoding = toencoding(codepage.group(1).decode("ascii", "replace")) if codepage else "cp1252"
     text = data.decode(encoding, errors="replace").replace("\r\n", "\n").replace("\r", "\n")
-    return ezdxf.read(io.StringIO(text))
+    repaired = lwpolyline_markers(text)
+    if repaired is not None:
+        messages.append("LWPOLYLINEs without subclass markers (OpenJsCad-style): markers added to read them")
+    return ezdxf.read(io.StringIO(repaired or text))
 
 
 def _read_binary(data: bytes) -> Any:
