@@ -76,10 +76,10 @@ def _read_text(data: bytes, messages: list[str]) -> Any:
     """The fast path for a sound ASCII DXF: UTF-8 from R2007 (AC1021) on, before that the
     $DWGCODEPAGE encoding; CR, LF or CRLF line ends all read as one; LWPOLYLINEs written
     without subclass markers get them (`algrasp.io.cad.dxf_repair`, said in ``messages``)."""
-    from algrasp.io.cad.dxf_repair import lwpolyline_markers
-
     import ezdxf
     from ezdxf.tools.codepage import toencoding
+
+    from algrasp.io.cad.dxf_repair import lwpolyline_markers
 
     version = _ACADVER.search(data[:65536])
     codepage = _CODEPAGE.search(data[:65536])
