@@ -49,6 +49,8 @@ NEARLY_BOX = 0.975
 """Axis-aligned outlines filling this share of their box count as rectangles (frames)."""
 FILL_SHARE = 0.5
 """Parts filling over this share of a rectangle around them make it a sheet border."""
+TABLE_MIN_CELLS = 3
+"""A grid of at least this many cells with text in them is a table (hole table, title block)."""
 GLYPH_AREA_REL = 5e-3
 """A letter engraved in a part has less than this share of the part's area."""
 GLYPH_MIN = 4
@@ -154,6 +156,26 @@ def frames(lp: Loops, marks: Marks, size: float) -> tuple[set[int], list[str]]:
             if other_layers and lp.parent.get(j) == main and lp.layer(j) == lp.layer(main) and j not in out:
                 out.add(j)
                 said.append(f"title block: a loop on the frame's layer {lp.layer(j)!r}")
+    return out, said
+
+
+def tables(lp: Loops, marks: Marks, size: float) -> tuple[set[int], list[str]]:
+    """The cells of tables drawn anywhere on the sheet (a hole table, a revision block, a
+    title block inside its frame): a component of TABLE_MIN_CELLS or more faces holding no
+    loops of their own, around which its outer boundary is a rectangle, with text in at
+    least half of them. A part is never a grid of empty rectangles with writing in them."""
+    out: set[int] = set()
+    said: list[str] = []
+    by_comp: dict[int, list[int]] = {}
+    for i in lp.order:
+        by_comp.setdefault(lp.component[i], []).append(i)
+    for c, cells in by_comp.items():
+        if len(cells) < TABLE_MIN_CELLS or c not in lp.outer or any(lp.children(j) for j in cells):
+            continue
+        written = sum(bool(_texts_in(lp.polys[j], marks)) for j in cells)
+        if 2 * written >= len(cells) and _is_rectangle(lp.outer[c], size):
+            out |= set(cells)
+            said.append(f"table: {len(cells)} cells with text in {written} (a hole table or title block), not parts")
     return out, said
 
 

@@ -21,8 +21,9 @@ import numpy as np
 from algrasp.errors import PartDocumentError
 from algrasp.geometry.tolerances import ROUNDING, TINY
 from algrasp.io.cad.arrange import arrange
+from algrasp.io.cad.centre_marks import drop_centre_marks
 from algrasp.io.cad.chain import Piece, Segment, _polygon, point_at, ring
-from algrasp.io.cad.clutter import NO_MARKS, Loops, Marks, engraving, frames, views
+from algrasp.io.cad.clutter import NO_MARKS, Loops, Marks, engraving, frames, tables, views
 from algrasp.io.cad.features import counterbore, letter, loose_marks, pocket
 
 
@@ -63,6 +64,8 @@ def find_parts(pieces: Sequence[Piece], size: float, tolerance: float | None = N
     ``tolerance`` (drawing units) overrides the join and gap tolerances. Raises
     PartDocumentError when no closed contour is left (naming the first open one)."""
     kept, warnings = drop_zero_length(pieces, size)
+    kept, said = drop_centre_marks(kept)
+    warnings += said
     arr = arrange(kept, size, tolerance)
     warnings += arr.notes
     ignored = list(arr.open_chains)
@@ -80,6 +83,8 @@ def find_parts(pieces: Sequence[Piece], size: float, tolerance: float | None = N
     lp = Loops(loops, polys, parent, arr.component, arr.outer, order)
     framed, said = frames(lp, marks, size)
     ignored += said
+    tabled, said = tables(lp, marks, size)
+    framed, ignored = framed | tabled, ignored + said
     for i in order:
         if parent[i] in framed:
             parent[i] = None

@@ -29,7 +29,6 @@ KNOWN_MISSES: dict[str, str] = {
     "batch-fl/iorodeo-microplate-holder-top-in.dxf": "7 parts, truth 1",
     "batch-fl2/gerald-kong-ep1000-moodlamp-front.dxf": "19 holes, truth 29",
     "batch-fl2/i4-timecube-lasercut-firebeetle-3mm.svg": "11 parts, truth 8",
-    "batch-fl2/irnas-goodenoughcnc-motor-plate-drawing.dxf": "2 parts, truth 1",
     "batch-fl2/irnas-goodenoughcnc-torch-mount-drawing.dxf": "16 parts, truth 1",
     "batch-fl2/irnas-goodenoughcnc-trolley-mockup-box.dxf": "32 parts, truth 6",
     "batch-fl2/jdart-adux-tent-panel.dxf": "box 60.45 × 82.47 mm, truth 96.31 × 129.29",

@@ -5,6 +5,7 @@ their truth by test_shop_corpus.py."""
 from __future__ import annotations
 
 import io
+import math
 
 import ezdxf
 import pytest
@@ -47,3 +48,42 @@ def test_lwpolylines_without_subclass_markers_are_read() -> None:
     assert row["area"] == pytest.approx(600 - 16)
     doc = import_bytes("openjscad.dxf", data)
     assert any("subclass markers" in w for w in doc["source"]["warnings"])
+
+
+def test_a_centre_mark_cross_does_not_cut_its_hole_into_quarters() -> None:
+    """SolidWorks draws a centre mark as plain lines: four radii from the centre to the
+    circle and four extensions beyond. The radii cut the hole into four quarter "holes";
+    a single line through a circle's centre (a disc cut in halves) is still a cut."""
+    d = ezdxf.new(units=4)
+    m = d.modelspace()
+    m.add_lwpolyline([(0, 0), (60, 0), (60, 30), (0, 30)], close=True)
+    m.add_circle((15, 15), 2.5)
+    for dx, dy in ((1, 0), (0, 1), (-1, 0), (0, -1)):
+        m.add_line((15, 15), (15 + 2.5 * dx, 15 + 2.5 * dy))
+        m.add_line((15 + 2.5 * dx, 15 + 2.5 * dy), (15 + 5 * dx, 15 + 5 * dy))
+    m.add_circle((45, 15), 5)
+    m.add_line((40, 15), (50, 15))  # a lone diameter is a cut: that circle is two half holes
+    out = list_parts("marks.dxf", _bytes(d))
+    (plate,) = out["parts"]
+    assert plate["holes"] == 3 and plate["area"] == pytest.approx(1800 - 31.25 * math.pi, rel=1e-3)
+    assert any(w.startswith("centre marks: 8 line(s)") for w in out["warnings"])
+
+
+def test_a_table_with_text_inside_the_frame_is_no_part() -> None:
+    """A drawing sheet: a frame, a plate, and a hole table (a grid of lines with text in its
+    cells) inside the frame. Once the frame was set aside, the table's cells were parts."""
+    d = ezdxf.new(units=4)
+    m = d.modelspace()
+    m.add_lwpolyline([(0, 0), (297, 0), (297, 210), (0, 210)], close=True)  # the frame
+    m.add_lwpolyline([(20, 120), (155, 120), (155, 165), (20, 165)], close=True)  # the plate
+    m.add_circle((40, 140), 3)
+    for k in range(4):  # a 3 x 3 table
+        m.add_line((150, 20 + 8 * k), (240, 20 + 8 * k))
+        m.add_line((150 + 30 * k, 20), (150 + 30 * k, 44))
+    for row in range(3):
+        for col in range(3):
+            m.add_text(f"A{row}{col}", dxfattribs={"insert": (153 + 30 * col, 22 + 8 * row), "height": 3})
+    out = list_parts("table.dxf", _bytes(d))
+    (row,) = out["parts"]
+    assert row["bbox"] == pytest.approx([20, 120, 155, 165]) and row["holes"] == 1
+    assert any(w.startswith("table: 9 cells") for w in out["ignored"])
