@@ -25,13 +25,11 @@ KNOWN_MISSES: dict[str, str] = {
     # that makes one right fails here until it is taken off this list
     "batch-ae/cnlohr-mitx-laser-cut-case-case.svg": "9 parts, truth 7",
     "batch-fl/gtips-reviung-promicro-cover-marked-a.svg": "21 parts, truth 4 (every cut drawn as a filled band: two loops each)",
-    "batch-fl/gtips-reviung-r53-2mm-450x300-sheet.dxf": "29 parts, truth 13",
     "batch-fl/iorodeo-microplate-holder-top-in.dxf": "7 parts, truth 1",
     "batch-fl2/gerald-kong-ep1000-moodlamp-front.dxf": "19 holes, truth 29",
     "batch-fl2/i4-timecube-lasercut-firebeetle-3mm.svg": "11 parts, truth 8",
     "batch-fl2/irnas-goodenoughcnc-torch-mount-drawing.dxf": "16 parts, truth 1",
     "batch-fl2/irnas-goodenoughcnc-trolley-mockup-box.dxf": "32 parts, truth 6",
-    "batch-fl2/jdart-adux-tent-panel.dxf": "box 60.45 × 82.47 mm, truth 96.31 × 129.29",
     "batch-fl2/kaidrange-axoloti-block-front.dxf": "2 parts, truth 1",
     "batch-mr/m17-project-rru-enclosure-nameplate.dxf": "6 holes, truth 4",
     "batch-mr/python-ugame-ugame-hardware-faceplate.svg": "3 parts, truth 2",

@@ -87,3 +87,21 @@ def test_a_table_with_text_inside_the_frame_is_no_part() -> None:
     (row,) = out["parts"]
     assert row["bbox"] == pytest.approx([20, 120, 155, 165]) and row["holes"] == 1
     assert any(w.startswith("table: 9 cells") for w in out["ignored"])
+
+
+def test_a_fillet_arc_of_no_sweep_at_a_tangent_point_leaves_the_outline_closed() -> None:
+    """Maker.js writes, where a line meets a fillet, a second fillet arc of 3e-6°: its ends
+    join at the tangent point and it bounds 1e-20 mm², which once kept it as a loop of its
+    own, tangent to both neighbours, and turned the face walk round there (the outline
+    came out as a sliver of no area)."""
+    d = ezdxf.new(units=4)
+    m = d.modelspace()
+    m.add_line((40, 0), (3, 0))
+    m.add_arc((3, 3), 3.0, 180, 270)  # a rounded corner…
+    m.add_arc((3, 1), 1.0, 270 - 1.4e-6, 270 + 1.4e-6)  # …and a fillet of no sweep where it meets the line
+    m.add_line((0, 3), (0, 20))
+    m.add_line((0, 20), (40, 20))
+    m.add_line((40, 20), (40, 0))
+    (row,) = list_parts("fillet.dxf", _bytes(d))["parts"]
+    assert row["area"] == pytest.approx(800.0 - 9 + 9 * math.pi / 4, rel=1e-4)
+    assert row["bbox"] == pytest.approx([0, 0, 40, 20], abs=1e-6)
