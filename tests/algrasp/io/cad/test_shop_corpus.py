@@ -31,7 +31,6 @@ KNOWN_MISSES: dict[str, str] = {
     "batch-fl2/irnas-goodenoughcnc-torch-mount-drawing.dxf": "16 parts, truth 1",
     "batch-fl2/irnas-goodenoughcnc-trolley-mockup-box.dxf": "32 parts, truth 6",
     "batch-fl2/kaidrange-axoloti-block-front.dxf": "2 parts, truth 1",
-    "batch-mr/m17-project-rru-enclosure-nameplate.dxf": "6 holes, truth 4",
     "batch-mr/python-ugame-ugame-hardware-faceplate.svg": "3 parts, truth 2",
     "batch-sz/t-oster-visicut-box-6x3x3.svg": "7 parts, truth 6",
     "batch-sz/t-oster-visicut-corel-10mm-stroke.svg": "2 holes, truth 0",

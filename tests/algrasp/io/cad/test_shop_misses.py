@@ -105,3 +105,22 @@ def test_a_fillet_arc_of_no_sweep_at_a_tangent_point_leaves_the_outline_closed()
     (row,) = list_parts("fillet.dxf", _bytes(d))["parts"]
     assert row["area"] == pytest.approx(800.0 - 9 + 9 * math.pi / 4, rel=1e-4)
     assert row["bbox"] == pytest.approx([0, 0, 40, 20], abs=1e-6)
+
+
+def test_a_hatch_of_several_islands_marks_each_as_engraving() -> None:
+    """QCAD's M17 nameplate: one SOLID hatch fills the three letters of the logo (three
+    boundary paths, islands side by side). Only the largest was taken as hatched; the other
+    two were holes."""
+    d = ezdxf.new(units=4)
+    m = d.modelspace()
+    m.add_lwpolyline([(0, 0), (60, 0), (60, 40), (0, 40)], close=True)
+    m.add_circle((5, 5), 1.6)
+    letters = [[(10, 25), (14, 25), (14, 35), (10, 35)], [(20, 25), (23, 25), (26, 35), (20, 33)],
+               [(30, 25), (36, 25), (36, 27), (32, 27), (32, 35), (30, 35)]]
+    hatch = m.add_hatch()
+    for pts in letters:
+        m.add_lwpolyline(pts, close=True)
+        hatch.paths.add_polyline_path(pts, is_closed=True)
+    out = list_parts("logo.dxf", _bytes(d))
+    (row,) = out["parts"]
+    assert row["holes"] == 1 and any("3 loop(s) inside a part (filled by a hatch)" in w for w in out["ignored"])
