@@ -291,14 +291,21 @@ def glyph_row(lp: Loops, small: list[int]) -> set[int]:
             if len(row) >= GLYPH_MIN and len(shapes) >= 3 and len(shapes) >= GLYPH_VARIETY * len(row) \
                     and _compact(lp, row):
                 out |= set(row)
-    if out:  # punctuation, dots and dashes among the letters are text too
-        from shapely.geometry import box
-        from shapely.ops import unary_union
+    return out | _punctuation(lp, out, small) if out else out
 
-        pad = float(np.median([lp.polys[j].bounds[3] - lp.polys[j].bounds[1] for j in out])) / 2
-        area = unary_union([box(*lp.polys[j].bounds).buffer(pad) for j in out])
-        out |= {j for j in small if area.covers(box(*lp.polys[j].bounds))}
-    return out
+
+def _punctuation(lp: Loops, letters: set[int], small: list[int]) -> set[int]:
+    """The loops of ``small`` no taller than the letters that reach within half a letter
+    height of them: punctuation, dots and dashes (an "=" before a word) are text too."""
+    from shapely.geometry import box
+    from shapely.ops import unary_union
+
+    def height(j: int) -> float:
+        return float(lp.polys[j].bounds[3] - lp.polys[j].bounds[1])
+
+    h = float(np.median([height(j) for j in letters]))
+    area = unary_union([box(*lp.polys[j].bounds).buffer(h / 2) for j in letters])
+    return {j for j in small if height(j) <= h and area.intersects(box(*lp.polys[j].bounds))}
 
 
 def _words(lp: Loops, band: list[int]) -> list[list[int]]:

@@ -124,3 +124,22 @@ def test_a_hatch_of_several_islands_marks_each_as_engraving() -> None:
     out = list_parts("logo.dxf", _bytes(d))
     (row,) = out["parts"]
     assert row["holes"] == 1 and any("3 loop(s) inside a part (filled by a hatch)" in w for w in out["ignored"])
+
+
+def test_an_equals_sign_before_engraved_letters_is_text_not_two_holes() -> None:
+    """CorelDRAW's "Bounding Box =100x100mm" converted to outlines: the "=" stands 1.4 mm
+    before the first letter and is 4 mm wide, so half a letter height around the letters
+    did not cover its bars: they were two holes."""
+    d = ezdxf.new(units=4)
+    m = d.modelspace()
+    m.add_lwpolyline([(0, 0), (100, 0), (100, 60), (0, 60)], close=True)
+    letters = [[(20, 30), (23, 30), (23, 35), (20, 35)], [(24.5, 30), (28.5, 30), (26.5, 35)],
+               [(30, 30), (34, 30), (34, 31), (31, 31), (31, 35), (30, 35)], [(35.5, 30), (36.5, 30), (36.5, 35),
+                                                                            (35.5, 35)],
+               [(38, 30), (41, 30), (42, 35), (39, 35)]]
+    bars = [[(14.6, 31.5), (18.6, 31.5), (18.6, 32.2), (14.6, 32.2)], [(14.6, 33), (18.6, 33), (18.6, 33.7),
+                                                                       (14.6, 33.7)]]
+    for pts in letters + bars:
+        m.add_lwpolyline(pts, close=True)
+    (row,) = list_parts("equals.dxf", _bytes(d))["parts"]
+    assert row["holes"] == 0
