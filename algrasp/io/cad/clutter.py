@@ -53,6 +53,10 @@ TABLE_MIN_CELLS = 3
 """A grid of at least this many cells with text in them is a table (hole table, title block)."""
 GLYPH_AREA_REL = 5e-3
 """A letter engraved in a part has less than this share of the part's area."""
+CAPITAL_HEIGHT = 1.5
+"""A loop with counters beside a line of letters, up to this many times their (median)
+height, is a letter too (a capital "O" or "D" before lower-case letters: cap height is
+about 1.4 x-heights)."""
 GLYPH_MIN = 4
 """At least this many small, different, non-circular loops make a line of text."""
 GLYPH_VARIETY = 0.3
@@ -276,7 +280,15 @@ def _glyphs(lp: Loops, part: int, kids: list[int]) -> set[int]:
     letters (:func:`glyph_row`)."""
     area = lp.polys[part].area
     small = [j for j in kids if lp.polys[j].area < GLYPH_AREA_REL * area and not _round(lp.loops[j])]
-    return glyph_row(lp, small)
+    letters = glyph_row(lp, small)
+    if not letters:
+        return letters
+    # capitals with counters ("O", "D") beside the row, or beside such a capital: larger
+    # than the small letters
+    countered = [j for j in kids if lp.children(j) and not _round(lp.loops[j])]
+    while more := _beside(lp, letters, [j for j in countered if j not in letters], CAPITAL_HEIGHT):
+        letters |= more
+    return letters
 
 
 def glyph_row(lp: Loops, small: list[int]) -> set[int]:
@@ -291,12 +303,13 @@ def glyph_row(lp: Loops, small: list[int]) -> set[int]:
             if len(row) >= GLYPH_MIN and len(shapes) >= 3 and len(shapes) >= GLYPH_VARIETY * len(row) \
                     and _compact(lp, row):
                 out |= set(row)
-    return out | _punctuation(lp, out, small) if out else out
+    return out | _beside(lp, out, small, 1.0) if out else out
 
 
-def _punctuation(lp: Loops, letters: set[int], small: list[int]) -> set[int]:
-    """The loops of ``small`` no taller than the letters that reach within half a letter
-    height of them: punctuation, dots and dashes (an "=" before a word) are text too."""
+def _beside(lp: Loops, letters: set[int], small: list[int], tallest: float) -> set[int]:
+    """The loops of ``small`` at most ``tallest`` times the letters' height that reach
+    within half a letter height of them: punctuation, dots and dashes (an "=" before a
+    word), or capitals beside lower-case letters, are text too."""
     from shapely.geometry import box
     from shapely.ops import unary_union
 
@@ -305,7 +318,7 @@ def _punctuation(lp: Loops, letters: set[int], small: list[int]) -> set[int]:
 
     h = float(np.median([height(j) for j in letters]))
     area = unary_union([box(*lp.polys[j].bounds).buffer(h / 2) for j in letters])
-    return {j for j in small if height(j) <= h and area.intersects(box(*lp.polys[j].bounds))}
+    return {j for j in small if height(j) <= tallest * h and area.intersects(box(*lp.polys[j].bounds))}
 
 
 def _words(lp: Loops, band: list[int]) -> list[list[int]]:

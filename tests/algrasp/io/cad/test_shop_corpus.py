@@ -33,7 +33,6 @@ KNOWN_MISSES: dict[str, str] = {
     "batch-fl2/kaidrange-axoloti-block-front.dxf": "2 parts, truth 1",
     "batch-mr/python-ugame-ugame-hardware-faceplate.svg": "3 parts, truth 2",
     "batch-sz/t-oster-visicut-box-6x3x3.svg": "7 parts, truth 6",
-    "batch-sz/tobbelobb-hangprinter-layout.dxf": "24 parts, truth 20",
     "batch-sz/vorondesign-voron-2-build-plate-300-drawing.dxf": "2 parts, truth 1",
 }
 

@@ -143,3 +143,21 @@ def test_an_equals_sign_before_engraved_letters_is_text_not_two_holes() -> None:
         m.add_lwpolyline(pts, close=True)
     (row,) = list_parts("equals.dxf", _bytes(d))["parts"]
     assert row["holes"] == 0
+
+
+def test_capitals_with_counters_beside_engraved_letters_are_text() -> None:
+    """OpenSCAD's mirrored "ODrive" on a 140 x 50 plate: the small letters are a line of
+    text, but "O" and "D" are larger than the share of the plate a letter was allowed, so
+    they were holes and their counters parts of their own."""
+    d = ezdxf.new(units=4)
+    m = d.modelspace()
+    m.add_lwpolyline([(0, 0), (140, 0), (140, 50), (0, 50)], close=True)
+    for pts in ([(40, 20), (42, 20), (42, 27.5), (40, 27.5)], [(43, 20), (48, 20), (45.5, 27.5)],
+                [(49, 20), (53, 20), (53, 21.5), (50.5, 21.5), (50.5, 27.5), (49, 27.5)],
+                [(54, 20), (57, 20), (58, 27.5), (55, 27.5)]):
+        m.add_lwpolyline(pts, close=True)
+    for x0 in (29.0, 19.0):  # "D", then "O" beside it
+        m.add_lwpolyline([(x0, 19.5), (x0 + 8, 19.5), (x0 + 8, 29.5), (x0, 29.5)], close=True)
+        m.add_lwpolyline([(x0 + 1.5, 21), (x0 + 6.5, 21), (x0 + 6.5, 28), (x0 + 1.5, 28)], close=True)
+    (row,) = list_parts("odrive.dxf", _bytes(d))["parts"]
+    assert row["holes"] == 0
