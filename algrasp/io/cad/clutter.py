@@ -91,6 +91,8 @@ class Loops:
     component: list[int]
     outer: dict[int, list[Segment]]
     order: list[int] = field(default_factory=list)
+    neighbours: dict[int, set[int]] = field(default_factory=dict)
+    """The loops sharing an edge with each loop (faces of one arrangement component)."""
 
     def layer(self, i: int) -> str | None:
         return self.loops[i][0].get("_layer")

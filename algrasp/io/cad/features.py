@@ -15,6 +15,11 @@ Rules on the loops of a sheet (:class:`~algrasp.io.cad.clutter.Loops`), by geome
 - **Not measured**: in a drawing with dimensions, a small loop outside the parts that no
   dimension measures and that copies no measured part (a logo, symbols, a title block's
   drawing) is not a part.
+- **Notches and slivers**: a loop without holes that shares an edge with a part over
+  1/NOTCH_AREA_REL times its area is no part: a cut-out drawn as a closed loop across the
+  outline (a notch), the void between two plates drawn edge to edge where one has a notch
+  on the common edge, a corner reference line closing a sliver against a fillet.
+  Neighbouring parts of a common-line nesting sheet are of comparable sizes.
 - **Hairlines**: a "part" over SLIVER_ASPECT times longer than wide is a line drawn as a
   closed outline (dimension and leader lines, a border stroke), not something to grasp.
 """
@@ -31,6 +36,9 @@ CONCENTRIC_REL = 1e-3
 BARE_AREA_REL = 0.05
 """An unmeasured loop under this share of the largest measured part is no part (copies of
 a measured part, dimensioned once, stay parts)."""
+NOTCH_AREA_REL = 0.03
+"""A loop without holes sharing an edge with a part over 1/this times its area is a notch
+or sliver of that part, not a part of its own."""
 SLIVER_ASPECT = 200.0
 """A loop this many times longer than wide is a line drawn closed."""
 
@@ -112,3 +120,14 @@ def _aspect(poly: Any) -> float:
     x0, y0, x1, y1 = poly.bounds
     short = min(x1 - x0, y1 - y0)
     return float("inf") if short <= 0 else max(x1 - x0, y1 - y0) / short
+
+
+def notches(lp: Loops, parts: list[int], holes: dict[int, list[int]]) -> tuple[set[int], list[str]]:
+    """The ``parts`` that are notches or slivers of a neighbouring part (see module docs)."""
+    chosen = set(parts)
+    out = {i for i in parts if not holes[i] and any(
+        j in chosen and lp.polys[i].area < NOTCH_AREA_REL * lp.polys[j].area for j in lp.neighbours.get(i, ()))}
+    if not out:
+        return out, []
+    return out, [f"notches: {len(out)} loop(s) sharing an edge with a part over {1 / NOTCH_AREA_REL:.0f} times larger "
+                 "(a cut-out across its outline, a void or sliver beside it): not parts"]

@@ -24,7 +24,7 @@ from algrasp.io.cad.arrange import arrange
 from algrasp.io.cad.centre_marks import drop_centre_marks
 from algrasp.io.cad.chain import Piece, Segment, _polygon, point_at, ring
 from algrasp.io.cad.clutter import NO_MARKS, Loops, Marks, engraving, frames, tables, views
-from algrasp.io.cad.features import counterbore, letter, loose_marks, pocket
+from algrasp.io.cad.features import counterbore, letter, loose_marks, notches, pocket
 
 
 @dataclass
@@ -80,7 +80,7 @@ def find_parts(pieces: Sequence[Piece], size: float, tolerance: float | None = N
         raise PartDocumentError("drawing", "no closed contour with an area")
     parent = {i: _parent(i, order, polys) for i in order}
     warnings += _overlaps(order, parent, polys)
-    lp = Loops(loops, polys, parent, arr.component, arr.outer, order)
+    lp = Loops(loops, polys, parent, arr.component, arr.outer, order, arr.neighbours)
     framed, said = frames(lp, marks, size)
     ignored += said
     tabled, said = tables(lp, marks, size)
@@ -132,7 +132,9 @@ def _nest(lp: Loops, order: list[int], marks: Marks, ignored: list[str], warning
     parts = [i for i in parts if i not in others]
     loose, said = loose_marks(lp, parts, marks)
     ignored += said
-    parts = [i for i in parts if i not in loose]
+    notched, said = notches(lp, parts, holes)
+    ignored += said
+    parts = [i for i in parts if i not in loose | notched]
     return Sheet([(_strip(lp.loops[i]), [_strip(lp.loops[j]) for j in holes[i]]) for i in parts], ignored, warnings,
                  [lp.layer(i) for i in parts])
 

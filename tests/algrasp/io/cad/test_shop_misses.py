@@ -161,3 +161,23 @@ def test_capitals_with_counters_beside_engraved_letters_are_text() -> None:
         m.add_lwpolyline([(x0 + 1.5, 21), (x0 + 6.5, 21), (x0 + 6.5, 28), (x0 + 1.5, 28)], close=True)
     (row,) = list_parts("odrive.dxf", _bytes(d))["parts"]
     assert row["holes"] == 0
+
+
+def test_a_cut_out_drawn_across_the_outline_is_a_notch_not_a_part() -> None:
+    """Fusion 360's Axoloti front panel: a 11.7 x 4.1 rectangle drawn as a closed polyline
+    whose bottom side lies on the panel's bottom edge is a notch; the arrangement made it a
+    face of its own, listed as a second part. Two plates of comparable size sharing a cut
+    line stay two parts."""
+    d = ezdxf.new(units=4)
+    m = d.modelspace()
+    m.add_lwpolyline([(0, 0), (184, 0), (184, 30), (0, 30)], close=True)
+    m.add_lwpolyline([(166.8, 0), (178.5, 0), (178.5, 4.1), (166.8, 4.1)], close=True)  # the notch
+    m.add_circle((20, 15), 6.77)
+    m.add_lwpolyline([(0, 40), (90, 40), (90, 70), (0, 70)], close=True)  # two plates sharing a side
+    m.add_lwpolyline([(90, 40), (150, 40), (150, 70), (90, 70)], close=True)
+    out = list_parts("notch.dxf", _bytes(d))
+    panel, *plates = sorted(out["parts"], key=lambda r: -r["area"])
+    assert panel["bbox"] == pytest.approx([0, 0, 184, 30]) and panel["holes"] == 1
+    assert panel["area"] == pytest.approx(184 * 30 - 11.7 * 4.1 - math.pi * 6.77**2, rel=1e-4)
+    assert sorted(round(r["area"]) for r in plates) == [1800, 2700]
+    assert any(w.startswith("notches: 1 loop(s)") for w in out["ignored"])
