@@ -6,6 +6,8 @@ Rules on the loops of a sheet (:class:`~algrasp.io.cad.clutter.Loops`), by geome
 - **Counterbores**: a round hole holding one concentric round loop with nothing inside it
   is a counterbore, spot face or thread drawn around the through hole: the hole is the
   inner circle (a slug is never drawn, so the inner disc is no part).
+- **Drilled slugs**: a small round loop inside a hole (fixturing holes drilled in the
+  cut-out's slug) is no part nested in it.
 - **Pockets**: a loop on a pocket layer (``pcb_pocket``) is machined part-way: no hole;
   the holes inside it are the part's.
 - **Letters with counters**: a small hole holding loops of its own is an engraved letter.
@@ -53,6 +55,19 @@ def counterbore(lp: Loops, hole: int) -> int | None:
     (xa, ya), ra = _circle(lp.loops[hole])
     (xb, yb), rb = _circle(lp.loops[kids[0]])
     return kids[0] if ((xa - xb) ** 2 + (ya - yb) ** 2) ** 0.5 <= CONCENTRIC_REL * max(ra, rb) else None
+
+
+SLUG_DRILL_REL = 0.01
+"""A round loop without holes, inside a hole and under this share of its area, is drilled
+into the hole's slug (fixturing, a pilot for the saw), not a part nested in the hole."""
+
+
+def slug_drill(lp: Loops, loop: int, hole: int) -> bool:
+    """Whether ``loop``, directly inside ``hole``, is a drilling in the hole's slug: a
+    round loop with nothing inside it, far smaller than the hole (nobody nests a bare
+    disc of 1 % of a cut-out in it to grasp)."""
+    return (_round(lp.loops[loop]) and not lp.children(loop)
+            and lp.polys[loop].area < SLUG_DRILL_REL * lp.polys[hole].area)
 
 
 POCKET_LAYER = re.compile(r"pocket|tasche|poche|bolsillo|tasca|ポケット|cavity|recess|blind", re.IGNORECASE)

@@ -25,7 +25,6 @@ KNOWN_MISSES: dict[str, str] = {
     # that makes one right fails here until it is taken off this list
     "batch-ae/cnlohr-mitx-laser-cut-case-case.svg": "8 parts, truth 7 (the red etch rectangle is listed as a part)",
     "batch-fl/gtips-reviung-promicro-cover-marked-a.svg": "19 parts, truth 4 (every cut drawn as a filled band: two loops each)",
-    "batch-fl/iorodeo-microplate-holder-top-in.dxf": "5 parts, truth 1 (4 fixturing holes drilled in the LED cut-out's slug)",
     "batch-fl2/gerald-kong-ep1000-moodlamp-front.dxf": "19 holes, truth 29",
     "batch-fl2/i4-timecube-lasercut-firebeetle-3mm.svg": "11 parts, truth 8",
     "batch-fl2/irnas-goodenoughcnc-torch-mount-drawing.dxf": "16 parts, truth 1",

@@ -181,3 +181,24 @@ def test_a_cut_out_drawn_across_the_outline_is_a_notch_not_a_part() -> None:
     assert panel["area"] == pytest.approx(184 * 30 - 11.7 * 4.1 - math.pi * 6.77**2, rel=1e-4)
     assert sorted(round(r["area"]) for r in plates) == [1800, 2700]
     assert any(w.startswith("notches: 1 loop(s)") for w in out["ignored"])
+
+
+def test_holes_drilled_in_a_cut_outs_slug_are_not_parts() -> None:
+    """iorodeo's microplate holder: four 3 mm fixturing holes drilled inside the LED
+    cut-out (they hold its slug while it is cut) were four parts nested in the hole. A
+    disc of a fair share of its hole, or a washer, nested there is still a part."""
+    d = ezdxf.new(units=4)
+    m = d.modelspace()
+    m.add_lwpolyline([(0, 0), (150, 0), (150, 120), (140, 130), (0, 130)], close=True)  # (not a frame: chamfered)
+    m.add_lwpolyline([(20, 20), (130, 20), (130, 110), (20, 110)], close=True)  # the cut-out
+    for x, y in ((35, 35), (115, 35), (35, 95), (115, 95)):
+        m.add_circle((x, y), 1.5)  # fixturing holes in its slug
+    m.add_lwpolyline([(160, 0), (260, 0), (260, 90), (250, 100), (160, 100)], close=True)  # a second plate…
+    m.add_circle((210, 50), 40)
+    m.add_circle((222, 50), 12)  # …with a disc nested in its hole (9 % of it; off-centre: no counterbore)
+    out = list_parts("slug.dxf", _bytes(d))
+    rows = sorted((r["holes"], r["area"]) for r in out["parts"])
+    assert [h for h, _ in rows] == [0, 1, 1]
+    assert [a for _, a in rows] == pytest.approx([math.pi * 144, 10000 - 50 - math.pi * 1600, 19500 - 50 - 9900],
+                                                 rel=1e-4)
+    assert any(w.startswith("slugs: 4 small round loop(s)") for w in out["ignored"])
