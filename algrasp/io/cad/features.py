@@ -28,6 +28,7 @@ Rules on the loops of a sheet (:class:`~algrasp.io.cad.clutter.Loops`), by geome
 
 from __future__ import annotations
 
+import math
 import re
 from typing import Any
 
@@ -47,14 +48,32 @@ SLIVER_ASPECT = 200.0
 
 def counterbore(lp: Loops, hole: int) -> int | None:
     """The through hole drawn inside the round ``hole`` (see module docs), or None."""
-    if not _round(lp.loops[hole]):
-        return None
     kids = lp.children(hole)
-    if len(kids) != 1 or lp.children(kids[0]) or not _round(lp.loops[kids[0]]):
+    if len(kids) != 1 or lp.children(kids[0]):
         return None
-    (xa, ya), ra = _circle(lp.loops[hole])
-    (xb, yb), rb = _circle(lp.loops[kids[0]])
+    outer, inner = _disc(lp, hole), _disc(lp, kids[0])
+    if outer is None or inner is None:
+        return None
+    (xa, ya), ra = outer
+    (xb, yb), rb = inner
     return kids[0] if ((xa - xb) ** 2 + (ya - yb) ** 2) ** 0.5 <= CONCENTRIC_REL * max(ra, rb) else None
+
+
+DISC_REL = 0.01
+"""A loop whose box is square and whose area is that of the circle in it, both to this
+share, is a circle drawn as a spline or polygon (its centre the box's)."""
+
+
+def _disc(lp: Loops, i: int) -> tuple[tuple[float, float], float] | None:
+    """Loop i's centre and radius when it is a circle: arcs of one circle, or a closed
+    spline or tessellation as round as one (DISC_REL); else None."""
+    if _round(lp.loops[i]):
+        return _circle(lp.loops[i])
+    x0, y0, x1, y1 = lp.polys[i].bounds
+    r = (x1 - x0 + y1 - y0) / 4
+    if r <= 0 or abs((x1 - x0) - (y1 - y0)) > DISC_REL * 2 * r or abs(lp.polys[i].area / (math.pi * r * r) - 1) > DISC_REL:
+        return None
+    return ((x0 + x1) / 2, (y0 + y1) / 2), r
 
 
 SLUG_DRILL_REL = 0.01
@@ -66,7 +85,7 @@ def slug_drill(lp: Loops, loop: int, hole: int) -> bool:
     """Whether ``loop``, directly inside ``hole``, is a drilling in the hole's slug: a
     round loop with nothing inside it, far smaller than the hole (nobody nests a bare
     disc of 1 % of a cut-out in it to grasp)."""
-    return (_round(lp.loops[loop]) and not lp.children(loop)
+    return (_disc(lp, loop) is not None and not lp.children(loop)
             and lp.polys[loop].area < SLUG_DRILL_REL * lp.polys[hole].area)
 
 
@@ -138,11 +157,31 @@ def _aspect(poly: Any) -> float:
 
 
 def notches(lp: Loops, parts: list[int], holes: dict[int, list[int]]) -> tuple[set[int], list[str]]:
-    """The ``parts`` that are notches or slivers of a neighbouring part (see module docs)."""
+    """The ``parts`` that are notches or slivers of a neighbouring part, or cut-outs drawn
+    across its outline (see module docs)."""
     chosen = set(parts)
     out = {i for i in parts if not holes[i] and any(
         j in chosen and lp.polys[i].area < NOTCH_AREA_REL * lp.polys[j].area for j in lp.neighbours.get(i, ()))}
+    out |= _across(lp, [i for i in parts if i not in out])
     if not out:
         return out, []
-    return out, [f"notches: {len(out)} loop(s) sharing an edge with a part over {1 / NOTCH_AREA_REL:.0f} times larger "
-                 "(a cut-out across its outline, a void or sliver beside it): not parts"]
+    return out, [f"notches: {len(out)} loop(s) sharing an edge with a part over {1 / NOTCH_AREA_REL:.0f} times larger, "
+                 "or drawn across its outline (a cut-out, a void or sliver beside it): not parts"]
+
+
+def _across(lp: Loops, parts: list[int]) -> set[int]:
+    """The ``parts`` lying mostly (over half their area) inside a part over
+    1/NOTCH_AREA_REL times larger, crossing its outline: a hole drawn breaking through the
+    edge (into a finger joint's notch), which the arrangement does not split."""
+    from shapely.strtree import STRtree
+
+    if len(parts) < 2:
+        return set()
+    tree = STRtree([lp.polys[i] for i in parts])
+    out = set()
+    for a, b in zip(*(v.tolist() for v in tree.query([lp.polys[i] for i in parts], predicate="intersects"))):
+        small, big = lp.polys[parts[a]], lp.polys[parts[b]]
+        if small.area < NOTCH_AREA_REL * big.area and not big.contains(small) \
+                and small.intersection(big).area > 0.5 * small.area:
+            out.add(parts[a])
+    return out

@@ -24,11 +24,10 @@ KNOWN_MISSES: dict[str, str] = {
     # drawings the importer still reads wrong (issue 32 stays open for them); strict: a fix
     # that makes one right fails here until it is taken off this list
     "batch-ae/cnlohr-mitx-laser-cut-case-case.svg": "8 parts, truth 7 (the red etch rectangle is listed as a part)",
-    "batch-fl/gtips-reviung-promicro-cover-marked-a.svg": "19 parts, truth 4 (every cut drawn as a filled band: two loops each)",
+    "batch-fl/gtips-reviung-promicro-cover-marked-a.svg": "17 parts, truth 4 (every cut drawn as a filled band: two loops each)",
     "batch-fl2/gerald-kong-ep1000-moodlamp-front.dxf": "19 holes, truth 29",
     "batch-fl2/i4-timecube-lasercut-firebeetle-3mm.svg": "11 parts, truth 8",
     "batch-fl2/irnas-goodenoughcnc-torch-mount-drawing.dxf": "16 parts, truth 1",
-    "batch-fl2/irnas-goodenoughcnc-trolley-mockup-box.dxf": "13 parts, truth 6",
     "batch-sz/t-oster-visicut-box-6x3x3.svg": "7 parts, truth 6",
     "batch-sz/vorondesign-voron-2-build-plate-300-drawing.dxf": "2 parts, truth 1",
 }

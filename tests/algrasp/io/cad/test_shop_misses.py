@@ -202,3 +202,37 @@ def test_holes_drilled_in_a_cut_outs_slug_are_not_parts() -> None:
     assert [a for _, a in rows] == pytest.approx([math.pi * 144, 10000 - 50 - math.pi * 1600, 19500 - 50 - 9900],
                                                  rel=1e-4)
     assert any(w.startswith("slugs: 4 small round loop(s)") for w in out["ignored"])
+
+
+def _spline_circle(m: object, cx: float, cy: float, r: float) -> None:
+    """A circle as a closed cubic B-spline through 17 points (not exactly round: no arc)."""
+    from ezdxf.math import global_bspline_interpolation
+
+    pts = [(cx + r * math.cos(2 * math.pi * k / 16), cy + r * math.sin(2 * math.pi * k / 16)) for k in range(17)]
+    m.add_spline().apply_construction_tool(global_bspline_interpolation(pts, degree=3))  # type: ignore[attr-defined]
+
+
+def test_a_mark_circle_inside_a_spline_hole_is_no_part() -> None:
+    """The trolley box's holes are closed SPLINEs with a 2 mm circle at each centre: the
+    counterbore rule took only holes drawn as arcs, so each small circle was a part nested
+    in its hole."""
+    d = ezdxf.new(units=4)
+    m = d.modelspace()
+    m.add_lwpolyline([(0, 0), (100, 0), (100, 40), (90, 50), (0, 50)], close=True)  # (chamfered: no frame)
+    _spline_circle(m, 30, 25, 5.5)
+    _spline_circle(m, 30, 25, 1.0)
+    (row,) = list_parts("marked.dxf", _bytes(d))["parts"]
+    assert row["holes"] == 1
+
+
+def test_a_hole_breaking_through_the_outline_is_no_part() -> None:
+    """The trolley box's 8 mm holes next to a finger joint cross the notch's side: not
+    inside the panel, the arrangement left them (it does not split crossing outlines) as
+    parts of their own. A part of its own beside the plate stays a part."""
+    d = ezdxf.new(units=4)
+    m = d.modelspace()
+    m.add_lwpolyline([(0, 0), (100, 0), (100, 50), (0, 50)], close=True)
+    m.add_circle((97, 25), 4)  # 1 mm of it beyond the edge
+    m.add_circle((120, 25), 4)  # a disc of its own
+    rows = list_parts("breakout.dxf", _bytes(d))["parts"]
+    assert sorted(round(r["area"]) for r in rows) == [round(16 * math.pi), 5000]
