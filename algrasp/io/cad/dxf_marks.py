@@ -62,7 +62,7 @@ def hatch_points(hatches: list[Any]) -> list[tuple[float, float]]:
     for h in hatches:
         try:
             rings = [np.asarray([(v.x, v.y) for v in p.flattening(0.01)]) for p in ezdxf.path.from_hatch(h)]
-            for g in _even_odd([r for r in rings if len(r) >= 3]):
+            for g in even_odd([r for r in rings if len(r) >= 3]):
                 pt = g.representative_point()
                 out.append((float(pt.x), float(pt.y)))
         except (ValueError, TypeError, AttributeError, IndexError, GEOSException):
@@ -70,7 +70,7 @@ def hatch_points(hatches: list[Any]) -> list[tuple[float, float]]:
     return out
 
 
-def _even_odd(rings: list[np.ndarray]) -> list[Any]:
+def even_odd(rings: list[np.ndarray]) -> list[Any]:
     """The polygons of the region that ``rings`` fill under the even-odd rule."""
     from shapely.geometry import Polygon
 

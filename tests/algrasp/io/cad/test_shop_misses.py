@@ -236,3 +236,18 @@ def test_a_hole_breaking_through_the_outline_is_no_part() -> None:
     m.add_circle((120, 25), 4)  # a disc of its own
     rows = list_parts("breakout.dxf", _bytes(d))["parts"]
     assert sorted(round(r["area"]) for r in rows) == [round(16 * math.pi), 5000]
+
+
+def test_a_filled_unstroked_svg_icon_inside_a_panel_is_engraving() -> None:
+    """Inkscape's time-cube panels: icons to engrave are black-filled paths with no stroke
+    (the cuts are hairline strokes). A gear icon with a round hole was a hole of the panel
+    and its hole a part of its own; a fill is the SVG's hatch."""
+    icon = ("M 20 20 L 40 20 L 40 40 L 20 40 Z "  # a filled square with a round hole, even-odd
+            "M 34 30 A 4 4 0 0 1 26 30 A 4 4 0 0 1 34 30 Z")
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="60mm" height="60mm" viewBox="0 0 60 60">'
+           '<path d="M 0 0 H 60 V 50 L 50 60 H 0 Z" fill="none" stroke="#ff0000" stroke-width="0.01"/>'
+           f'<path d="{icon}" fill="#000000" fill-rule="evenodd" stroke="none"/>'
+           '<circle cx="48" cy="48" r="3" fill="none" stroke="#ff0000" stroke-width="0.01"/></svg>')
+    out = list_parts("icon.svg", svg.encode())
+    (row,) = out["parts"]
+    assert row["holes"] == 1 and any("filled by a hatch" in w for w in out["ignored"])
