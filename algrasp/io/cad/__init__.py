@@ -191,8 +191,9 @@ def _sheet(filename: str, data: bytes, layer: str | None, element_id: str | None
     elif suffix == ".svg":
         from algrasp.io.cad.svg import svg_pieces
 
-        pieces, doc_units, k = svg_pieces(data, element_id), "mm", 1.0
-        marks = Marks()
+        fills: list[tuple[float, float]] = []
+        pieces, doc_units, k = svg_pieces(data, element_id, fills), "mm", 1.0
+        marks = Marks(hatched=fills)
         source = {"format": "svg", "id": element_id}
     else:  # a mesh or anything else: only drawings are sheets
         raise unsupported(filename, "FILE", ("drawing",))

@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from algrasp.geometry.tolerances import DEFAULT_TOLERANCES
 from algrasp.io.cad.chain import Piece, Segment, point_at, samples
 from algrasp.io.cad.faces import Arrangement, Edge, Union, faces
 from algrasp.io.cad.split import at, is_closed_curve, length, midpoint, project, sub, t_range
@@ -72,7 +73,7 @@ def arrange(pieces: Sequence[Piece], size: float, tolerance: float | None = None
     notes += dup_notes
     notes += _close_gaps(edges, ends, allowance, uf)
     edges = [Edge(e.segment, uf.find(e.u), uf.find(e.v), e.piece, e.t0, e.t1) for e in edges]
-    edges, degenerate = _without_degenerate(edges)
+    edges, degenerate = _without_degenerate(edges, size)
     out, open_chains = _faces_without_strays(edges, segs, origins, allowance)
     if degenerate:
         out.notes.append(f"{degenerate} degenerate loop(s) set aside (no area: a segment shorter than the join "
@@ -298,13 +299,17 @@ def _close_gaps(edges: list[Edge], ends: np.ndarray, allowance: np.ndarray, uf: 
             f"judged against the lengths of the chains meeting there)"]
 
 
-def _without_degenerate(edges: list[Edge]) -> tuple[list[Edge], int]:
-    """Self-loops that bound no area (a short segment whose ends joined) are dropped."""
+def _without_degenerate(edges: list[Edge], size: float) -> tuple[list[Edge], int]:
+    """Self-loops that bound no area (a short segment whose ends joined: a fillet arc of
+    1e-6° that Maker.js writes between two lines) are dropped; no area is under the
+    zero-area tolerance of the drawing's size², not exactly zero (a sliver of 1e-20 mm²
+    kept as a loop of its own turned the walk round at its vertex)."""
     from shapely.geometry import Polygon
 
     kept, dropped = [], 0
+    least = DEFAULT_TOLERANCES.zero_area_rel * size * size
     for e in edges:
-        if e.u == e.v and not (len(pts := samples(e.segment)) >= 4 and Polygon(pts).area > 0.0):
+        if e.u == e.v and not (len(pts := samples(e.segment)) >= 4 and Polygon(pts).area > least):
             dropped += 1
             continue
         kept.append(e)

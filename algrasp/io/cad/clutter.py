@@ -49,8 +49,14 @@ NEARLY_BOX = 0.975
 """Axis-aligned outlines filling this share of their box count as rectangles (frames)."""
 FILL_SHARE = 0.5
 """Parts filling over this share of a rectangle around them make it a sheet border."""
+TABLE_MIN_CELLS = 3
+"""A grid of at least this many cells with text in them is a table (hole table, title block)."""
 GLYPH_AREA_REL = 5e-3
 """A letter engraved in a part has less than this share of the part's area."""
+CAPITAL_HEIGHT = 1.5
+"""A loop with counters beside a line of letters, up to this many times their (median)
+height, is a letter too (a capital "O" or "D" before lower-case letters: cap height is
+about 1.4 x-heights)."""
 GLYPH_MIN = 4
 """At least this many small, different, non-circular loops make a line of text."""
 GLYPH_VARIETY = 0.3
@@ -85,6 +91,8 @@ class Loops:
     component: list[int]
     outer: dict[int, list[Segment]]
     order: list[int] = field(default_factory=list)
+    neighbours: dict[int, set[int]] = field(default_factory=dict)
+    """The loops sharing an edge with each loop (faces of one arrangement component)."""
 
     def layer(self, i: int) -> str | None:
         return self.loops[i][0].get("_layer")
@@ -154,6 +162,26 @@ def frames(lp: Loops, marks: Marks, size: float) -> tuple[set[int], list[str]]:
             if other_layers and lp.parent.get(j) == main and lp.layer(j) == lp.layer(main) and j not in out:
                 out.add(j)
                 said.append(f"title block: a loop on the frame's layer {lp.layer(j)!r}")
+    return out, said
+
+
+def tables(lp: Loops, marks: Marks, size: float) -> tuple[set[int], list[str]]:
+    """The cells of tables drawn anywhere on the sheet (a hole table, a revision block, a
+    title block inside its frame): a component of TABLE_MIN_CELLS or more faces holding no
+    loops of their own, around which its outer boundary is a rectangle, with text in at
+    least half of them. A part is never a grid of empty rectangles with writing in them."""
+    out: set[int] = set()
+    said: list[str] = []
+    by_comp: dict[int, list[int]] = {}
+    for i in lp.order:
+        by_comp.setdefault(lp.component[i], []).append(i)
+    for c, cells in by_comp.items():
+        if len(cells) < TABLE_MIN_CELLS or c not in lp.outer or any(lp.children(j) for j in cells):
+            continue
+        written = sum(bool(_texts_in(lp.polys[j], marks)) for j in cells)
+        if 2 * written >= len(cells) and _is_rectangle(lp.outer[c], size):
+            out |= set(cells)
+            said.append(f"table: {len(cells)} cells with text in {written} (a hole table or title block), not parts")
     return out, said
 
 
@@ -254,7 +282,15 @@ def _glyphs(lp: Loops, part: int, kids: list[int]) -> set[int]:
     letters (:func:`glyph_row`)."""
     area = lp.polys[part].area
     small = [j for j in kids if lp.polys[j].area < GLYPH_AREA_REL * area and not _round(lp.loops[j])]
-    return glyph_row(lp, small)
+    letters = glyph_row(lp, small)
+    if not letters:
+        return letters
+    # capitals with counters ("O", "D") beside the row, or beside such a capital: larger
+    # than the small letters
+    countered = [j for j in kids if lp.children(j) and not _round(lp.loops[j])]
+    while more := _beside(lp, letters, [j for j in countered if j not in letters], CAPITAL_HEIGHT):
+        letters |= more
+    return letters
 
 
 def glyph_row(lp: Loops, small: list[int]) -> set[int]:
@@ -269,14 +305,22 @@ def glyph_row(lp: Loops, small: list[int]) -> set[int]:
             if len(row) >= GLYPH_MIN and len(shapes) >= 3 and len(shapes) >= GLYPH_VARIETY * len(row) \
                     and _compact(lp, row):
                 out |= set(row)
-    if out:  # punctuation, dots and dashes among the letters are text too
-        from shapely.geometry import box
-        from shapely.ops import unary_union
+    return out | _beside(lp, out, small, 1.0) if out else out
 
-        pad = float(np.median([lp.polys[j].bounds[3] - lp.polys[j].bounds[1] for j in out])) / 2
-        area = unary_union([box(*lp.polys[j].bounds).buffer(pad) for j in out])
-        out |= {j for j in small if area.covers(box(*lp.polys[j].bounds))}
-    return out
+
+def _beside(lp: Loops, letters: set[int], small: list[int], tallest: float) -> set[int]:
+    """The loops of ``small`` at most ``tallest`` times the letters' height that reach
+    within half a letter height of them: punctuation, dots and dashes (an "=" before a
+    word), or capitals beside lower-case letters, are text too."""
+    from shapely.geometry import box
+    from shapely.ops import unary_union
+
+    def height(j: int) -> float:
+        return float(lp.polys[j].bounds[3] - lp.polys[j].bounds[1])
+
+    h = float(np.median([height(j) for j in letters]))
+    area = unary_union([box(*lp.polys[j].bounds).buffer(h / 2) for j in letters])
+    return {j for j in small if height(j) <= tallest * h and area.intersects(box(*lp.polys[j].bounds))}
 
 
 def _words(lp: Loops, band: list[int]) -> list[list[int]]:

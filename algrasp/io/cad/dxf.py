@@ -24,6 +24,7 @@ from algrasp.geometry.limits import DEFAULT_LIMITS
 from algrasp.geometry.tolerances import ROUNDING
 from algrasp.io.cad.chain import Piece, Segment, check_bounded
 from algrasp.io.cad.clutter import Marks
+from algrasp.io.cad.dxf_marks import hatch_points, measured_points, text_marks
 from algrasp.io.cad.nurbs import nurbs_to_beziers
 
 SKIPPED = {"TEXT", "MTEXT", "DIMENSION", "ARC_DIMENSION", "LEADER", "MLEADER", "MULTILEADER", "ATTRIB", "ATTDEF",
@@ -54,7 +55,7 @@ def read_dxf(data: bytes) -> Any:
 
     with captured_ezdxf_log() as messages:
         try:
-            doc = _read_binary(data) if data.startswith(BINARY_SENTINEL) else _read_text(data)
+            doc = _read_binary(data) if data.startswith(BINARY_SENTINEL) else _read_text(data, messages)
         except Exception:  # noqa: BLE001 - a damaged file: let the recover mode repair it
             try:
                 doc, _ = recover.read(io.BytesIO(data))
@@ -72,11 +73,14 @@ _ACADVER = re.compile(rb"\$ACADVER\s*\r?\n\s*1\s*\r?\n\s*(AC\d{4})")
 _CODEPAGE = re.compile(rb"\$DWGCODEPAGE\s*\r?\n\s*3\s*\r?\n\s*(\S+)")
 
 
-def _read_text(data: bytes) -> Any:
+def _read_text(data: bytes, messages: list[str]) -> Any:
     """The fast path for a sound ASCII DXF: UTF-8 from R2007 (AC1021) on, before that the
-    $DWGCODEPAGE encoding; CR, LF or CRLF line ends all read as one."""
+    $DWGCODEPAGE encoding; CR, LF or CRLF line ends all read as one; LWPOLYLINEs written
+    without subclass markers get them (`algrasp.io.cad.dxf_repair`, said in ``messages``)."""
     import ezdxf
     from ezdxf.tools.codepage import toencoding
+
+    from algrasp.io.cad.dxf_repair import lwpolyline_markers
 
     version = _ACADVER.search(data[:65536])
     codepage = _CODEPAGE.search(data[:65536])
@@ -85,7 +89,10 @@ def _read_text(data: bytes) -> Any:
     else:
         encoding = toencoding(codepage.group(1).decode("ascii", "replace")) if codepage else "cp1252"
     text = data.decode(encoding, errors="replace").replace("\r\n", "\n").replace("\r", "\n")
-    return ezdxf.read(io.StringIO(text))
+    repaired = lwpolyline_markers(text)
+    if repaired is not None:
+        messages.append("LWPOLYLINEs without subclass markers (OpenJsCad-style): markers added to read them")
+    return ezdxf.read(io.StringIO(repaired or text))
 
 
 def _read_binary(data: bytes) -> Any:
@@ -360,67 +367,6 @@ def _hidden_layers(doc: Any) -> set[str]:
             if entry.is_off() or entry.is_frozen():
                 out.add(entry.dxf.name.lower())
         except (AttributeError, ValueError):  # a damaged LAYER entry: shown
-            continue
-    return out
-
-
-def measured_points(entities: Any) -> list[tuple[float, float]]:
-    """The points the drawing's DIMENSIONs measure (their definition points 13, 14 and 15):
-    on the geometry of the part they describe."""
-    out: list[tuple[float, float]] = []
-    for e in entities:
-        if e.dxftype() != "DIMENSION":
-            continue
-        for name in ("defpoint2", "defpoint3", "defpoint4"):
-            if e.dxf.hasattr(name):
-                v = e.dxf.get(name)
-                if math.isfinite(float(v[0])) and math.isfinite(float(v[1])):
-                    out.append((float(v[0]), float(v[1])))
-        if len(out) >= MAX_TEXT_MARKS:
-            break
-    return out
-
-
-MAX_TEXT_MARKS = 2000
-"""Texts read for the frame and title-block rules (a drawing's first ones suffice)."""
-
-
-def text_marks(entities: Any, depth: int = 0) -> list[tuple[float, float, str]]:
-    """(x, y, content) of the drawing's TEXT, MTEXT and block attributes, blocks (title
-    blocks are often blocks) read one level deep."""
-    out: list[tuple[float, float, str]] = []
-    for e in entities:
-        if len(out) >= MAX_TEXT_MARKS:
-            break
-        t = e.dxftype()
-        try:
-            if t in ("TEXT", "MTEXT", "ATTRIB"):
-                p = e.dxf.insert
-                out.append((float(p[0]), float(p[1]), str(e.plain_text() if t == "MTEXT" else e.dxf.text)))
-            elif t == "INSERT" and depth == 0:
-                out += text_marks(e.attribs, 1) + text_marks(e.virtual_entities(), 1)
-        except (ValueError, TypeError, AttributeError, LookupError, ArithmeticError):
-            continue  # an unreadable text only ever weakens a clutter rule
-    return out[:MAX_TEXT_MARKS]
-
-
-def hatch_points(hatches: list[Any]) -> list[tuple[float, float]]:
-    """One point inside each hatched region (section views are hatched; parts to cut are
-    not). A hatch whose boundary cannot be read is skipped: it only ever sets a loop aside."""
-    import ezdxf.path
-    from shapely.errors import GEOSException
-    from shapely.geometry import Polygon
-
-    out = []
-    for h in hatches:
-        try:
-            rings = [np.asarray([(v.x, v.y) for v in p.flattening(0.01)]) for p in ezdxf.path.from_hatch(h)]
-            rings = sorted((r for r in rings if len(r) >= 3), key=lambda r: -abs(Polygon(r).area))
-            if rings:
-                region = Polygon(rings[0], [r for r in rings[1:]]).buffer(0)
-                pt = region.representative_point()
-                out.append((float(pt.x), float(pt.y)))
-        except (ValueError, TypeError, AttributeError, IndexError, GEOSException):
             continue
     return out
 

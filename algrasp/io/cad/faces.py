@@ -51,6 +51,8 @@ class Arrangement:
     notes: list[str] = field(default_factory=list)
     chords: set[int] = field(default_factory=set)
     """Edges (indices into the edges given) with a bounded face on both sides."""
+    neighbours: dict[int, set[int]] = field(default_factory=dict)
+    """The faces (indices into ``faces``) sharing an edge with each face."""
 
 
 class Union:
@@ -165,11 +167,13 @@ def _collect(walks: list[list[int]], face_of: list[int], edges: list[Edge], segs
     kerf = _kerf_faces(bounded, walks, face_of, area, edges, comp, index)
     out = Arrangement([], [], {})
     outer_area: dict[int, float] = {}
+    slot: dict[int, int] = {}
     for f in range(len(walks)):
         c = comp.find(index[edges[walks[f][0] // 2].u])
         if f in kerf:
             continue
         if area[f] > 0.0:
+            slot[f] = len(out.faces)
             out.faces.append(loops[f])
             out.component.append(c)
         elif c not in out.outer or area[f] < outer_area[c]:
@@ -178,6 +182,11 @@ def _collect(walks: list[list[int]], face_of: list[int], edges: list[Edge], segs
         out.notes.append(f"{len(kerf)} kerf loop(s) or overshoot(s) touching an outline at a point dropped")
     inner = {f for f in bounded if f not in kerf}
     out.chords = {k for k in range(len(edges)) if face_of[2 * k] in inner and face_of[2 * k + 1] in inner}
+    for k in out.chords:
+        a, b = face_of[2 * k], face_of[2 * k + 1]
+        if a != b:
+            out.neighbours.setdefault(slot[a], set()).add(slot[b])
+            out.neighbours.setdefault(slot[b], set()).add(slot[a])
     return out
 
 

@@ -6,6 +6,8 @@ Rules on the loops of a sheet (:class:`~algrasp.io.cad.clutter.Loops`), by geome
 - **Counterbores**: a round hole holding one concentric round loop with nothing inside it
   is a counterbore, spot face or thread drawn around the through hole: the hole is the
   inner circle (a slug is never drawn, so the inner disc is no part).
+- **Drilled slugs**: a small round loop inside a hole (fixturing holes drilled in the
+  cut-out's slug) is no part nested in it.
 - **Pockets**: a loop on a pocket layer (``pcb_pocket``) is machined part-way: no hole;
   the holes inside it are the part's.
 - **Letters with counters**: a small hole holding loops of its own is an engraved letter.
@@ -15,12 +17,18 @@ Rules on the loops of a sheet (:class:`~algrasp.io.cad.clutter.Loops`), by geome
 - **Not measured**: in a drawing with dimensions, a small loop outside the parts that no
   dimension measures and that copies no measured part (a logo, symbols, a title block's
   drawing) is not a part.
+- **Notches and slivers**: a loop without holes that shares an edge with a part over
+  1/NOTCH_AREA_REL times its area is no part: a cut-out drawn as a closed loop across the
+  outline (a notch), the void between two plates drawn edge to edge where one has a notch
+  on the common edge, a corner reference line closing a sliver against a fillet.
+  Neighbouring parts of a common-line nesting sheet are of comparable sizes.
 - **Hairlines**: a "part" over SLIVER_ASPECT times longer than wide is a line drawn as a
   closed outline (dimension and leader lines, a border stroke), not something to grasp.
 """
 
 from __future__ import annotations
 
+import math
 import re
 from typing import Any
 
@@ -31,20 +39,54 @@ CONCENTRIC_REL = 1e-3
 BARE_AREA_REL = 0.05
 """An unmeasured loop under this share of the largest measured part is no part (copies of
 a measured part, dimensioned once, stay parts)."""
+NOTCH_AREA_REL = 0.03
+"""A loop without holes sharing an edge with a part over 1/this times its area is a notch
+or sliver of that part, not a part of its own."""
 SLIVER_ASPECT = 200.0
 """A loop this many times longer than wide is a line drawn closed."""
 
 
 def counterbore(lp: Loops, hole: int) -> int | None:
     """The through hole drawn inside the round ``hole`` (see module docs), or None."""
-    if not _round(lp.loops[hole]):
-        return None
     kids = lp.children(hole)
-    if len(kids) != 1 or lp.children(kids[0]) or not _round(lp.loops[kids[0]]):
+    if len(kids) != 1 or lp.children(kids[0]):
         return None
-    (xa, ya), ra = _circle(lp.loops[hole])
-    (xb, yb), rb = _circle(lp.loops[kids[0]])
+    outer, inner = _disc(lp, hole), _disc(lp, kids[0])
+    if outer is None or inner is None:
+        return None
+    (xa, ya), ra = outer
+    (xb, yb), rb = inner
     return kids[0] if ((xa - xb) ** 2 + (ya - yb) ** 2) ** 0.5 <= CONCENTRIC_REL * max(ra, rb) else None
+
+
+DISC_REL = 0.01
+"""A loop whose box is square and whose area is that of the circle in it, both to this
+share, is a circle drawn as a spline or polygon (its centre the box's)."""
+
+
+def _disc(lp: Loops, i: int) -> tuple[tuple[float, float], float] | None:
+    """Loop i's centre and radius when it is a circle: arcs of one circle, or a closed
+    spline or tessellation as round as one (DISC_REL); else None."""
+    if _round(lp.loops[i]):
+        return _circle(lp.loops[i])
+    x0, y0, x1, y1 = lp.polys[i].bounds
+    r = (x1 - x0 + y1 - y0) / 4
+    if r <= 0 or abs((x1 - x0) - (y1 - y0)) > DISC_REL * 2 * r or abs(lp.polys[i].area / (math.pi * r * r) - 1) > DISC_REL:
+        return None
+    return ((x0 + x1) / 2, (y0 + y1) / 2), r
+
+
+SLUG_DRILL_REL = 0.01
+"""A round loop without holes, inside a hole and under this share of its area, is drilled
+into the hole's slug (fixturing, a pilot for the saw), not a part nested in the hole."""
+
+
+def slug_drill(lp: Loops, loop: int, hole: int) -> bool:
+    """Whether ``loop``, directly inside ``hole``, is a drilling in the hole's slug: a
+    round loop with nothing inside it, far smaller than the hole (nobody nests a bare
+    disc of 1 % of a cut-out in it to grasp)."""
+    return (_disc(lp, loop) is not None and not lp.children(loop)
+            and lp.polys[loop].area < SLUG_DRILL_REL * lp.polys[hole].area)
 
 
 POCKET_LAYER = re.compile(r"pocket|tasche|poche|bolsillo|tasca|ポケット|cavity|recess|blind", re.IGNORECASE)
@@ -112,3 +154,34 @@ def _aspect(poly: Any) -> float:
     x0, y0, x1, y1 = poly.bounds
     short = min(x1 - x0, y1 - y0)
     return float("inf") if short <= 0 else max(x1 - x0, y1 - y0) / short
+
+
+def notches(lp: Loops, parts: list[int], holes: dict[int, list[int]]) -> tuple[set[int], list[str]]:
+    """The ``parts`` that are notches or slivers of a neighbouring part, or cut-outs drawn
+    across its outline (see module docs)."""
+    chosen = set(parts)
+    out = {i for i in parts if not holes[i] and any(
+        j in chosen and lp.polys[i].area < NOTCH_AREA_REL * lp.polys[j].area for j in lp.neighbours.get(i, ()))}
+    out |= _across(lp, [i for i in parts if i not in out])
+    if not out:
+        return out, []
+    return out, [f"notches: {len(out)} loop(s) sharing an edge with a part over {1 / NOTCH_AREA_REL:.0f} times larger, "
+                 "or drawn across its outline (a cut-out, a void or sliver beside it): not parts"]
+
+
+def _across(lp: Loops, parts: list[int]) -> set[int]:
+    """The ``parts`` lying mostly (over half their area) inside a part over
+    1/NOTCH_AREA_REL times larger, crossing its outline: a hole drawn breaking through the
+    edge (into a finger joint's notch), which the arrangement does not split."""
+    from shapely.strtree import STRtree
+
+    if len(parts) < 2:
+        return set()
+    tree = STRtree([lp.polys[i] for i in parts])
+    out = set()
+    for a, b in zip(*(v.tolist() for v in tree.query([lp.polys[i] for i in parts], predicate="intersects"))):
+        small, big = lp.polys[parts[a]], lp.polys[parts[b]]
+        if small.area < NOTCH_AREA_REL * big.area and not big.contains(small) \
+                and small.intersection(big).area > 0.5 * small.area:
+            out.add(parts[a])
+    return out

@@ -21,9 +21,10 @@ import numpy as np
 from algrasp.errors import PartDocumentError
 from algrasp.geometry.tolerances import ROUNDING, TINY
 from algrasp.io.cad.arrange import arrange
+from algrasp.io.cad.centre_marks import drop_centre_marks
 from algrasp.io.cad.chain import Piece, Segment, _polygon, point_at, ring
-from algrasp.io.cad.clutter import NO_MARKS, Loops, Marks, engraving, frames, views
-from algrasp.io.cad.features import counterbore, letter, loose_marks, pocket
+from algrasp.io.cad.clutter import NO_MARKS, Loops, Marks, engraving, frames, tables, views
+from algrasp.io.cad.features import counterbore, letter, loose_marks, notches, pocket, slug_drill
 
 
 @dataclass
@@ -63,6 +64,8 @@ def find_parts(pieces: Sequence[Piece], size: float, tolerance: float | None = N
     ``tolerance`` (drawing units) overrides the join and gap tolerances. Raises
     PartDocumentError when no closed contour is left (naming the first open one)."""
     kept, warnings = drop_zero_length(pieces, size)
+    kept, said = drop_centre_marks(kept)
+    warnings += said
     arr = arrange(kept, size, tolerance)
     warnings += arr.notes
     ignored = list(arr.open_chains)
@@ -77,9 +80,11 @@ def find_parts(pieces: Sequence[Piece], size: float, tolerance: float | None = N
         raise PartDocumentError("drawing", "no closed contour with an area")
     parent = {i: _parent(i, order, polys) for i in order}
     warnings += _overlaps(order, parent, polys)
-    lp = Loops(loops, polys, parent, arr.component, arr.outer, order)
+    lp = Loops(loops, polys, parent, arr.component, arr.outer, order, arr.neighbours)
     framed, said = frames(lp, marks, size)
     ignored += said
+    tabled, said = tables(lp, marks, size)
+    framed, ignored = framed | tabled, ignored + said
     for i in order:
         if parent[i] in framed:
             parent[i] = None
@@ -89,47 +94,71 @@ def find_parts(pieces: Sequence[Piece], size: float, tolerance: float | None = N
 
 def _nest(lp: Loops, order: list[int], marks: Marks, ignored: list[str], warnings: list[str], framed: bool) -> Sheet:
     """Parts at even depth, their holes the loops directly inside; engraving (and all it
-    holds) is neither; other views of a part are set aside."""
+    holds) is neither; other views of a part, loose marks and notches are set aside."""
     lp.order = order
-    depth: dict[int, int] = {}
-    dropped: set[int] = set()
-    parts: list[int] = []
-    bores = 0
-    for i in order:  # by decreasing area: a loop's parent is placed before the loop
-        p = lp.parent[i]
-        if p in dropped:
-            dropped.add(i)
-            continue
-        depth[i] = 0 if p is None else depth[p] + 1
-        if depth[i] % 2 == 0:
-            parts.append(i)
-            marked, said = engraving(lp, i, marks)
-            dropped |= marked
-            ignored += said
-        elif (through := counterbore(lp, i)) is not None:  # the through hole takes its place
-            lp.parent[through], bores = p, bores + 1
-            dropped.add(i)
-        elif pocket(lp, i):
-            for kid in lp.children(i):
-                lp.parent[kid] = p
-            dropped.add(i)
-            ignored.append(f"pocket: a loop on layer {lp.layer(i)!r} (machined part-way): not a hole")
-        elif p is not None and letter(lp, i, p):
-            dropped.add(i)
-            ignored.append("engraving: a small loop with a loop inside (a letter and its counter) inside a part: "
-                           "not a hole")
-    if bores:
-        ignored.append(f"counterbores: {bores} round hole(s) drawn with a concentric circle around: "
-                       "the inner circle is the hole")
+    parts, dropped = _by_depth(lp, order, marks, ignored)
     holes = {i: [j for j in lp.children(i) if j not in dropped] for i in parts}
     others, said = views(lp, parts, {i: len(h) for i, h in holes.items()}, marks, framed)
     ignored += said
     parts = [i for i in parts if i not in others]
     loose, said = loose_marks(lp, parts, marks)
     ignored += said
-    parts = [i for i in parts if i not in loose]
+    notched, said = notches(lp, parts, holes)
+    ignored += said
+    parts = [i for i in parts if i not in loose | notched]
     return Sheet([(_strip(lp.loops[i]), [_strip(lp.loops[j]) for j in holes[i]]) for i in parts], ignored, warnings,
                  [lp.layer(i) for i in parts])
+
+
+def _by_depth(lp: Loops, order: list[int], marks: Marks, ignored: list[str]) -> tuple[list[int], set[int]]:
+    """The loops at even depth that are parts, and the loops dropped (with all they hold):
+    engraving, counterbores' outer circles, pockets, letters, drillings in slugs."""
+    depth: dict[int, int] = {}
+    dropped: set[int] = set()
+    parts: list[int] = []
+    count = {"bores": 0, "slugs": 0}
+    for i in order:  # by decreasing area: a loop's parent is placed before the loop
+        p = lp.parent[i]
+        if p in dropped:
+            dropped.add(i)
+            continue
+        depth[i] = 0 if p is None else depth[p] + 1
+        if p is not None and depth[i] % 2 == 1:
+            _hole(lp, i, p, dropped, ignored, count)
+        elif p is not None and slug_drill(lp, i, p):
+            dropped.add(i)
+            count["slugs"] += 1
+        else:
+            parts.append(i)
+            marked, said = engraving(lp, i, marks)
+            dropped |= marked
+            ignored += said
+    if count["slugs"]:
+        ignored.append(f"slugs: {count['slugs']} small round loop(s) inside holes (drilled in the cut-out's slug): "
+                       "not parts")
+    if count["bores"]:
+        ignored.append(f"counterbores: {count['bores']} round hole(s) drawn with a concentric circle around: "
+                       "the inner circle is the hole")
+    return parts, dropped
+
+
+def _hole(lp: Loops, i: int, p: int, dropped: set[int], ignored: list[str], count: dict[str, int]) -> None:
+    """Loop ``i`` at odd depth (in part ``p``): a hole, unless a counterbore's outer circle
+    (the through hole inside takes its place), a pocket (its holes are the part's) or a
+    letter with its counters."""
+    if (through := counterbore(lp, i)) is not None:
+        lp.parent[through] = p
+        count["bores"] += 1
+        dropped.add(i)
+    elif pocket(lp, i):
+        for kid in lp.children(i):
+            lp.parent[kid] = p
+        dropped.add(i)
+        ignored.append(f"pocket: a loop on layer {lp.layer(i)!r} (machined part-way): not a hole")
+    elif letter(lp, i, p):
+        dropped.add(i)
+        ignored.append("engraving: a small loop with a loop inside (a letter and its counter) inside a part: "
+                       "not a hole")
 
 
 KERF_AREA_REL = 0.01

@@ -11,9 +11,11 @@ from __future__ import annotations
 import io
 from typing import Any
 
+import numpy as np
+
 from algrasp.errors import PartDocumentError
 from algrasp.geometry.angles import to_deg
-from algrasp.io.cad.chain import Piece, Segment, check_bounded
+from algrasp.io.cad.chain import Piece, Segment, check_bounded, samples
 
 MM_PER_PX = 1.0 / (96.0 * 0.0393701)
 """svgelements turns mm into px with its rounded 0.0393701 in/mm at 96 px/in; inverting
@@ -78,8 +80,34 @@ def _layers(svg: Any) -> dict[int, str]:
     return out
 
 
-def svg_pieces(data: bytes, element_id: str | None) -> list[Piece]:
-    """Exact segments of the element ``element_id`` (default: every shape)."""
+def _painted(paint: Any) -> bool:
+    return paint is not None and getattr(paint, "value", None) is not None
+
+
+def fill_points(shape: Any, segments: list[Segment]) -> list[tuple[float, float]]:
+    """One point inside each region a shape fills without a stroke (black-filled icons
+    to engrave, as a hatch in a DXF): its subpaths filled even-odd. Empty for a stroked
+    or unfilled shape (a cut line)."""
+    from algrasp.io.cad.dxf_marks import even_odd
+
+    if not _painted(shape.fill) or (_painted(shape.stroke) and float(shape.stroke_width or 0.0) > 0.0):
+        return []
+    rings: list[list[Any]] = []
+    for seg in segments:
+        pts = samples(seg)
+        if not rings or float(np.linalg.norm(np.subtract(rings[-1][-1], pts[0]))) > 0.0:
+            rings.append([])
+        rings[-1] += list(pts)
+    out = []
+    for g in even_odd([np.asarray(r) for r in rings if len(r) >= 3]):
+        pt = g.representative_point()
+        out.append((float(pt.x), float(pt.y)))
+    return out
+
+
+def svg_pieces(data: bytes, element_id: str | None, fills: list[tuple[float, float]] | None = None) -> list[Piece]:
+    """Exact segments of the element ``element_id`` (default: every shape); ``fills``, if
+    given, receives a point inside each region filled without a stroke (`fill_points`)."""
     from svgelements import SVG, Path, Shape
 
     try:
@@ -107,6 +135,8 @@ def svg_pieces(data: bytes, element_id: str | None) -> list[Piece]:
         segments = [seg for seg in map(_segment, path.segments()) if seg is not None]
         check_bounded(segments, origin)
         pieces += [Piece(seg, origin, layers.get(id(shape))) for seg in segments]
+        if fills is not None:
+            fills += fill_points(shape, segments)
     if not pieces:
         raise PartDocumentError("id" if element_id else "svg", "no outline geometry (paths or shapes) found")
     return pieces

@@ -1,0 +1,83 @@
+"""What a DXF drawing says beside its geometry, for the clutter rules
+(`algrasp.io.cad.clutter`): the points its dimensions measure, its texts, and a point inside
+each hatched region."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+
+def measured_points(entities: Any) -> list[tuple[float, float]]:
+    """The points the drawing's DIMENSIONs measure (their definition points 13, 14 and 15):
+    on the geometry of the part they describe."""
+    out: list[tuple[float, float]] = []
+    for e in entities:
+        if e.dxftype() != "DIMENSION":
+            continue
+        for name in ("defpoint2", "defpoint3", "defpoint4"):
+            if e.dxf.hasattr(name):
+                v = e.dxf.get(name)
+                if math.isfinite(float(v[0])) and math.isfinite(float(v[1])):
+                    out.append((float(v[0]), float(v[1])))
+        if len(out) >= MAX_TEXT_MARKS:
+            break
+    return out
+
+
+MAX_TEXT_MARKS = 2000
+"""Texts read for the frame and title-block rules (a drawing's first ones suffice)."""
+
+
+def text_marks(entities: Any, depth: int = 0) -> list[tuple[float, float, str]]:
+    """(x, y, content) of the drawing's TEXT, MTEXT and block attributes, blocks (title
+    blocks are often blocks) read one level deep."""
+    out: list[tuple[float, float, str]] = []
+    for e in entities:
+        if len(out) >= MAX_TEXT_MARKS:
+            break
+        t = e.dxftype()
+        try:
+            if t in ("TEXT", "MTEXT", "ATTRIB"):
+                p = e.dxf.insert
+                out.append((float(p[0]), float(p[1]), str(e.plain_text() if t == "MTEXT" else e.dxf.text)))
+            elif t == "INSERT" and depth == 0:
+                out += text_marks(e.attribs, 1) + text_marks(e.virtual_entities(), 1)
+        except (ValueError, TypeError, AttributeError, LookupError, ArithmeticError):
+            continue  # an unreadable text only ever weakens a clutter rule
+    return out[:MAX_TEXT_MARKS]
+
+
+def hatch_points(hatches: list[Any]) -> list[tuple[float, float]]:
+    """One point inside each hatched region (section views are hatched; parts to cut are
+    not): a hatch's boundary paths filled even-odd, as DXF hatches are, so a hatch of
+    several islands (the letters of a logo) marks each of them. A hatch whose boundary
+    cannot be read is skipped: it only ever sets a loop aside."""
+    import ezdxf.path
+    from shapely.errors import GEOSException
+
+    out = []
+    for h in hatches:
+        try:
+            rings = [np.asarray([(v.x, v.y) for v in p.flattening(0.01)]) for p in ezdxf.path.from_hatch(h)]
+            for g in even_odd([r for r in rings if len(r) >= 3]):
+                pt = g.representative_point()
+                out.append((float(pt.x), float(pt.y)))
+        except (ValueError, TypeError, AttributeError, IndexError, GEOSException):
+            continue
+    return out
+
+
+def even_odd(rings: list[np.ndarray]) -> list[Any]:
+    """The polygons of the region that ``rings`` fill under the even-odd rule."""
+    from shapely.geometry import Polygon
+
+    region: Any = None
+    for r in rings:
+        poly = Polygon(r).buffer(0)
+        region = poly if region is None else region.symmetric_difference(poly)
+    if region is None or region.is_empty:
+        return []
+    return [g for g in getattr(region, "geoms", [region]) if g.geom_type == "Polygon" and not g.is_empty]
