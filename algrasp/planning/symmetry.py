@@ -65,7 +65,7 @@ def tolerant_symmetry(f: SupportPairFunction, value_tol: float) -> float:
 
 
 EXTREMA_TESTED = 16
-"""Extrema (those farthest from the median value first) at which every order is tried."""
+"""Extrema (half the lowest, half the highest) at which every order is tried."""
 
 
 def _extremum_orders(f: SupportPairFunction, value_tol: float) -> np.ndarray:
@@ -77,7 +77,9 @@ def _extremum_orders(f: SupportPairFunction, value_tol: float) -> np.ndarray:
         return ks
     theta = np.array([e.theta for e in f.extrema])
     value = np.array([e.value for e in f.extrema])
-    pick = np.argsort(-np.abs(value - np.median(value)), kind="stable")[:EXTREMA_TESTED]
+    # The lowest and highest extrema (np.median would import numpy.ma on first use).
+    order = np.argsort(value, kind="stable")
+    pick = order if len(order) <= EXTREMA_TESTED else np.concatenate([order[:EXTREMA_TESTED // 2], order[-(EXTREMA_TESTED // 2):]])
     shifted = f.values((theta[pick][None, :] + f.period / ks[:, None]).ravel()).reshape(len(ks), -1)
     return np.asarray(ks[np.all(np.abs(shifted - value[pick][None, :]) <= value_tol, axis=1)])
 
