@@ -25,6 +25,7 @@ from algrasp.errors import ConfigError  # noqa: E402
 from algrasp.geometry.angles import to_deg, to_rad  # noqa: E402
 from algrasp.geometry.curves import FloatArray  # noqa: E402
 from algrasp.geometry.segments import loop_polyline  # noqa: E402
+from algrasp.geometry.tolerances import ROUNDING  # noqa: E402
 from algrasp.planning.analysis import Analysis  # noqa: E402
 from algrasp.planning.plans import Plan  # noqa: E402
 
@@ -56,7 +57,7 @@ def wrapped_spans(a: float, b: float, period: float) -> list[tuple[float, float]
     out = []
     for k in range(int(np.floor(-b / period)), int(np.ceil((period - a) / period)) + 1):
         lo, hi = max(a + k * period, 0.0), min(b + k * period, period)
-        if hi - lo > 1e-12:
+        if hi - lo > ROUNDING:
             out.append((lo, hi))
     return out
 

@@ -253,7 +253,7 @@ class SetTransferDocument:
         """The document of a :class:`~algrasp.planning.setvalued.SetTransfer`."""
         cuts = sorted({p.start for p in S.lower.pieces} | {p.start for p in S.upper.pieces})
         # one symmetry period: the pieces may span the natural period (twice it, for the squeeze)
-        cuts = [c for c in cuts if c < cuts[0] + S.symmetry - 1e-12]
+        cuts = [c for c in cuts if c < cuts[0] + S.symmetry - ROUNDING]
         edges = [*cuts, cuts[0] + S.symmetry]
         images = []
         for a, b in zip(edges[:-1], edges[1:]):
