@@ -193,7 +193,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     failed = 0
     with tempfile.TemporaryDirectory() as tmp, sync_playwright() as p:
-        server = start_server(Path(tmp), **SERVER_ENV)
+        server = start_server(Path(tmp), 60.0, **SERVER_ENV)
         browser = p.chromium.launch(executable_path=exe, args=["--no-sandbox", "--disable-gpu"])
         try:
             for name in args.pages or list(PAGES):

@@ -15,7 +15,6 @@ import pytest
 
 from tests.service.test_workbench import browser, chromium, page, plan_in_page, server  # noqa: F401
 
-
 pytestmark = [
     pytest.mark.browser,
     pytest.mark.skipif(chromium() is None, reason="browser tests skipped: no Chromium found"),
@@ -84,23 +83,23 @@ def test_an_arc_a_hole_and_a_centre_of_mass_are_drawn_saved_and_analysed(page: A
 
 
 def test_the_apis_validation_errors_are_marked_on_the_drawing(refused_page: Any) -> None:
-    page = refused_page
-    click = canvas(page)
+    pg = refused_page
+    click = canvas(pg)
     for x, y in [(10, 10), (40, 10), (40, 30), (10, 30)]:
         click(x, y)
-    enter(page, "vertex 3 x (mm)", 40.0)
-    enter(page, "vertex 3 y (mm)", 10.0)  # vertex 3 on vertex 2: edge 1 has no length
-    page.click("#editor-use")
-    mark = page.wait_for_selector("#editor-canvas [data-error-field^='polygon[1]']", state="attached")
+    enter(pg, "vertex 3 x (mm)", 40.0)
+    enter(pg, "vertex 3 y (mm)", 10.0)  # vertex 3 on vertex 2: edge 1 has no length
+    pg.click("#editor-use")
+    mark = pg.wait_for_selector("#editor-canvas [data-error-field^='polygon[1]']", state="attached")
     assert mark.get_attribute("class") == "editor-error"
-    assert "polygon[1]" in page.inner_text("#editor-error") and "zero-length" in page.inner_text("#editor-error")
-    enter(page, "vertex 3 y (mm)", 30.0)  # fixed: the mark goes
-    assert page.locator("#editor-canvas [data-error-field]").count() == 0
-    page.check("#editor-com-mode")
+    assert "polygon[1]" in pg.inner_text("#editor-error") and "zero-length" in pg.inner_text("#editor-error")
+    enter(pg, "vertex 3 y (mm)", 30.0)  # fixed: the mark goes
+    assert pg.locator("#editor-canvas [data-error-field]").count() == 0
+    pg.check("#editor-com-mode")
     click(58, 58)  # outside the part's hull
-    page.click("#editor-use")
-    page.wait_for_selector("#editor-canvas circle.editor-com[data-error-field=center_of_mass]", state="attached")
-    assert "center_of_mass" in page.inner_text("#editor-error")
+    pg.click("#editor-use")
+    pg.wait_for_selector("#editor-canvas circle.editor-com[data-error-field=center_of_mass]", state="attached")
+    assert "center_of_mass" in pg.inner_text("#editor-error")
 
 
 def test_the_gallery_holds_the_papers_parts_and_real_drawings(page: Any, server: Any) -> None:  # noqa: F811

@@ -30,7 +30,9 @@ def play_from(pg: Any, start: int) -> list[dict[str, Any]]:
         window.__wedges = [];
         new MutationObserver(() => {
             const w = document.querySelector('#anim-view path.wedge');
-            if (w) window.__wedges.push({step: +w.dataset.step, lo: +w.dataset.lo, hi: +w.dataset.hi, done: w.dataset.done === 'true'});
+            if (!w) return;
+            const d = w.dataset;
+            window.__wedges.push({step: +d.step, lo: +d.lo, hi: +d.hi, done: d.done === 'true'});
         }).observe(document.getElementById('anim-view'), {childList: true});
     }""")
     pg.fill("#start-deg", str(start))

@@ -23,7 +23,7 @@ pytestmark = [
 @pytest.fixture(scope="module")
 def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Any]:
     """A service as ``python -m service.screenshots`` renders on (the default cell)."""
-    s = start_server(tmp_path_factory.mktemp("screenshots"), **SERVER_ENV)
+    s = start_server(tmp_path_factory.mktemp("screenshots"), 60.0, **SERVER_ENV)
     yield s
     s.kill()
 
