@@ -92,8 +92,8 @@ export function showPlan(state) {
   const summary = document.getElementById("plan-summary");
   summary.textContent = `${p.steps.length}-step ${p.action.replace("_", "-")} plan (${p.model} model, ` +
     `${p.verified ? "verified" : "NOT verified"}): final orientation${p.final_orientations_deg.length > 1 ? "s" : ""} ` +
-    `${finals} ± ${fmt(p.final_uncertainty_deg, 4)}°` + (p.cycle_time_s ? `; cycle time ${fmt(p.cycle_time_s)} s` : "") +
-    (p.run_id ? `; run ${p.run_id}` : "");
+    `${finals} ± ${fmt(p.final_uncertainty_deg, 4)}°` + (p.cycle_time_s ? `; cycle time ${fmt(p.cycle_time_s)} s` : "");
+  if (p.run_id) summary.append("; run ", Object.assign(document.createElement("span"), { className: "run-id", textContent: p.run_id }));
   summary.dataset.steps = p.steps.length;
   document.getElementById("plan-physics").textContent = p.dead_band ? `physics: ${describePhysics(p.dead_band)}` : "";
   showLimits(p.limits);
