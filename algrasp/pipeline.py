@@ -143,6 +143,8 @@ def plan_part(doc: dict[str, Any], req: PlanRequest, rec: Any, sim_workers: int 
     if req.samples:
         out.validation = _validate(out, req, sim_workers, record_sim)
         _record_validation(rec, out)
+    else:
+        _record_plan_scene(rec, out)
     return out
 
 
@@ -179,6 +181,18 @@ def _validate(out: PlanOutcome, req: PlanRequest, sim_workers: int, record_sim: 
                               workers=sim_workers, record=record_sim, **sim)
     return validate_cells(out.analysis, out.plan, cells, req.samples, req.seed, req.sim_placement, req.tolerance_deg,
                           workers=sim_workers, record=record_sim, **sim)
+
+
+def _record_plan_scene(rec: Any, out: PlanOutcome) -> None:
+    """A plan-only record's Foxglove scene: the part at each action's outcome between the jaws."""
+    if not getattr(rec, "record_path", None):
+        return  # recording off: nothing to compute
+    from algrasp.io.record.scene import plan_frames
+    from algrasp.sim.config import DEFAULT_SIM
+    from algrasp.sim.geometry import jaw_size_m, part_geometry
+
+    geom = part_geometry(out.analysis.part, DEFAULT_SIM)
+    rec.plan_scene(plan_frames(out.plan, geom.outline_m), geom.outline_m, jaw_size_m(geom))
 
 
 def _record_validation(rec: Any, out: PlanOutcome) -> None:

@@ -128,6 +128,7 @@ class PlaybackOut(_Open):
 
 class ExampleOut(_Open):
     name: str
+    kind: Literal["paper", "real"] = "paper"
     part: dict[str, Any]
 
 

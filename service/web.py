@@ -48,15 +48,18 @@ async def foxglove_layout() -> dict[str, Any]:
 
 
 @cache
-def _examples() -> dict[str, dict[str, Any]]:
-    """The bundled example parts by name (``algrasp/examples``)."""
-    return {p.stem: json.loads(p.read_text()) for p in sorted(EXAMPLES.glob("*.json"))}
+def _examples() -> dict[str, tuple[str, dict[str, Any]]]:
+    """The bundled example parts by name: the paper's (``algrasp/examples``) and real
+    drawings' (``algrasp/examples/real``, origin and licence in each ``source``)."""
+    paper = {p.stem: ("paper", json.loads(p.read_text())) for p in sorted(EXAMPLES.glob("*.json"))}
+    return {**paper, **{p.stem: ("real", json.loads(p.read_text())) for p in sorted((EXAMPLES / "real").glob("*.json"))}}
 
 
 @router.get("/v1/examples", tags=["service"], dependencies=AUTH, response_model=None, responses=ok(ExamplesOut))
 async def examples() -> dict[str, Any]:
-    """The bundled example part documents, by name."""
-    return {"examples": [{"name": k, "part": v} for k, v in _examples().items()]}
+    """The bundled example part documents, by name; ``kind``: ``paper`` (the paper's
+    parts) or ``real`` (parts of real drawings, their origin and licence in ``source``)."""
+    return {"examples": [{"name": k, "kind": kind, "part": v} for k, (kind, v) in _examples().items()]}
 
 
 def mount(app: FastAPI) -> None:

@@ -150,6 +150,8 @@ class PlanStep(Open):
     push_distance_bound: float | None = Field(None, description="push-grasp with optimise: the closed-form bound")
     duration_s: float | None = Field(None, description="with optimise: the action's duration")
     trajectory: dict[str, Any] | None = Field(None, description="with optimise: the jaws' planned motion")
+    image_deg: list[Interval] | None = Field(None, description="world arcs [lo, hi] the part can be in after this "
+                                             "action, from any start (the plan's own images)")
 
 
 class PlanDocument(Open):
@@ -166,6 +168,8 @@ class PlanDocument(Open):
     verified: bool
     dead_band: dict[str, Any] | None = None
     limits: dict[str, Any] | None = Field(None, description="how far each physics range may go (§8)")
+    images: dict[str, Any] | None = Field(None, description="the action's map: period_deg and pieces [start, end, "
+                                          "lower, upper] (gripper frame, deg; null: θ itself), robust bounds when robust")
     timings_s: dict[str, float] = Field(default_factory=dict)
     cycle_time_s: float | None = Field(None, description="with optimise")
 

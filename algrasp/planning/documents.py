@@ -30,11 +30,14 @@ from algrasp.geometry.tolerances import ROUNDING
 @dataclass(frozen=True)
 class StepDocument:
     """One action: the gripper angle (radians, [0, 2π)), its margin (radians; None for
-    the first action) and the execution fields as written (``push_distance``, …)."""
+    the first action), the execution fields as written (``push_distance``, …) and
+    ``image``: the world arcs the part can be in after it from any start
+    (:func:`~algrasp.planning.motion.motion`; None when not written)."""
 
     gripper_angle: float
     margin: float | None
     execution: Mapping[str, Any] = field(default_factory=dict)
+    image: tuple[tuple[float, float], ...] | None = None
 
 
 @dataclass(frozen=True)
@@ -54,19 +57,31 @@ class PlanDocument:
     timings_s: Mapping[str, float] = field(default_factory=dict)
     execution: Mapping[str, Any] = field(default_factory=dict)
     limits: Mapping[str, Any] | None = None
+    images: Mapping[str, Any] | None = None
+    """The action's own images (degrees, as written): ``period_deg`` and ``pieces``
+    ``[start, end, lower, upper]`` (None: θ itself), so a page follows a start through the
+    plan without a planner of its own."""
 
     @staticmethod
     def from_plan(plan: Any) -> PlanDocument:
         """The document of a :class:`~algrasp.planning.plans.Plan` (angles wrapped as
         conventions §6 writes them)."""
+        from algrasp.planning.motion import motion
+
         P = plan.transfer.period
+        m = motion(plan)
         intervals = tuple((wrap(a, P, ROUNDING), wrap(a, P, ROUNDING) + b - a) for a, b in plan.intervals)
-        steps = tuple(StepDocument(wrap(s.gripper_angle, TWO_PI, ROUNDING), None if s.margin is None else float(s.margin))
-                      for s in plan.steps)
+        steps = tuple(StepDocument(wrap(s.gripper_angle, TWO_PI, ROUNDING), None if s.margin is None else float(s.margin),
+                                   image=arcs) for s, arcs in zip(plan.steps, m.after))
+
+        def opt(x: float | None) -> float | None:
+            return None if x is None else to_deg(x)
+
+        images = {"period_deg": to_deg(m.period), "pieces": [[to_deg(a), to_deg(b), opt(lo), opt(hi)] for a, b, lo, hi in m.images]}
         return PlanDocument(plan.action, float(plan.symmetry_period), intervals, steps,
                             tuple(float(f) for f in plan.final_orientations), float(plan.final_uncertainty),
                             "exact" if plan.bounds is None else "robust", bool(plan.verified), plan.robust,
-                            dict(plan.timings_s), limits=plan.limits)
+                            dict(plan.timings_s), limits=plan.limits, images=images)
 
     def to_json(self) -> dict[str, Any]:
         """The JSON document (degrees), key order as conventions §6."""
@@ -75,12 +90,15 @@ class PlanDocument:
             "symmetry_period_deg": to_deg(self.symmetry_period),
             "intervals_deg": [[to_deg(a), to_deg(b)] for a, b in self.intervals],
             "steps": [{"gripper_angle_deg": to_deg(s.gripper_angle),
-                       "margin_deg": None if s.margin is None else to_deg(s.margin), **s.execution} for s in self.steps],
+                       "margin_deg": None if s.margin is None else to_deg(s.margin), **s.execution,
+                       **({} if s.image is None else {"image_deg": [[to_deg(a), to_deg(b)] for a, b in s.image]})}
+                      for s in self.steps],
             "final_orientations_deg": [to_deg(f) for f in self.final_orientations],
             "final_uncertainty_deg": to_deg(self.final_uncertainty),
             "model": self.model,
             **({} if self.dead_band is None else {"dead_band": dict(self.dead_band)}),
             **({} if self.limits is None else {"limits": dict(self.limits)}),
+            **({} if self.images is None else {"images": dict(self.images)}),
             "verified": self.verified,
             "timings_s": dict(self.timings_s),
         }
@@ -94,7 +112,7 @@ class PlanDocument:
         steps_raw = _get(doc, "steps", list, field_name)
         steps = tuple(_step(s, f"{field_name}.steps[{i}]") for i, s in enumerate(steps_raw))
         known = {"action", "symmetry_period_deg", "intervals_deg", "steps", "final_orientations_deg",
-                 "final_uncertainty_deg", "model", "dead_band", "limits", "verified", "timings_s"}
+                 "final_uncertainty_deg", "model", "dead_band", "limits", "images", "verified", "timings_s"}
         return PlanDocument(
             action=_get(doc, "action", str, field_name),
             symmetry_period=to_rad(_number(doc.get("symmetry_period_deg"), f"{field_name}.symmetry_period_deg")),
@@ -111,6 +129,7 @@ class PlanDocument:
             timings_s=dict(doc.get("timings_s") or {}),
             execution={k: v for k, v in doc.items() if k not in known},
             limits=doc["limits"] if isinstance(doc.get("limits"), Mapping) else None,
+            images=doc["images"] if isinstance(doc.get("images"), Mapping) else None,
         )
 
 
@@ -118,9 +137,12 @@ def _step(raw: Any, where: str) -> StepDocument:
     if not isinstance(raw, Mapping):
         raise PartDocumentError(where, "a step must be an object")
     margin = raw.get("margin_deg")
+    image = raw.get("image_deg")
+    arcs = None if image is None else tuple((to_rad(_number(a, f"{where}.image_deg")), to_rad(_number(b, f"{where}.image_deg")))
+                                            for a, b in _pairs(image, f"{where}.image_deg"))
     return StepDocument(to_rad(_number(raw.get("gripper_angle_deg"), f"{where}.gripper_angle_deg")),
                         None if margin is None else to_rad(_number(margin, f"{where}.margin_deg")),
-                        {k: v for k, v in raw.items() if k not in ("gripper_angle_deg", "margin_deg")})
+                        {k: v for k, v in raw.items() if k not in ("gripper_angle_deg", "margin_deg", "image_deg")}, arcs)
 
 
 def _get(doc: Mapping[str, Any], key: str, kind: type, where: str) -> Any:

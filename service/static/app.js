@@ -134,13 +134,17 @@ function wire() {
   });
   $("file").addEventListener("change", importChosen);
   $("units").addEventListener("change", () => $("file").files[0] && importChosen());
-  setupEditor(action("analysing the drawn part", async (doc) => {
-    $("example").value = "";
-    $("file").value = "";
-    $("thumbs").replaceChildren();
-    $("warnings").replaceChildren();
-    await usePart(doc);
-  }), (doc) => saveJson(doc, `${doc.name.replace(/[^\w.-]+/g, "-")}.json`));
+  setupEditor({
+    use: async (doc) => {
+      $("example").value = "";
+      $("file").value = "";
+      $("thumbs").replaceChildren();
+      $("warnings").replaceChildren();
+      await usePart(doc);
+    },
+    save: (doc) => saveJson(doc, `${doc.name.replace(/[^\w.-]+/g, "-")}.json`),
+    run: action,
+  });
   $("exact").addEventListener("change", action("analysing", async () => { if (state.part) await analyse(state); }));
   $("theta").addEventListener("input", () => state.analysis && setTheta(state, Number($("theta").value)));
   $("plan-form").addEventListener("submit", action("planning", async () => {

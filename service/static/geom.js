@@ -1,7 +1,7 @@
-// Geometry and kinematics of the workbench, computed in the page from the API's documents
-// (conventions §2–§4): part outlines for thumbnails, the transfer functions of an analysis
-// document, and the predicted motion of a plan from any start orientation. Degrees here,
-// as in every document the API sends.
+// Geometry of the workbench, computed in the page from the API's documents (conventions
+// §2–§3): part outlines for thumbnails, rotations and supports. A plan's motion is not
+// predicted here: motion.js reads it off the plan's own images. Degrees here, as in every
+// document the API sends.
 
 const RAD = Math.PI / 180;
 
@@ -75,39 +75,4 @@ export function support(points, alphaDeg) {
     hi = Math.max(hi, p);
   }
   return [lo, hi];
-}
-
-// F(θ) of a transfer document {period_deg, steps: [{start_deg, end_deg, fixed_point_deg}],
-// ramps}: lifted, so the part turns from θ to F(θ) without wrapping. Steps are [start, end).
-export function transfer(tf, theta) {
-  const P = tf.period_deg;
-  const t = mod(theta, P);
-  for (const s of tf.steps) {
-    for (const k of [0, P, -P]) {
-      const x = t + k;
-      // the document wraps the fixed point into [0, P); lift it into its step
-      const fp = s.start_deg + mod(s.fixed_point_deg - s.start_deg, P);
-      if (x >= s.start_deg && x < s.end_deg) return theta + (fp - x);
-    }
-  }
-  return theta; // a ramp: every θ maps to itself
-}
-
-// The predicted motion of a plan from world orientation φ₀ (conventions §4): per action
-// {alpha, before, pushed, after} in world degrees, lifted (continuous).
-export function predict(analysis, plan, phi0) {
-  let phi = phi0;
-  return plan.steps.map((step) => {
-    const alpha = step.gripper_angle_deg;
-    const before = phi;
-    const pushed = plan.action === "push_grasp" ? transfer(analysis.push, phi - alpha) + alpha : phi;
-    phi = transfer(analysis.squeeze, pushed - alpha) + alpha;
-    return { alpha, before, pushed, after: phi };
-  });
-}
-
-// Whether world orientation φ is a claimed final orientation (within the uncertainty).
-export function isClaimed(plan, phi, slackDeg = 1e-6) {
-  const tol = (plan.final_uncertainty_deg || 0) + slackDeg;
-  return plan.final_orientations_deg.some((f) => Math.abs(mod(phi - f + 180, 360) - 180) <= tol);
 }

@@ -15,6 +15,7 @@ export async function loadExamples(state) {
   const select = document.getElementById("example");
   select.replaceChildren(new Option("— choose —", ""), ...examples.map((ex) => new Option(ex.name, ex.name)));
   state.examples = Object.fromEntries(examples.map((e) => [e.name, e.part]));
+  showGallery(examples);
 }
 
 const MAX_THUMBNAILS = 24;
@@ -64,36 +65,55 @@ export function showWarnings(sheet) {
 }
 
 // Several parts on a sheet: thumbnails to choose from (drawn from the documents themselves).
+// A button showing a part document's outline and its name (the #K index never cut short).
+function thumbnail(doc, full, onPick, host) {
+  const { outline, holes } = documentPolylines(doc);
+  const b = bounds(outline);
+  const w = Math.max(b.x1 - b.x0, b.y1 - b.y0) * 1.1 || 1;
+  const svg = el("svg", { viewBox: `${b.x0 - w * 0.05} ${-b.y1 - w * 0.05} ${w} ${w}`, "aria-hidden": "true" });
+  const flip = (pts) => pts.map(([x, y]) => [x, -y]);
+  svg.append(path(flip(outline), { class: "part" }, true), ...holes.map((h) => path(flip(h), { class: "hole" }, true)));
+  const button = document.createElement("button");
+  button.type = "button";
+  button.className = "thumb";
+  button.setAttribute("aria-pressed", "false");
+  const m = /^(.*?)(#\d+)$/.exec(full);
+  const label = Object.assign(document.createElement("span"), { className: "thumb-label", title: full });
+  label.append(Object.assign(document.createElement("span"), { className: "thumb-name", textContent: m ? m[1] : full }));
+  if (m) label.append(Object.assign(document.createElement("span"), { className: "thumb-index", textContent: m[2] }));
+  button.title = full;
+  button.append(svg, label);
+  button.addEventListener("click", () => {
+    host.querySelectorAll(".thumb").forEach((t) => t.setAttribute("aria-pressed", "false"));
+    button.setAttribute("aria-pressed", "true");
+    onPick(doc);
+  });
+  return button;
+}
+
 export function showThumbnails(parts, onPick) {
   const host = document.getElementById("thumbs");
   host.replaceChildren();
   if (parts.length < 2) return;
-  parts.forEach((doc, i) => {
-    const { outline, holes } = documentPolylines(doc);
-    const b = bounds(outline);
-    const w = Math.max(b.x1 - b.x0, b.y1 - b.y0) * 1.1 || 1;
-    const svg = el("svg", { viewBox: `${b.x0 - w * 0.05} ${-b.y1 - w * 0.05} ${w} ${w}`, "aria-hidden": "true" });
-    const flip = (pts) => pts.map(([x, y]) => [x, -y]);
-    svg.append(path(flip(outline), { class: "part" }, true), ...holes.map((h) => path(flip(h), { class: "hole" }, true)));
-    const button = document.createElement("button");
-    button.type = "button";
-    button.className = "thumb";
-    button.setAttribute("aria-pressed", "false");
-    // the label: the name may be cut short, its #K index never is
-    const full = doc.name || `part ${i + 1}`;
-    const m = /^(.*?)(#\d+)$/.exec(full);
-    const label = Object.assign(document.createElement("span"), { className: "thumb-label", title: full });
-    label.append(Object.assign(document.createElement("span"), { className: "thumb-name", textContent: m ? m[1] : full }));
-    if (m) label.append(Object.assign(document.createElement("span"), { className: "thumb-index", textContent: m[2] }));
-    button.title = full;
-    button.append(svg, label);
-    button.addEventListener("click", () => {
-      host.querySelectorAll(".thumb").forEach((t) => t.setAttribute("aria-pressed", "false"));
-      button.setAttribute("aria-pressed", "true");
-      onPick(doc);
-    });
-    host.append(button);
-  });
+  parts.forEach((doc, i) => host.append(thumbnail(doc, doc.name || `part ${i + 1}`, onPick, host)));
+}
+
+// The gallery: every bundled example (the paper's parts and real drawings'); a click
+// chooses it as the example list would.
+function showGallery(examples) {
+  const host = document.getElementById("gallery");
+  const select = document.getElementById("example");
+  host.replaceChildren(...examples.map((ex) => {
+    const button = thumbnail(ex.part, ex.name, () => {
+      select.value = ex.name;
+      select.dispatchEvent(new Event("change"));
+    }, host);
+    button.dataset.example = ex.name;
+    const licence = ex.part.source && ex.part.source.licence;
+    button.title = `${ex.name}: ${ex.kind === "real" ? `a real drawing's part (${licence || "see its source"})` : "a part of the paper"}`;
+    button.append(Object.assign(document.createElement("span"), { className: "thumb-kind", textContent: ex.kind === "real" ? "real drawing" : "paper" }));
+    return button;
+  }));
 }
 
 // The analysis of the current part; while it is computed the old plots are marked stale,

@@ -1,9 +1,11 @@
 // Plan page: POST /v1/plans with the chosen options, the actions, final orientations and
-// their uncertainty, the intervals Θᵢ on the transfer function, and a kinematic animation
-// of the plan from a start orientation the user drags (computed here from the documents).
+// their uncertainty, the limits, the intervals Θᵢ on the transfer function, and a
+// kinematic animation of the plan from a start orientation the user drags, driven by the
+// plan's own images (motion.js) with the uncertainty wedge of each action.
 
 import { api, begin } from "./api.js";
-import { isClaimed, mod, predict } from "./geom.js";
+import { mod } from "./geom.js";
+import { follow, hasImages, middle, withinClaim } from "./motion.js";
 import { drawScene, frameOf, sceneExtent, turningView, unionBox } from "./scene.js";
 import { describePhysics, limitsWanted, physicsRequest } from "./physics.js";
 import { linePlot } from "./svg.js";
@@ -64,6 +66,7 @@ function clearEnd() {
   const out = document.getElementById("anim-final");
   out.textContent = "";
   delete out.dataset.finalDeg;
+  delete out.dataset.finalRange;
   delete out.dataset.claimed;
 }
 
@@ -89,11 +92,11 @@ export function showPlan(state) {
   const summary = document.getElementById("plan-summary");
   summary.textContent = `${p.steps.length}-step ${p.action.replace("_", "-")} plan (${p.model} model, ` +
     `${p.verified ? "verified" : "NOT verified"}): final orientation${p.final_orientations_deg.length > 1 ? "s" : ""} ` +
-    `${finals} ± ${fmt(p.final_uncertainty_deg, 4)}°` + (p.cycle_time_s ? `; cycle time ${fmt(p.cycle_time_s)} s` : "") +
-    (p.run_id ? `; run ${p.run_id}` : "");
+    `${finals} ± ${fmt(p.final_uncertainty_deg, 4)}°` + (p.cycle_time_s ? `; cycle time ${fmt(p.cycle_time_s)} s` : "");
+  if (p.run_id) summary.append("; run ", Object.assign(document.createElement("span"), { className: "run-id", textContent: p.run_id }));
   summary.dataset.steps = p.steps.length;
   document.getElementById("plan-physics").textContent = p.dead_band ? `physics: ${describePhysics(p.dead_band)}` : "";
-  document.getElementById("plan-limits").textContent = p.limits ? `limits: ${p.limits.advice}` : "";
+  showLimits(p.limits);
   const tbody = document.querySelector("#plan-steps tbody");
   tbody.replaceChildren(...p.steps.map((s, i) => {
     const tr = document.createElement("tr");
@@ -105,6 +108,35 @@ export function showPlan(state) {
   }));
   drawIntervals(state);
   showStart(state);
+}
+
+const LIMIT_NAMES = {
+  jaw_friction_max: "largest jaw friction μ", support_friction_min: "smallest support friction μ",
+  support_friction_max: "largest support friction μ", mass_min: "smallest part mass (kg)",
+  mass_max: "largest part mass (kg)", profile_tolerance_max: "largest profile tolerance",
+};
+
+// The limits the plan carries (conventions §8): one row per range searched, and the advice.
+function showLimits(limits) {
+  const host = document.getElementById("plan-limits");
+  host.replaceChildren();
+  if (!limits) return;
+  const rows = Object.entries(limits).filter(([, v]) => v && typeof v === "object" && "value" in v);
+  if (rows.length) {
+    const table = document.createElement("table");
+    table.id = "plan-limits-table";
+    table.append(Object.assign(document.createElement("caption"), { textContent: "Limits: how far each range may go with a plan still existing" }));
+    for (const [name, v] of rows) {
+      const tr = document.createElement("tr");
+      tr.dataset.limit = name;
+      const value = v.value === null ? "none found" : `${fmt(v.value, 3)}${v.bounded ? "" : " (the search's end: no limit below it)"}`;
+      tr.append(Object.assign(document.createElement("th"), { scope: "row", textContent: LIMIT_NAMES[name] || name }),
+        Object.assign(document.createElement("td"), { textContent: value }));
+      table.append(tr);
+    }
+    host.append(table);
+  }
+  if (limits.advice) host.append(Object.assign(document.createElement("p"), { textContent: `limits: ${limits.advice}` }));
 }
 
 // The Θᵢ of Algorithm A′ as labelled bars, one row each under the transfer function the
@@ -156,24 +188,30 @@ export function enableDrag(state) {
   input.addEventListener("input", () => state.plan && showStart(state));
 }
 
-// Frames of one action: turn the gripper, (push), close, open; φ eases between states.
+// Frames of one action: turn the gripper, (push,) close, open. The part's orientation and
+// its wedge ease from the interval before the action to the one after (the plan's images).
 function frames(state, phases) {
   const R = sceneExtent(state.analysis.geometry), open = 1.15 * R, out = [];
   const ease = (u) => 0.5 - 0.5 * Math.cos(Math.PI * u);
+  const between = (a, b, u) => [a[0] + (b[0] - a[0]) * ease(u), a[1] + (b[1] - a[1]) * ease(u)];
   const push = state.plan.action === "push_grasp";
-  for (const ph of phases) {
-    const N = 24;
-    for (let i = 0; i <= N; i++) out.push({ phi: ph.before, alpha: ph.alpha, lower: -open, higher: open, u: i / N });
-    if (push) for (let i = 0; i <= N; i++) out.push({ phi: ph.before + (ph.pushed - ph.before) * ease(i / N), alpha: ph.alpha, lower: null, higher: open });
-    for (let i = 0; i <= N; i++) out.push({ phi: ph.pushed + (ph.after - ph.pushed) * ease(i / N), alpha: ph.alpha, lower: null, higher: null });
-    for (let i = 0; i <= N / 2; i++) out.push({ phi: ph.after, alpha: ph.alpha, lower: -open, higher: open });
-  }
+  phases.forEach((ph, n) => {
+    const N = 24, at = (w, f) => ({ ...f, phi: middle(w), wedge: { range: w, all: n ? phases[n - 1].all : null }, n });
+    for (let i = 0; i <= N; i++) out.push(at(ph.before, { alpha: ph.alpha, lower: -open, higher: open }));
+    if (push) for (let i = 0; i <= N; i++) out.push(at(ph.before, { alpha: ph.alpha, lower: null, higher: open * (1 - 0.1 * ease(i / N)) }));
+    for (let i = 0; i <= N; i++) out.push(at(between(ph.before, ph.after, i / N), { alpha: ph.alpha, lower: null, higher: null }));
+    for (let i = 0; i <= N / 2; i++) out.push({ ...at(ph.after, { alpha: ph.alpha, lower: -open, higher: open }), wedge: { range: ph.after, all: ph.all }, done: true });
+  });
   return out;
 }
 
 export function play(state, { host = "anim-view", phi0, onEnd } = {}) {
   const start = phi0 ?? Number(document.getElementById("start-deg").value);
-  const phases = predict(state.analysis, state.plan, start);
+  if (!hasImages(state.plan)) {
+    document.getElementById("anim-final").textContent = "this plan document carries no images: plan again to animate it";
+    return;
+  }
+  const phases = follow(state.plan, start);
   const seq = frames(state, phases);
   const g = state.analysis.geometry;
   const jawsOf = (f) => ({ alpha: f.alpha, lower: f.lower ?? undefined, higher: f.higher ?? undefined });
@@ -186,9 +224,11 @@ export function play(state, { host = "anim-view", phi0, onEnd } = {}) {
   const step = () => {
     if (state.animation !== token) return; // a new plan (or another play) took over the view
     const f = seq[k];
-    const n = Math.min(phases.length, 1 + Math.floor((k / seq.length) * phases.length));
+    const [lo, hi] = f.wedge.range;
+    const spread = hi - lo > 1e-9 ? ` ± ${(0.5 * (hi - lo)).toFixed(2)}°` : "";
     drawScene(document.getElementById(host), g, { phi: f.phi }, jawsOf(f),
-      { view, caption: `action ${n}/${phases.length}: α = ${f.alpha.toFixed(1)}°, φ = ${mod(f.phi, 360).toFixed(1)}°` });
+      { view, wedge: { ...f.wedge, step: f.n + 1, done: Boolean(f.done) },
+        caption: `action ${f.n + 1}/${phases.length}: α = ${f.alpha.toFixed(1)}°, φ = ${mod(f.phi, 360).toFixed(1)}°${spread}` });
     k += 1;
     if (k < seq.length) requestAnimationFrame(step);
     else finish(state, phases, out, onEnd);
@@ -197,10 +237,13 @@ export function play(state, { host = "anim-view", phi0, onEnd } = {}) {
 }
 
 function finish(state, phases, out, onEnd) {
-  const final = mod(phases[phases.length - 1].after, 360);
-  const claimed = isClaimed(state.plan, final);
+  const last = phases[phases.length - 1].after;
+  const final = mod(middle(last), 360);
+  const claimed = withinClaim(state.plan, last);
   out.dataset.finalDeg = final.toFixed(6);
+  out.dataset.finalRange = JSON.stringify(last);
   out.dataset.claimed = String(claimed);
-  out.textContent = `ends at φ = ${final.toFixed(2)}° — ${claimed ? "a claimed final orientation" : "NOT a claimed final orientation"}`;
+  const spread = last[1] - last[0] > 1e-9 ? ` (within [${mod(last[0], 360).toFixed(2)}°, ${(mod(last[0], 360) + last[1] - last[0]).toFixed(2)}°])` : "";
+  out.textContent = `ends at φ = ${final.toFixed(2)}°${spread} — ${claimed ? "a claimed final orientation" : "NOT a claimed final orientation"}`;
   if (onEnd) onEnd(final);
 }

@@ -39,7 +39,9 @@ export function unionBox(boxes) {
 
 // Draws into host. pose: {phi, x?, y?}; jaws: {alpha, lower?, higher?} where lower/higher are
 // jaw offsets along n (part unit; default: touching the part), or null for no jaws.
-// opts: {view (a world box to frame; default this frame's part and jaws), ghost, caption, label}.
+// opts: {view (a world box to frame; default this frame's part and jaws), ghost, caption, label,
+// wedge: {range: [lo, hi] where the body axis can be (deg), all: arcs it can be in from any
+// start, step}}.
 export function drawScene(host, geometry, pose, jaws, opts = {}) {
   const R = sceneExtent(geometry);
   const at = [pose.x || 0, pose.y || 0];
@@ -60,6 +62,7 @@ export function drawScene(host, geometry, pose, jaws, opts = {}) {
   g.append(path(place(geometry.hull), { class: "hull" }, true));
   g.append(path(outline, { class: "part" }, true));
   for (const h of geometry.holes) g.append(path(place(h), { class: "hole" }, true));
+  if (opts.wedge) g.append(...wedges(opts.wedge, at, R));
   g.append(el("circle", { cx: at[0], cy: at[1], r: R * 0.04, class: "com" }));
   // the body's x axis: shows the orientation φ
   const tip = rotate([[geometry.center_of_mass[0] + R * 0.5, geometry.center_of_mass[1]]], pose.phi, geometry.center_of_mass, at)[0];
@@ -74,6 +77,28 @@ export function drawScene(host, geometry, pose, jaws, opts = {}) {
     svg.append(text(box.x0 - pad + w * 0.02, -box.y1 - pad - band * 0.3, opts.caption, { class: "scene-caption", "font-size": size }));
   }
   host.replaceChildren(svg);
+}
+
+// The uncertainty wedge: the sector of body-axis directions [lo, hi] about the centre of
+// mass (a line when the plan is exact), over faint sectors of every arc from any start.
+function wedges(w, at, R) {
+  const sector = ([lo, hi], r, attrs) => {
+    const n = Math.max(1, Math.ceil((hi - lo) / 3));
+    const pts = [at];
+    for (let i = 0; i <= n; i++) {
+      const a = (lo + ((hi - lo) * i) / n) * RAD;
+      pts.push([at[0] + r * Math.cos(a), at[1] + r * Math.sin(a)]);
+    }
+    return path(pts, attrs, hi - lo > 1e-9);
+  };
+  const out = (w.all || []).map((arc) => sector(arc, R * 0.75, { class: "wedge-all" }));
+  const main = sector(w.range, R * 0.9, { class: "wedge" });
+  main.dataset.lo = String(w.range[0]);
+  main.dataset.hi = String(w.range[1]);
+  if (w.step) main.dataset.step = String(w.step);
+  if (w.done) main.dataset.done = "true";
+  out.push(main);
+  return out;
 }
 
 function jawCorners(alphaDeg, offset, side, R) {

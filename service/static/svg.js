@@ -1,6 +1,8 @@
 // Small SVG helpers: elements, line plots with labelled axes, bands, markers and a
-// hover cursor. Written here rather than vendored: a plotting library would weigh more
-// than the whole page (the page must stay under 1 MB and work without internet).
+// hover cursor; plotui.js adds zoom, pan, the hover read-out and PNG/CSV export. Written
+// here rather than vendored: no plotting library could be installed offline (README).
+
+import { interact, valueAt } from "./plotui.js";
 
 const NS = "http://www.w3.org/2000/svg";
 
@@ -64,8 +66,27 @@ const LANE = 12; // px per Θᵢ row: a 4 px bar and its label never touch the n
 // breakJumps?}], bands: [{x0, x1, cls}] (x only, wrapped), polys: [{points, cls}] (drawn
 // with their copies shifted by whole periods (their own `period`, or the axis's) in x and y — lifted images — and clipped),
 // lanes: [{x0, x1, label, cls}] (one labelled row each under the axis, wrapped),
-// markers: [{x, y, cls, label}], legend, onHover(x)}. Returns {setCursor(x)}.
+// markers: [{x, y, cls, label}], legend, onHover(x)}. Returns {setCursor(x)}; the plot
+// zooms, pans, reads out and exports (plotui.js), keeping its view while redrawn.
 export function linePlot(host, spec) {
+  const full = spec.xDomain;
+  const period = spec.period ?? full[1] - full[0];
+  let cursorAt = null;
+  interact(host, spec, full, (domain) => {
+    const drawn = drawPlot({ ...spec, xDomain: domain, period });
+    if (cursorAt !== null) drawn.setCursor(cursorAt);
+    return drawn;
+  });
+  return {
+    setCursor: (x) => {
+      cursorAt = x;
+      const svg = host.querySelector("svg.plot");
+      if (svg && svg.setCursor) svg.setCursor(x);
+    },
+  };
+}
+
+function drawPlot(spec) {
   const lanes = spec.lanes || [];
   const W = 520, PH = 162, m = { l: 56, r: 12, t: 24 };
   const yb = m.t + PH; // the x axis
@@ -158,21 +179,30 @@ export function linePlot(host, spec) {
   const cursor = el("line", { y1: m.t, y2: yb, class: "cursor", visibility: "hidden" });
   svg.append(cursor);
   const setCursor = (x) => {
-    const v = x0 + mod(x - x0, x1 - x0);
+    const v = x0 + mod(x - x0, P); // the copy of x in view, if any
     cursor.setAttribute("x1", sx(v));
     cursor.setAttribute("x2", sx(v));
-    cursor.setAttribute("visibility", "visible");
+    cursor.setAttribute("visibility", v <= x1 ? "visible" : "hidden");
+  };
+  svg.setCursor = setCursor;
+  const toData = (clientX) => {
+    const r = svg.getBoundingClientRect();
+    return x0 + (((clientX - r.left) * W) / r.width - m.l) / (W - m.l - m.r) * (x1 - x0);
   };
   if (spec.onHover) {
     svg.addEventListener("pointermove", (ev) => {
-      const r = svg.getBoundingClientRect();
-      const x = x0 + (((ev.clientX - r.left) * W) / r.width - m.l) / (W - m.l - m.r) * (x1 - x0);
+      const x = toData(ev.clientX);
       if (x >= x0 && x <= x1) spec.onHover(x);
     });
   }
-  host.replaceChildren(svg);
-  fitTitle(title, W - 16);
-  return { setCursor };
+  // the read-out: θ and the value of the first series that is not the identity line
+  const main = spec.series.find((s) => s.cls !== "identity") || spec.series[0];
+  const readout = (x) => {
+    if (!(x >= x0 && x <= x1)) return null;
+    const y = valueAt(main, x);
+    return { x, y, text: `θ = ${x.toFixed(2)}°` + (y === null ? "" : `, ${spec.yLabel.split(" (")[0]} = ${y.toPrecision(5)}`) };
+  };
+  return { svg, setCursor, toData, readout, fit: () => fitTitle(title, W - 16) };
 }
 
 // A title longer than the plot is squeezed to its width, never cut (measured once shown).

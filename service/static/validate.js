@@ -4,7 +4,8 @@
 // placement, seed); the view is framed on the part and the jaws over the whole playback.
 
 import { api, begin } from "./api.js";
-import { mod, predict } from "./geom.js";
+import { mod } from "./geom.js";
+import { follow, hasImages, middle } from "./motion.js";
 import { ensureAnalysis, planRequest, showPlan } from "./plan.js";
 import { drawScene, frameOf, unionBox } from "./scene.js";
 
@@ -136,7 +137,7 @@ function playbackView(state, tr) {
 
 function drawFrame(state, tr, i, view, k = 0, phases = null) {
   const [p, jaws] = pose(tr, i);
-  const ghost = phases ? { phi: phases[k].after, x: tr.x[i], y: tr.y[i] } : null;
+  const ghost = phases ? { phi: middle(phases[k].after), x: tr.x[i], y: tr.y[i] } : null;
   drawScene($("playback-view"), state.analysis.geometry, p, jaws,
     { ghost, view, caption: `t = ${tr.t_s[i].toFixed(2)} s, φ = ${mod(p.phi, 360).toFixed(1)}°, α = ${jaws.alpha.toFixed(1)}°`,
       label: "simulated part and jaws" });
@@ -147,7 +148,7 @@ export function playBack(state) {
   const tr = state.playback.trajectories.find((t) => t.sample === sample);
   const v = state.playback.validation.samples[sample];
   const plan = state.playback.plan;
-  const phases = predict(state.analysis, plan, v.initial_deg);
+  const phases = hasImages(plan) ? follow(plan, v.initial_deg) : null; // the plan's own images
   const view = playbackView(state, tr);
   const status = $("playback-status");
   status.dataset.ended = "false";
@@ -162,7 +163,7 @@ export function playBack(state) {
     i += stride;
     if (i < tr.t_s.length) requestAnimationFrame(step);
     else {
-      drawFrame(state, tr, tr.t_s.length - 1, view, phases.length - 1, phases);
+      drawFrame(state, tr, tr.t_s.length - 1, view, phases ? phases.length - 1 : 0, phases);
       status.dataset.ended = "true";
       status.textContent = `ended: simulated ${mod(v.simulated_deg, 360).toFixed(2)}°, predicted ${mod(v.predicted_deg, 360).toFixed(2)}° — ${v.agrees ? "agrees" : "DISAGREES"}`;
     }

@@ -68,7 +68,8 @@ def test_plan_json_and_figure(tmp_path: Path, capsys: pytest.CaptureFixture[str]
     assert main(["plan", str(EXAMPLE), "--exact", "--action", "squeeze", "--json", "--figure", str(fig)]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert set(doc) == {"action", "symmetry_period_deg", "intervals_deg", "steps", "final_orientations_deg",
-                        "final_uncertainty_deg", "model", "verified", "timings_s", "run_id", "record_path"}
+                        "final_uncertainty_deg", "model", "images", "verified", "timings_s", "run_id", "record_path"}
+    assert all(s["image_deg"] for s in doc["steps"]) and doc["images"]["pieces"]  # the plan's own images (issue 35)
     assert doc["model"] == "exact" and doc["final_uncertainty_deg"] == 0.0
     assert doc["action"] == "squeeze" and doc["verified"] is True and len(doc["steps"]) == 3
     assert [round(b - a, 6) for a, b in doc["intervals_deg"]] == [70, 140, 180]

@@ -51,7 +51,7 @@ def test_analysis_samples_are_the_closed_form(server: Server) -> None:
 def test_examples_layout_and_health(server: Server, pie: dict[str, Any]) -> None:
     with server.client() as c:
         examples = c.get("/v1/examples").json()["examples"]
-        assert {"name": "pie-20", "part": pie} in examples
+        assert {"name": "pie-20", "kind": "paper", "part": pie} in examples
         layout = c.get("/v1/layouts/foxglove.json").json()
         assert c.get("/healthz").json()["auth_required"] is False
     # the layout's panels read the topics the recorder writes, and every panel is placed

@@ -58,7 +58,7 @@ def test_the_key_form_shows_when_needed_and_says_a_rejected_key(browser: Any, ke
         pg.click("#key-form button")
         pg.wait_for_selector("#key-form[data-accepted=true]")
         assert "pie-20" in pg.inner_text("#example")
-        assert pg.evaluate("document.querySelectorAll('#example option').length") == 4  # no repeats: — and 3 parts
+        assert pg.evaluate("document.querySelectorAll('#example option').length") == 6  # no repeats: —, 3 paper parts, 2 real
     finally:
         ctx.close()
     assert errors == []

@@ -13,7 +13,9 @@ last complete chunk. Channels:
   part's exact hull outline and the two jaws) and ``/tf`` (``foxglove.FrameTransforms``:
   world → part, world → gripper → jaws), with log times following simulation time, so
   the file opened in Foxglove's 3-D panel shows the part turning between the jaws.
-  Simulated samples follow each other on the timeline, one second apart.
+  Simulated samples follow each other on the timeline, one second apart. A plan-only
+  record (no validation) has the same two channels with one frame per action
+  (:mod:`algrasp.io.record.scene`: the part at each action's outcome between the jaws).
 """
 
 from __future__ import annotations
@@ -204,6 +206,20 @@ class RunRecorder:
                 tf = _transforms(ns, x, y, phi, alpha, ql, qh)
                 self._writer.add_message(tf_ch, ns, tf.SerializeToString(), ns)
             start_ns += int((samples[-1][0] + SAMPLE_GAP_S) * 1e9)
+
+    def keyframes(self, outline_m: FloatArray, jaw_size_m: tuple[float, float], frames: list[tuple[float, ...]]) -> None:
+        """Foxglove ``/scene`` and ``/tf`` only (nothing simulated: no ``/sim/state``):
+        ``frames`` hold (t, x, y, φ, α, q_lower, q_higher) in SI units."""
+        from foxglove_schemas_protobuf.FrameTransforms_pb2 import FrameTransforms
+        from foxglove_schemas_protobuf.SceneUpdate_pb2 import SceneUpdate
+
+        scene_ch = self._proto_channel("/scene", SceneUpdate)
+        tf_ch = self._proto_channel("/tf", FrameTransforms)
+        start_ns = self._t0_ns
+        self._writer.add_message(scene_ch, start_ns, _scene(outline_m, jaw_size_m, start_ns).SerializeToString(), start_ns)
+        for t, x, y, phi, alpha, ql, qh in frames:
+            ns = start_ns + int(t * 1e9)
+            self._writer.add_message(tf_ch, ns, _transforms(ns, x, y, phi, alpha, ql, qh).SerializeToString(), ns)
 
 
 def _quat_z(angle: float) -> Any:

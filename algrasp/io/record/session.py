@@ -51,6 +51,11 @@ class Recording:
             self._rec.summary["timings_s"]["validation"] = float(doc["wall_seconds"])
             self._rec.trajectories(outline_m, jaw_size_m, list(trajectories))
 
+    def plan_scene(self, frames: list[tuple[float, ...]], outline_m: Any, jaw_size_m: tuple[float, float]) -> None:
+        """A plan without validation: the part at each action's outcome on ``/scene``, ``/tf``."""
+        if self._rec:
+            self._rec.keyframes(outline_m, jaw_size_m, frames)
+
 
 @contextmanager
 def recording(enabled: bool, directory: Path | None, command: str, part: dict[str, Any],

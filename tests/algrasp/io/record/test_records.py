@@ -51,7 +51,8 @@ def test_plan_record_validates_and_replays(tmp_path: Path, capsys: pytest.Captur
     path = Path(out["record_path"])
     assert path.parent == tmp_path and path.name == f"{out['run_id']}.mcap" and path.is_file()
     counts = check_record(path)
-    assert counts == {"/request": 1, "/analysis": 1, "/plan": 1, "/run": 1}
+    steps = len(out["steps"])  # a plan-only record's scene: the start and each action's outcome (issue 35)
+    assert counts == {"/request": 1, "/analysis": 1, "/plan": 1, "/run": 1, "/scene": 1, "/tf": steps + 1}
     result = replay(path)
     assert result["differences"] == []
     assert [s["gripper_angle_deg"] for s in result["steps"]] == [s["gripper_angle_deg"] for s in out["steps"]]
