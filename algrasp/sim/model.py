@@ -35,7 +35,7 @@ from pydrake.multibody.tree import (
     UnitInertia,
 )
 from pydrake.systems.analysis import Simulator
-from pydrake.systems.framework import BasicVector, DiagramBuilder, LeafSystem
+from pydrake.systems.framework import BasicVector, DiagramBuilder, EventStatus, LeafSystem
 
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.part import Part
@@ -44,7 +44,7 @@ from algrasp.sim.config import BODY_GYRATION_M2, DEFAULT_SIM, MIN_THICKNESS_M, P
 from algrasp.sim.geometry import extent_midpoint, part_geometry
 
 FRICTIONLESS = CoulombFriction(0.0, 0.0)
-SOLVER_FALLBACKS: tuple[tuple[str, float], ...] = (("polygon", 1.0), ("triangle", 1.0), ("triangle", 0.5))
+SOLVER_FALLBACKS: tuple[tuple[str, float], ...] = (("polygon", 1.0), ("triangle", 1.0), ("triangle", 0.5), ("polygon", 0.25))
 """Numerical variants of one model, tried in order when Drake's SAP solver fails on a run:
 (contact surface representation, time-step factor). With jaw friction SAP's Newton
 iteration sometimes fails to converge while every point of a patch sits on its friction
@@ -54,7 +54,29 @@ perturbation of the problem escapes the failure; no single model knob removed it
 triangle quadrature (several points per contact polygon) rescued 5 of those 6 at 1 ms,
 and all 6 at 0.5 ms, ending within 0.01° of where the other steps and quadratures put
 those parts. Polygons stay the default: triangles cost 1.4–1.9× the wall time on
-frictionless squeezes."""
+frictionless squeezes.
+
+The last variant (a quarter step) is where a *diverged* run goes directly (see
+:data:`DIVERGED_SPEED_FACTOR`)."""
+DIVERGED_SPEED_FACTOR = 100.0
+"""A run has diverged when a point of the part or a jaw moves faster than this many times
+the fastest jaw speed of the schedule (``open_speed_m_s``; 20 m/s for the bracket).
+Seen on the bracket (20.5 mm reach) with frictionless jaws at its Froude-similar 2 ms
+step: when a squeeze turns the part fast (8.5 rad/s at μ_s 0.2, 10 g, 1.6 N) onto the
+flat edge at a minimum of d, the far end of the edge overlaps the rigid jaw by ω·Δt·L in
+one step and the next steps' contact impulses fling part and jaw metres away (about
+1000 m/s; every one of 16 push-grasp samples at the 8 frictionless corners of the
+default ranges, misses up to 167°, and the centred squeeze's too). At 1 ms it still
+happened; at 0.5 ms (a quarter of the similar step) none of 8 push-grasp and 6 squeeze
+samples diverged and all ended within the claim, with impact spikes of at most 4.5 m/s
+(hence the factor: 20 m/s is 4× above those, 50× below a divergence). Jaw friction damps
+the impact: no friction corner diverged at its 1 ms step. The monitor stops the run
+there (a RuntimeError) and it is repeated at a quarter of the step, the last of
+:data:`SOLVER_FALLBACKS`."""
+
+
+DIVERGED = "the contact step diverged"
+"""What a diverged run's error says (the monitor's message, in Drake's RuntimeError)."""
 
 
 class _RigidPlaneNote(logging.Filter):
@@ -201,7 +223,7 @@ class PlanarGripperSim:
         self.part, self.cfg, self.variant = part, cfg, variant
         self.geom = part_geometry(part, cfg)
         self._jaw_geometry: list[Any] = []
-        self._fallback: PlanarGripperSim | None = None
+        self._fallbacks: dict[int, PlanarGripperSim] = {}  # by variant, built on first need
         self.fallback_runs = 0  # runs whose result came from a fallback variant
         self.sim_seconds = 0.0  # simulated time of the last run (s)
         builder = DiagramBuilder()
@@ -224,7 +246,21 @@ class PlanarGripperSim:
                         plant.get_desired_state_input_port(self._instance))
         self.diagram = builder.Build()
         self.simulator = Simulator(self.diagram)
+        self._speed_limit = DIVERGED_SPEED_FACTOR * max(cfg.open_speed_m_s, cfg.jaw_speed_m_s)
+        self.simulator.set_monitor(self._monitor)
         del scene_graph
+
+    def _monitor(self, root: Any) -> EventStatus:
+        """Fails the step (SAP diverged) when the part or a jaw moves faster than
+        :data:`DIVERGED_SPEED_FACTOR` times the schedule's fastest jaw speed."""
+        v = self.plant.GetVelocities(self.plant.GetMyContextFromRoot(root))
+        pv = self.joints["part"].velocity_start()
+        part = math.hypot(v[pv], v[pv + 1]) + abs(v[pv + 2]) * self.geom.reach_m
+        jaws = max(abs(v[self.joints[name].velocity_start()]) for name in ("lower", "higher"))
+        if max(part, jaws) > self._speed_limit:
+            return EventStatus.Failed(self.diagram, f"{DIVERGED} at part speed {part:.3g} m/s, jaw speed {jaws:.3g} m/s "
+                                      f"(limit {self._speed_limit:.3g} m/s)")
+        return EventStatus.Succeeded()
 
     def _add_bodies(self, plant: Any) -> None:
         cfg, g = self.cfg, self.geom
@@ -275,17 +311,21 @@ class PlanarGripperSim:
         by the waits for the part to settle (:attr:`sim_seconds` after the run).
 
         If Drake's solver fails, the run is repeated from the start on the next of
-        :data:`SOLVER_FALLBACKS` (built once, on first need); its simulator then holds
-        the final state. The last variant's failure is raised."""
+        :data:`SOLVER_FALLBACKS` (built once, on first need); if the run diverged
+        (:data:`DIVERGED_SPEED_FACTOR`), on the last, finest-step one. The fallback's
+        simulator then holds the final state. The last variant's failure is raised."""
         try:
             return self._run(phases, phi0, offset_m, alpha0, half_open_m, record, centring, checkpoints)
-        except RuntimeError:
-            if self.variant + 1 >= len(SOLVER_FALLBACKS):
+        except RuntimeError as exc:
+            last = len(SOLVER_FALLBACKS) - 1
+            nxt = last if DIVERGED in str(exc) else self.variant + 1  # a divergence needs the finest step
+            if self.variant >= last:
                 raise
-        if self._fallback is None:
-            self._fallback = PlanarGripperSim(self.part, self.cfg, self.variant + 1)
-        result = self._fallback.run(phases, phi0, offset_m, alpha0, half_open_m, record, centring, checkpoints)
-        self.sim_seconds, self.fallback_runs = self._fallback.sim_seconds, self.fallback_runs + 1
+        if nxt not in self._fallbacks:
+            self._fallbacks[nxt] = PlanarGripperSim(self.part, self.cfg, nxt)
+        fallback = self._fallbacks[nxt]
+        result = fallback.run(phases, phi0, offset_m, alpha0, half_open_m, record, centring, checkpoints)
+        self.sim_seconds, self.fallback_runs = fallback.sim_seconds, self.fallback_runs + 1
         return result
 
     def _run(self, phases: list[Phase], phi0: float, offset_m: float, alpha0: float, half_open_m: float,

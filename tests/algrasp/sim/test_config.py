@@ -58,3 +58,16 @@ def test_a_released_block_slides_the_same_fraction_of_its_size(factor: float) ->
     d1, t1 = _slide(big, big.jaw_speed_m_s)
     assert d1 / (factor * ref) == pytest.approx(d0 / ref, rel=1e-9)
     assert t1 / k == pytest.approx(t0, rel=1e-9)
+
+
+def test_with_jaw_friction_the_step_is_never_longer_than_the_friction_step() -> None:
+    """Issue 30: FRICTION_TIME_STEP_S is the step whose convergence was measured; a large
+    part's similar step must not exceed it (the bracket's 1 ms one let the release kick)."""
+    from algrasp.sim.config import FRICTION_TIME_STEP_S
+
+    cfg = SimConfig(jaw_friction=0.1, time_step_s=FRICTION_TIME_STEP_S)
+    big = similar_config(cfg, 16 * cfg.similarity_reach_m)  # k = 4
+    assert big.time_step_s == FRICTION_TIME_STEP_S
+    assert big.relaxation_time_s / big.time_step_s == pytest.approx(cfg.relaxation_time_s / cfg.time_step_s)
+    assert big.jaw_speed_m_s == pytest.approx(4 * cfg.jaw_speed_m_s)  # the motion still scales
+    assert similar_config(SimConfig(), 16 * cfg.similarity_reach_m).time_step_s > FRICTION_TIME_STEP_S

@@ -116,3 +116,28 @@ def test_a_solver_failure_repeats_the_run_on_the_next_fallback(monkeypatch: pyte
     failing.update(range(len(model.SOLVER_FALLBACKS)))
     with pytest.raises(RuntimeError, match="SAP solver failed"):
         _final_deg(sim, "squeeze", 30.0)
+
+
+def test_a_diverged_contact_step_is_repeated_at_a_quarter_step() -> None:
+    """Issue 30: the bracket (20.5 mm reach, Froude-similar 2 ms step) squeezed from 200°
+    in the lightest, least-held corner of the default ranges (μ_s 0.2, 10 g, 1.6 N,
+    frictionless jaws) turns fast onto the flat edge at d's minimum at 180°; at 2 ms SAP
+    then flung part and jaw away (φ ended at about −1.2·10⁶°). The speed monitor stops that
+    run and it is repeated on the finest-step variant, which ends at the minimum."""
+    import json
+    from pathlib import Path
+
+    from algrasp.sim import model
+    from algrasp.sim.config import similar_config
+    from algrasp.sim.geometry import part_geometry
+
+    doc = json.loads((Path(__file__).resolve().parents[3] / "algrasp" / "examples" / "bracket.json").read_text())
+    part = load_part(doc)
+    cfg = SimConfig(support_friction=0.2, part_mass_kg=0.01, jaw_force_n=1.6)
+    cfg = similar_config(cfg, part_geometry(part, cfg).reach_m)
+    assert cfg.time_step_s > 2e-3  # the step the divergence was seen at
+    sim = PlanarGripperSim(part, cfg)
+    assert abs(_final_deg(sim, "squeeze", 200.0) - 180.0) < 1.0
+    assert sim.fallback_runs == 1
+    assert list(sim._fallbacks) == [len(model.SOLVER_FALLBACKS) - 1]
+    assert model.SOLVER_FALLBACKS[-1][1] == 0.25
