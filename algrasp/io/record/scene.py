@@ -14,6 +14,8 @@ from typing import Any
 
 import numpy as np
 
+from algrasp.geometry.angles import to_rad
+
 Frame = tuple[float, float, float, float, float, float, float]
 START_DEG = 0.0
 """The start orientation the scene follows (world, degrees)."""
@@ -21,7 +23,7 @@ OPEN = 1.5
 """Open jaws stand this many times the part's reach from its centre."""
 
 
-def plan_frames(plan: Any, outline_m: np.ndarray, phi0: float = np.radians(START_DEG)) -> list[Frame]:
+def plan_frames(plan: Any, outline_m: np.ndarray, phi0: float = to_rad(START_DEG)) -> list[Frame]:
     """The frames of the plan from ``phi0`` (radians): the start, then one per action."""
     reach = float(np.max(np.hypot(*np.asarray(outline_m).T)))
     trace = plan.trace(phi0)
