@@ -41,6 +41,18 @@ SPACING = 2.0
 
 
 @dataclass(frozen=True)
+class Tail:
+    """The curved tail of the last fence (Brokowski, Peshkin & Goldberg 1995): an arc of
+    ``radius`` (part units) tangent to the fence at its tip, turning by ``sweep``
+    (radians) towards the belt's direction, so that the part flush against it turns with
+    it and leaves with its contact edge at ``sweep`` less to the belt (the default sweep,
+    the fence's steepness β, leaves it parallel to the belt: no torque as it comes off)."""
+
+    radius: float
+    sweep: float
+
+
+@dataclass(frozen=True)
 class FenceLayout:
     """A fence design laid out on a belt (lengths in ``units``).
 
@@ -70,6 +82,7 @@ class FenceLayout:
     positions: tuple[float, ...]
     cover_radius: float
     units: str
+    tail: Tail | None = None
 
     @property
     def steepness(self) -> tuple[float, ...]:
@@ -86,6 +99,40 @@ class FenceLayout:
         """Fence i's end on its rail (x, y)."""
         return self.positions[i], 0.0 if self.design.sides[i] == 0 else self.belt_width
 
+    def tail_turn(self) -> float:
+        """Signed turn (radians) the tail gives the part: −sweep on the right rail
+        (clockwise, α = β towards 0), +sweep on the left (α = π − β towards π); 0 without."""
+        if self.tail is None:
+            return 0.0
+        return -self.tail.sweep if self.design.sides[-1] == 0 else self.tail.sweep
+
+    def tail_arc(self) -> tuple[tuple[float, float], float, float, float] | None:
+        """(centre, radius, start, end): the tail's arc counter-clockwise from ``start`` to
+        ``end`` (radians, the directions from the centre), as DXF draws arcs; None without.
+
+        The centre is R behind the last fence's face: C = tip − R n, n = (−sin α, cos α)
+        the face's normal (towards the part), so the arc leaves the tip along the fence
+        (tangent) and bends away from the part, the part riding its convex side."""
+        if self.tail is None:
+            return None
+        a = self.design.angles[-1]
+        tx, ty = self.tip(len(self.lengths) - 1)
+        R = self.tail.radius
+        c = (tx + R * math.sin(a), ty - R * math.cos(a))
+        at_tip = math.atan2(math.cos(a), -math.sin(a))  # the direction of n from the centre
+        turn = self.tail_turn()
+        lo, hi = (at_tip + turn, at_tip) if turn < 0 else (at_tip, at_tip + turn)
+        return c, R, lo, hi
+
+    def tail_points(self, n: int = 32) -> list[tuple[float, float]]:
+        """The tail from the last fence's tip to its end, ``n`` + 1 points (part units)."""
+        arc = self.tail_arc()
+        if arc is None:
+            return []
+        (cx, cy), R, lo, hi = arc
+        ts = np.linspace(hi, lo, n + 1) if self.tail_turn() < 0 else np.linspace(lo, hi, n + 1)
+        return [(cx + R * math.cos(t), cy + R * math.sin(t)) for t in ts]
+
     def to_dict(self) -> dict[str, object]:
         """The fence document (degrees; lengths in ``units``): ``FenceDocument``."""
         d = self.design
@@ -100,7 +147,12 @@ class FenceLayout:
                 "min_steepness_deg": _deg(d.rules.min_steepness), "fences": fences,
                 "total_length": float(sum(self.lengths)), "symmetry_period_deg": _deg(d.symmetry),
                 "final_orientations_deg": [_deg(f) for f in d.final_orientations],
-                "final_uncertainty_deg": _deg(d.final_uncertainty)}
+                "final_uncertainty_deg": _deg(d.final_uncertainty),
+                **({} if self.tail is None else {
+                    "tail": {"radius": self.tail.radius, "sweep_deg": _deg(self.tail.sweep),
+                             "turn_deg": _deg(self.tail_turn()),
+                             "final_orientations_deg": [_deg((f + self.tail_turn()) % (2 * np.pi))
+                                                        for f in d.final_orientations]}})}
 
 
 def _deg(rad: float) -> float:
@@ -136,6 +188,29 @@ def layout(analysis: Analysis, design: FenceDesign, belt_width: float | None = N
         positions.append(positions[-1] + h / math.tan(b) + SPACING * a)
     lengths = tuple(h / math.sin(b) for b in beta)
     return FenceLayout(design, W, h, tuple(s), lengths, tuple(positions), a, analysis.part.units)
+
+
+def with_tail(out: FenceLayout, radius: float, sweep_deg: float | None = None) -> FenceLayout:
+    """``out`` with a curved tail of ``radius`` (part units) on its last fence, turning
+    by ``sweep_deg`` (default the fence's steepness: the tail ends parallel to the belt).
+
+    Raises ConfigError (``tail``) unless 0 < radius, 0 < sweep ≤ β and the tail stays
+    between the rails."""
+    from dataclasses import replace
+
+    beta = out.steepness[-1]
+    sweep = beta if sweep_deg is None else to_rad(float(sweep_deg))
+    if not (math.isfinite(radius) and radius > 0.0):
+        raise ConfigError("tail", f"expected a radius > 0, got {radius!r}")
+    if not (math.isfinite(sweep) and 0.0 < sweep <= beta + 1e-9):
+        raise ConfigError("tail", f"expected 0 < sweep_deg ≤ {to_deg(beta):.4g} (the last fence's angle to the belt: "
+                          f"a larger sweep turns the tail back against the belt), got {sweep_deg!r}")
+    tailed = replace(out, tail=Tail(float(radius), float(sweep)))
+    ys = [y for _, y in tailed.tail_points()]
+    if min(ys) < 0.0 or max(ys) > out.belt_width:
+        raise ConfigError("tail", f"a tail of radius {radius:g} {out.units} leaves the belt "
+                          f"({out.belt_width:.4g} {out.units} wide): use a smaller radius or sweep")
+    return tailed
 
 
 def plan_fences(analysis: Analysis, rules: FenceRules = DEFAULT_RULES, min_margin_deg: float = DEFAULT_MIN_MARGIN_DEG,

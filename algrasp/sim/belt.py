@@ -64,7 +64,7 @@ class Wall:
 def walls_m(layout: FenceLayout, scale: float, pad: float) -> list[Wall]:
     """The rails (``pad`` metres beyond the layout at both ends) and the fences, in metres."""
     W = layout.belt_width * scale
-    last = max(layout.tip(i)[0] for i in range(len(layout.lengths))) * scale
+    last = layout_end(layout) * scale
     x0, x1 = -pad, last + pad
     out = [Wall((x0, 0.0), 0.0, x1 - x0, "rail_right"), Wall((x1, W), math.pi, x1 - x0, "rail_left")]
     for i, (a, n) in enumerate(zip(layout.design.angles, layout.lengths)):
@@ -72,7 +72,20 @@ def walls_m(layout: FenceLayout, scale: float, pad: float) -> list[Wall]:
         # to root on the left (α = π − β points upstream and towards the left rail).
         x, y = layout.root(i) if layout.design.sides[i] == 0 else layout.tip(i)
         out.append(Wall((x * scale, y * scale), float(a), n * scale, f"fence_{i + 1}"))
+    if layout.tail is not None:  # chords of at most 2°, part side as the fence's (their left)
+        pts = layout.tail_points(max(4, math.ceil(math.degrees(layout.tail.sweep) / 2.0)))
+        if layout.design.sides[-1] == 1:
+            pts = pts[::-1]
+        for k, (p, q) in enumerate(zip(pts[:-1], pts[1:])):
+            d = (q[0] - p[0], q[1] - p[1])
+            out.append(Wall((p[0] * scale, p[1] * scale), math.atan2(d[1], d[0]), math.hypot(*d) * scale, f"tail_{k}"))
     return out
+
+
+def layout_end(layout: FenceLayout) -> float:
+    """The largest x of the fences and the tail (part units)."""
+    xs = [layout.tip(i)[0] for i in range(len(layout.lengths))] + [x for x, _ in layout.tail_points()]
+    return max(xs)
 
 
 @dataclass(frozen=True)
@@ -86,6 +99,11 @@ class BeltSample:
     error_deg: float
     agrees: bool
     sim_seconds: float
+    on_last_fence_deg: float | None = None
+    """φ when the part's centre is a (its covering radius) short of the last fence's tip,
+    along the fence: the push's outcome before the part comes off (None: never got there)."""
+    on_last_fence_error_deg: float | None = None
+    """Its distance from the design's own finals (without the tail's turn), modulo T."""
 
 
 @dataclass(frozen=True)
@@ -94,6 +112,7 @@ class BeltValidation:
 
     samples: tuple[BeltSample, ...]
     agreement: float
+    agreement_on_last_fence: float
     tolerance_deg: float
     final_orientations_deg: tuple[float, ...]
     final_uncertainty_deg: float
@@ -107,10 +126,16 @@ class BeltValidation:
     trajectories: tuple[list[tuple[float, float, float, float]], ...] = field(default=(), repr=False)
     """Per sample (t, x, y, φ) in SI units, if recorded."""
     run_id: str | None = None
+    tail: bool = False
+    walls: tuple[Wall, ...] = field(default=(), repr=False)
+    """The simulated walls (metres), for records."""
+    outline_m: Any = field(default=None, repr=False)
+    """The part's collision outline about its centre of mass (metres), for records."""
 
     def to_dict(self) -> dict[str, Any]:
         """The fence validation document (degrees; lateral starts in the part's unit)."""
         return {"samples": [asdict(s) for s in self.samples], "agreement": self.agreement,
+                "agreement_on_last_fence": self.agreement_on_last_fence, "tail": self.tail,
                 "tolerance_deg": self.tolerance_deg, "final_orientations_deg": list(self.final_orientations_deg),
                 "final_uncertainty_deg": self.final_uncertainty_deg, "symmetry_period_deg": self.symmetry_period_deg,
                 "belt_speed_m_s": self.belt_speed_m_s, "support_friction": self.support_friction,
@@ -181,7 +206,12 @@ class BeltSim:
         builder.Connect(self.support.get_output_port(0), plant.get_applied_generalized_force_input_port())
         self.diagram = builder.Build()
         self.simulator = Simulator(self.diagram)
-        last = max(layout.tip(i)[0] for i in range(len(layout.lengths))) * self.scale
+        last = layout_end(layout) * self.scale
+        k = len(layout.lengths) - 1
+        self._root = np.array(layout.root(k)) * self.scale
+        tip = np.array(layout.tip(k)) * self.scale
+        self._along = (tip - self._root) / float(np.hypot(*(tip - self._root)))
+        self._check_at = float(np.hypot(*(tip - self._root))) - a
         self.x_start, self.x_end = -2.0 * a, last + END_MARGIN * a
         self.t_max = TIME_FACTOR * (self.x_end - self.x_start) / belt_speed_m_s
 
@@ -196,9 +226,11 @@ class BeltSim:
         d = near + u * max(2.0 * self.geom.reach_m - near, 0.0)
         return d if first_right else self.layout.belt_width * self.scale - d
 
-    def run(self, phi0: float, y0: float, record: bool = False) -> tuple[float, float, list[tuple[float, float, float, float]]]:
+    def run(self, phi0: float, y0: float,
+            record: bool = False) -> tuple[float, float, float | None, list[tuple[float, float, float, float]]]:
         """Simulate one start (φ0 rad, centre y0 m): the final φ (rad, unwrapped), the
-        simulated time (s) and, if asked, samples (t, x, y, φ) at ``record_hz``."""
+        simulated time (s), φ on the last fence (see :class:`BeltSample`) and, if asked,
+        samples (t, x, y, φ) at ``record_hz``."""
         ctx = self.simulator.get_mutable_context()
         ctx.SetTime(0.0)
         pc = self.plant.GetMyMutableContextFromRoot(ctx)
@@ -211,15 +243,18 @@ class BeltSim:
         samples: list[tuple[float, float, float, float]] = []
         t = 0.0
         i = self.joint.position_start()
+        on_fence: float | None = None
         while True:
             q = self.plant.GetPositions(pc)
+            if on_fence is None and float((q[i:i + 2] - self._root) @ self._along) >= self._check_at:
+                on_fence = float(q[i + 2])
             if record:
                 samples.append((t, float(q[i]), float(q[i + 1]), float(q[i + 2])))
             if q[i] >= self.x_end or t >= self.t_max:
                 break
             t += step
             self.simulator.AdvanceTo(t)
-        return float(self.plant.GetPositions(pc)[i + 2]), t, samples
+        return float(self.plant.GetPositions(pc)[i + 2]), t, on_fence, samples
 
 
 def _belt_friction_class() -> Any:
@@ -282,7 +317,8 @@ def validate_fences(part: Part, layout: FenceLayout, physics: Physics, samples: 
     phi0 = rng.uniform(0.0, 2 * math.pi, samples)
     u = rng.uniform(0.0, 1.0, samples)
     d = layout.design
-    finals = [float(to_deg(f)) for f in d.final_orientations]
+    design_finals = [float(to_deg(f)) for f in d.final_orientations]
+    finals = [float(to_deg(f + layout.tail_turn())) % 360.0 for f in d.final_orientations]
     T = float(to_deg(d.symmetry))
     allowed = float(to_deg(d.final_uncertainty)) + tolerance_deg
     out: list[BeltSample] = []
@@ -291,16 +327,37 @@ def validate_fences(part: Part, layout: FenceLayout, physics: Physics, samples: 
     for p, uu in zip(phi0, u):
         y0 = sim.start_y(float(p), float(uu))
         try:
-            phi, secs, traj = sim.run(float(p), y0, record)
+            phi, secs, on_fence, traj = sim.run(float(p), y0, record)
         except RuntimeError as exc:
             raise SimulationError(str(exc).splitlines()[0][:300], f"part reach {1e3 * reach_m:.3g} mm") from None
         err = angle_error_deg(float(to_deg(phi)), finals, T)
         lateral = (y0 if d.sides[0] == 0 else layout.belt_width * sim.scale - y0) / sim.scale
-        out.append(BeltSample(wrap_deg(float(to_deg(p))), lateral, wrap_deg(float(to_deg(phi))), err, err <= allowed, secs))
+        fe = None if on_fence is None else angle_error_deg(float(to_deg(on_fence)), design_finals, T)
+        out.append(BeltSample(wrap_deg(float(to_deg(p))), lateral, wrap_deg(float(to_deg(phi))), err, err <= allowed, secs,
+                              None if on_fence is None else wrap_deg(float(to_deg(on_fence))), fe))
         trajs.append(traj)
     wall = time.perf_counter() - t0
     model = {"reach_m": sim.geom.reach_m, "chord_error_m": sim.geom.chord_error_m, "wall_thickness_m": sim.wall_thickness_m,
              **{k: [float(x) for x in val] if isinstance(val, tuple) else float(val) for k, val in asdict(cfg).items()}}
-    return BeltValidation(tuple(out), sum(s.agrees for s in out) / len(out), tolerance_deg, tuple(finals),
+    on = sum(s.on_last_fence_error_deg is not None and s.on_last_fence_error_deg <= allowed for s in out) / len(out)
+    return BeltValidation(tuple(out), sum(s.agrees for s in out) / len(out), on, tolerance_deg, tuple(finals),
                           float(to_deg(d.final_uncertainty)), T, v, cfg.support_friction, cfg.jaw_friction, seed, wall,
-                          model, tuple(trajs))
+                          model, tuple(trajs), tail=layout.tail is not None, walls=tuple(sim.walls),
+                          outline_m=sim.geom.outline_m)
+
+
+def record_validation(v: BeltValidation, layout: FenceLayout, part_doc: dict[str, Any], options: dict[str, Any],
+                      directory: Any = None) -> BeltValidation:
+    """Write ``v`` as one MCAP run record (``/request``, ``/fences``, ``/fence_validation``,
+    ``/scene`` and ``/tf`` of every sample, ``/run``); ``v`` with its ``run_id``."""
+    from algrasp.io.record.recorder import RunRecorder
+
+    with RunRecorder(directory) as rec:
+        rec.summary.update({"command": "fences", "part_name": part_doc.get("name"), "agreement": v.agreement,
+                            "steps": len(layout.lengths)})
+        rec.write("/request", {"run_id": rec.run_id, "command": "fences", "part": part_doc, "options": options})
+        rec.write("/fences", dict(layout.to_dict()))
+        rec.write("/fence_validation", v.to_dict())
+        if v.outline_m is not None:
+            rec.belt_trajectories(v.outline_m, list(v.walls), float(v.model["wall_thickness_m"]), list(v.trajectories))
+    return replace(v, run_id=rec.run_id)
