@@ -131,3 +131,7 @@ def print_layout(doc: dict[str, Any]) -> None:
     Console().print(table)
     print(f"final orientation{'s' if len(doc['final_orientations_deg']) > 1 else ''}: {finals} "
           f"± {doc['final_uncertainty_deg']:.3g}°")
+    tail = doc.get("tail")
+    if tail:
+        print(f"tail: radius {tail['radius']:.4g} {u}, sweep {tail['sweep_deg']:.4g}° on fence {n}; the part leaves it at "
+              + ", ".join(f"{f:.4g}°" for f in tail["final_orientations_deg"]))
