@@ -46,8 +46,10 @@ TOLERANCE_DEG = 0.25
 """A sample agrees within the design's uncertainty plus this."""
 END_MARGIN = 2.0
 """A run ends when the part's centre is this many covering radii past the last tip."""
-TIME_FACTOR = 3.0
-"""At most this many times the time the belt takes over the whole layout."""
+TIME_FACTOR = 2.0
+"""A run is given this many times the quasi-static time of the layout: the belt's over its
+length plus, per fence, its length at the speed a part slides along it, v (cos β − μ sin β)
+(Coulomb sliding on the wall, the belt's drag along −x relative to the part; at least 0.05 v)."""
 
 
 @dataclass(frozen=True)
@@ -104,6 +106,8 @@ class BeltSample:
     along the fence: the push's outcome before the part comes off (None: never got there)."""
     on_last_fence_error_deg: float | None = None
     """Its distance from the design's own finals (without the tail's turn), modulo T."""
+    finished: bool = True
+    """The part got 2a past the layout in the time given (else it does not agree)."""
 
 
 @dataclass(frozen=True)
@@ -213,7 +217,9 @@ class BeltSim:
         self._along = (tip - self._root) / float(np.hypot(*(tip - self._root)))
         self._check_at = float(np.hypot(*(tip - self._root))) - a
         self.x_start, self.x_end = -2.0 * a, last + END_MARGIN * a
-        self.t_max = TIME_FACTOR * (self.x_end - self.x_start) / belt_speed_m_s
+        mu = cfg.jaw_friction
+        slide = sum(n * self.scale / max(math.cos(b) - mu * math.sin(b), 0.05) for n, b in zip(layout.lengths, layout.steepness))
+        self.t_max = TIME_FACTOR * (self.x_end - self.x_start + slide) / belt_speed_m_s
 
     def start_y(self, phi0: float, u: float) -> float:
         """The start's centre y (m): a fraction u of the way from touching the first
@@ -254,6 +260,7 @@ class BeltSim:
                 break
             t += step
             self.simulator.AdvanceTo(t)
+        self.finished = bool(self.plant.GetPositions(pc)[i] >= self.x_end)
         return float(self.plant.GetPositions(pc)[i + 2]), t, on_fence, samples
 
 
@@ -333,8 +340,9 @@ def validate_fences(part: Part, layout: FenceLayout, physics: Physics, samples: 
         err = angle_error_deg(float(to_deg(phi)), finals, T)
         lateral = (y0 if d.sides[0] == 0 else layout.belt_width * sim.scale - y0) / sim.scale
         fe = None if on_fence is None else angle_error_deg(float(to_deg(on_fence)), design_finals, T)
-        out.append(BeltSample(wrap_deg(float(to_deg(p))), lateral, wrap_deg(float(to_deg(phi))), err, err <= allowed, secs,
-                              None if on_fence is None else wrap_deg(float(to_deg(on_fence))), fe))
+        out.append(BeltSample(wrap_deg(float(to_deg(p))), lateral, wrap_deg(float(to_deg(phi))), err,
+                              sim.finished and err <= allowed, secs,
+                              None if on_fence is None else wrap_deg(float(to_deg(on_fence))), fe, sim.finished))
         trajs.append(traj)
     wall = time.perf_counter() - t0
     model = {"reach_m": sim.geom.reach_m, "chord_error_m": sim.geom.chord_error_m, "wall_thickness_m": sim.wall_thickness_m,
