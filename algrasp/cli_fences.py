@@ -82,9 +82,10 @@ def cmd_fences(args: argparse.Namespace) -> int:
 def print_validation(v: dict[str, Any]) -> None:
     """A belt validation, a line per sample and the agreement."""
     tail = " after the tail" if v["tail"] else ""
+    finals = ", ".join(f"{f:.4g}°" for f in v["final_orientations_deg"])
     print(f"Drake on the belt: {v['belt_speed_m_s']:.3g} m/s, support friction {v['support_friction']:.3g}, "
           f"fence friction {v['fence_friction']:.3g}; seed {v['seed']}; agreement within the design's "
-          f"±{v['final_uncertainty_deg']:.3g}° + {v['tolerance_deg']:g}° of {', '.join(f'{f:.4g}°' for f in v['final_orientations_deg'])}"
+          f"±{v['final_uncertainty_deg']:.3g}° + {v['tolerance_deg']:g}° of {finals}"
           f"{tail} (mod {v['symmetry_period_deg']:.4g}°)")
     for k, s in enumerate(v["samples"], 1):
         fence = "—" if s["on_last_fence_deg"] is None else f"{s['on_last_fence_deg']:.2f}° (off {s['on_last_fence_error_deg']:.2f}°)"

@@ -188,7 +188,8 @@ class BeltSim:
         AddCompliantHydroelasticProperties(a, cfg.hydroelastic_modulus_pa, props)
         AddContactMaterial(None, None, jaw_contact_friction(cfg.jaw_friction), props)
         props.AddProperty("material", "relaxation_time", cfg.relaxation_time_s / 2)
-        plant.RegisterCollisionGeometry(body, RigidTransform(), Convex(pts.T, "part_hull"), "part", props)
+        plant.RegisterCollisionGeometry(body, RigidTransform(), Convex(np.asarray(pts.T, dtype=np.float64), "part_hull"),
+                                        "part", props)
         self.wall_thickness_m = max(0.3 * a, MIN_THICKNESS_M)
         for w in self.walls:
             wp = ProximityProperties()
@@ -197,7 +198,8 @@ class BeltSim:
             wp.AddProperty("material", "relaxation_time", cfg.relaxation_time_s / 2)
             c, s = math.cos(w.alpha), math.sin(w.alpha)
             t = self.wall_thickness_m
-            centre = [w.start[0] + 0.5 * w.length * c + 0.5 * t * s, w.start[1] + 0.5 * w.length * s - 0.5 * t * c, 0.0]
+            centre = np.array([w.start[0] + 0.5 * w.length * c + 0.5 * t * s,
+                               w.start[1] + 0.5 * w.length * s - 0.5 * t * c, 0.0])
             X = RigidTransform(RotationMatrix.MakeZRotation(w.alpha), centre)
             plant.RegisterCollisionGeometry(plant.world_body(), X, Box(w.length, t, 4.0 * thick), w.name, wp)
         self.joint = plant.AddJoint(PlanarJoint("part_xy_theta", plant.world_frame(), body.body_frame()))
@@ -324,8 +326,8 @@ def validate_fences(part: Part, layout: FenceLayout, physics: Physics, samples: 
     phi0 = rng.uniform(0.0, 2 * math.pi, samples)
     u = rng.uniform(0.0, 1.0, samples)
     d = layout.design
-    design_finals = [float(to_deg(f)) for f in d.final_orientations]
-    finals = [float(to_deg(f + layout.tail_turn())) % 360.0 for f in d.final_orientations]
+    design_finals = [round(float(to_deg(f)), 9) for f in d.final_orientations]
+    finals = [round(float(to_deg(f + layout.tail_turn())) % 360.0, 9) for f in d.final_orientations]
     T = float(to_deg(d.symmetry))
     allowed = float(to_deg(d.final_uncertainty)) + tolerance_deg
     out: list[BeltSample] = []
@@ -367,5 +369,6 @@ def record_validation(v: BeltValidation, layout: FenceLayout, part_doc: dict[str
         rec.write("/fences", dict(layout.to_dict()))
         rec.write("/fence_validation", v.to_dict())
         if v.outline_m is not None:
-            rec.belt_trajectories(v.outline_m, list(v.walls), float(v.model["wall_thickness_m"]), list(v.trajectories))
+            runs: list[list[tuple[float, ...]]] = [list(t) for t in v.trajectories]
+            rec.belt_trajectories(v.outline_m, list(v.walls), float(v.model["wall_thickness_m"]), runs)
     return replace(v, run_id=rec.run_id)
