@@ -419,6 +419,22 @@ def validate_fences(source: PartSource, *, samples: int = 3, seed: int = 0, reco
     (conventions §9; needs the ``sim`` extra); ``record`` writes it to one MCAP record in
     ``record_dir`` (default ``$ALGRASP_LOG_DIR`` or ``logs/``).
 
+    Parameters
+    ----------
+    source : PartSource
+        The part (as :func:`fences`).
+    samples, seed : int, default 3 and 0
+        Starts simulated, and the seed of their random orientations and lateral positions.
+    record : bool, default False
+        Write the run to an MCAP record (``/tf``: the part's pose; ``/scene``: the walls).
+    record_dir : str or Path, optional
+        Where the record goes.
+    tolerance_deg : float, default 0.25
+        A sample agrees within the design's final uncertainty plus this (degrees).
+    **options
+        The keywords of :func:`fences` (``tail`` too: then the claim is where the part
+        leaves the tail).
+
     Returns
     -------
     algrasp.sim.belt.BeltValidation

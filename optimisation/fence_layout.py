@@ -25,6 +25,7 @@ import numpy as np
 
 from algrasp.errors import ConfigError
 from algrasp.geometry.angles import to_deg, to_rad
+from algrasp.geometry.tolerances import ROUNDING
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.deadband import mean_radius
 from algrasp.planning.fences import DEFAULT_MIN_MARGIN_DEG, DEFAULT_RULES, FenceDesign, FenceRules, design_fences
@@ -202,7 +203,7 @@ def with_tail(out: FenceLayout, radius: float, sweep_deg: float | None = None) -
     sweep = beta if sweep_deg is None else to_rad(float(sweep_deg))
     if not (math.isfinite(radius) and radius > 0.0):
         raise ConfigError("tail", f"expected a radius > 0, got {radius!r}")
-    if not (math.isfinite(sweep) and 0.0 < sweep <= beta + 1e-9):
+    if not (math.isfinite(sweep) and 0.0 < sweep <= beta + ROUNDING):
         raise ConfigError("tail", f"expected 0 < sweep_deg ≤ {to_deg(beta):.4g} (the last fence's angle to the belt: "
                           f"a larger sweep turns the tail back against the belt), got {sweep_deg!r}")
     tailed = replace(out, tail=Tail(float(radius), float(sweep)))

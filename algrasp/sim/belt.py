@@ -75,7 +75,7 @@ def walls_m(layout: FenceLayout, scale: float, pad: float) -> list[Wall]:
         x, y = layout.root(i) if layout.design.sides[i] == 0 else layout.tip(i)
         out.append(Wall((x * scale, y * scale), float(a), n * scale, f"fence_{i + 1}"))
     if layout.tail is not None:  # chords of at most 2°, part side as the fence's (their left)
-        pts = layout.tail_points(max(4, math.ceil(math.degrees(layout.tail.sweep) / 2.0)))
+        pts = layout.tail_points(max(4, math.ceil(to_deg(layout.tail.sweep) / 2.0)))
         if layout.design.sides[-1] == 1:
             pts = pts[::-1]
         for k, (p, q) in enumerate(zip(pts[:-1], pts[1:])):
