@@ -12,7 +12,7 @@ Input documents (the part) forbid unknown fields; output documents name the fiel
 guarantee and may carry more (a documented superset), so a newer writer stays readable.
 
 >>> sorted(DOCUMENTS)[:4]
-['analysis', 'error', 'job', 'part']
+['analysis', 'error', 'fences', 'job']
 >>> json_schema(PlanDocument)["properties"]["action"]["enum"]
 ['squeeze', 'push_grasp']
 """
