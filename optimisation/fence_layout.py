@@ -84,6 +84,8 @@ class FenceLayout:
     cover_radius: float
     units: str
     tail: Tail | None = None
+    last_reach: float | None = None
+    """The last fence's extent across the belt when a tail shortens it (else ``reach``)."""
 
     @property
     def steepness(self) -> tuple[float, ...]:
@@ -93,8 +95,9 @@ class FenceLayout:
     def tip(self, i: int) -> tuple[float, float]:
         """Fence i's free end (x, y) on the belt (y = 0 the right rail, y = W the left)."""
         beta = self.steepness[i]
-        x = self.positions[i] + self.reach / math.tan(beta)
-        return x, self.reach if self.design.sides[i] == 0 else self.belt_width - self.reach
+        h = self.last_reach if self.last_reach is not None and i == len(self.lengths) - 1 else self.reach
+        x = self.positions[i] + h / math.tan(beta)
+        return x, h if self.design.sides[i] == 0 else self.belt_width - h
 
     def root(self, i: int) -> tuple[float, float]:
         """Fence i's end on its rail (x, y)."""
@@ -195,8 +198,11 @@ def with_tail(out: FenceLayout, radius: float, sweep_deg: float | None = None) -
     """``out`` with a curved tail of ``radius`` (part units) on its last fence, turning
     by ``sweep_deg`` (default the fence's steepness: the tail ends parallel to the belt).
 
-    Raises ConfigError (``tail``) unless 0 < radius, 0 < sweep ≤ β and the tail stays
-    between the rails."""
+    The last fence is shortened so that its tail reaches across the belt no further than
+    its tip did plus c (the room beside a tip): the part still passes the far rail.
+
+    Raises ConfigError (``tail``) unless 0 < radius, 0 < sweep ≤ β and the shortened
+    fence still lets the part finish its turn (a wider belt gives it room)."""
     from dataclasses import replace
 
     beta = out.steepness[-1]
@@ -206,12 +212,22 @@ def with_tail(out: FenceLayout, radius: float, sweep_deg: float | None = None) -
     if not (math.isfinite(sweep) and 0.0 < sweep <= beta + ROUNDING):
         raise ConfigError("tail", f"expected 0 < sweep_deg ≤ {to_deg(beta):.4g} (the last fence's angle to the belt: "
                           f"a larger sweep turns the tail back against the belt), got {sweep_deg!r}")
-    tailed = replace(out, tail=Tail(float(radius), float(sweep)))
-    ys = [y for _, y in tailed.tail_points()]
-    if min(ys) < 0.0 or max(ys) > out.belt_width:
-        raise ConfigError("tail", f"a tail of radius {radius:g} {out.units} leaves the belt "
-                          f"({out.belt_width:.4g} {out.units} wide): use a smaller radius or sweep")
-    return tailed
+    # The straight part is shortened so that the tail rises no further across the belt
+    # than the fence's tip did plus c: by Δ = R(1 − cos sweep) − c across the belt. The
+    # last fence must still let the part finish its turn: W − Δ ≥ 6a + 2c + s_N cos β_N
+    # (the layout's own bound, c less for a single fence), which a wider belt makes room for.
+    a = out.cover_radius
+    c = CLEARANCE * a
+    delta = max(radius * (1.0 - math.cos(sweep)) - c, 0.0)
+    need = out.push_bounds[-1] * math.cos(beta) - (c if len(out.lengths) == 1 else 0.0)
+    slack = out.belt_width - ((6.0 + 2.0 * CLEARANCE) * a + need)
+    if delta > slack + ROUNDING:
+        raise ConfigError("tail", f"a tail of radius {radius:g} {out.units} shortens the last fence by {delta:.4g} {out.units} "
+                          f"across the belt, more than the {max(slack, 0.0):.4g} {out.units} it can spare: use a smaller "
+                          f"radius or sweep, or a belt {delta - slack:.4g} {out.units} wider (belt_width)")
+    h = out.reach - delta
+    lengths = out.lengths[:-1] + (h / math.sin(beta),)
+    return replace(out, tail=Tail(float(radius), float(sweep)), last_reach=h, lengths=lengths)
 
 
 def plan_fences(analysis: Analysis, rules: FenceRules = DEFAULT_RULES, min_margin_deg: float = DEFAULT_MIN_MARGIN_DEG,

@@ -82,8 +82,8 @@ def test_drawings_over_http(server: Server, drawing: str, media: str, tmp_path: 
 
 def test_tail_is_the_apis(server: Server) -> None:
     with server.client() as c:
-        r = c.post("/v1/fences", json={"part": RECT, "exact": True, "tail": {"radius": 25}})
-        dxf = c.post("/v1/fences", json={"part": RECT, "exact": True, "tail": {"radius": 25}, "drawing": "dxf"})
+        r = c.post("/v1/fences", json={"part": RECT, "exact": True, "belt_width": 300, "tail": {"radius": 25}})
+        dxf = c.post("/v1/fences", json={"part": RECT, "exact": True, "belt_width": 300, "tail": {"radius": 25}, "drawing": "dxf"})
     assert r.status_code == 200, r.text
-    assert r.json()["tail"] == json.loads(json.dumps(algrasp.fences(RECT, exact=True, tail=25.0).to_dict()["tail"]))
+    assert r.json()["tail"] == json.loads(json.dumps(algrasp.fences(RECT, exact=True, belt_width=300, tail=25.0).to_dict()["tail"]))
     assert dxf.status_code == 200 and "ARC" in dxf.text

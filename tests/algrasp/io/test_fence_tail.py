@@ -21,7 +21,7 @@ SQUARE = {"name": "square", "units": "mm", "boundary": [[0, 0], [30, 0], [30, 30
 def test_dxf_tail_is_an_arc_tangent_to_the_last_fence(tmp_path: Path, part: dict, sweep: float | None) -> None:
     import ezdxf
 
-    layout = algrasp.fences(part, tail={"radius": 25.0, "sweep_deg": sweep})
+    layout = algrasp.fences(part, belt_width=300.0, tail={"radius": 25.0, "sweep_deg": sweep})
     doc = layout.to_dict()
     last = doc["fences"][-1]
     assert doc["tail"]["radius"] == 25.0
@@ -58,7 +58,7 @@ def test_bad_tails_are_refused() -> None:
         algrasp.fences(RECT, tail={"radius": -1.0})
     with pytest.raises(ConfigError, match="sweep_deg"):
         algrasp.fences(RECT, tail={"radius": 10.0, "sweep_deg": 80.0})
-    with pytest.raises(ConfigError, match="leaves the belt"):
-        algrasp.fences(RECT, tail=1e4)
+    with pytest.raises(ConfigError, match="wider"):
+        algrasp.fences(RECT, tail=1e4, belt_width=300.0)
     with pytest.raises(ConfigError, match="tail"):
         algrasp.fences(RECT, tail={"radius": 10.0, "wobble": 1})
