@@ -462,7 +462,7 @@ def validate_fences(source: PartSource, *, samples: int = 3, seed: int = 0, reco
     if not record:
         return v
     doc = source if isinstance(source, Mapping) else {"name": analysis.part.name}
-    opts = {k: val for k, val in options.items() if k != "physics"}
+    opts = {**{k: val for k, val in options.items() if k not in ("physics", "exact")}, **model_of(analysis).to_options()}
     return record_validation(v, layout, dict(doc), {**opts, "samples": samples, "seed": seed},
                              None if record_dir is None else Path(record_dir))
 

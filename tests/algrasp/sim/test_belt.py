@@ -54,7 +54,10 @@ def test_square_on_a_belt(tmp_path: Path) -> None:
     # One MCAP record: the part's pose on /tf, the walls in /scene, the documents.
     from mcap.reader import make_reader
 
+    from tests.algrasp.io.record.test_records import check_record
+
     (path,) = tmp_path.glob("*.mcap")
+    assert check_record(path)["/tf"] > 0  # every JSON message valid against its channel's schema
     with path.open("rb") as f:
         topics = {c.topic for c in make_reader(f).get_summary().channels.values()}
     assert {"/tf", "/scene", "/fences", "/fence_validation", "/request", "/run"} <= topics
