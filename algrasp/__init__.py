@@ -16,7 +16,7 @@ __version__ = "0.1.0"
 _API = {
     "load_part": "algrasp.api", "analyse": "algrasp.api", "plan": "algrasp.api", "validate": "algrasp.api",
     "import_drawing": "algrasp.api", "document": "algrasp.api", "fences": "algrasp.api", "model": "algrasp.api",
-    "Drawing": "algrasp.api",
+    "validate_fences": "algrasp.api", "Drawing": "algrasp.api",
     "Validation": "algrasp.sim.validate",
     "Part": "algrasp.geometry.part", "Tolerances": "algrasp.geometry.tolerances",
     "DEFAULT_TOLERANCES": "algrasp.geometry.tolerances",
@@ -31,11 +31,22 @@ __all__ = ["AlgraspError", "Analysis", "ConfigError", "DEFAULT_PHYSICS", "DEFAUL
            "GeometryError", "LimitExceededError", "Model", "NotOrientableError", "Part", "PartDocumentError",
            "Physics", "Plan", "SimulationError", "StorageError", "TimeLimitError", "Tolerances",
            "UnavailableError", "Validation", "analyse", "document", "fences", "import_drawing", "load_part", "model", "plan",
-           "validate"]
+           "validate", "validate_fences"]
 # (kept literal for linters; a test checks it equals the lazy table)
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
-    from algrasp.api import Drawing, analyse, document, fences, import_drawing, load_part, model, plan, validate
+    from algrasp.api import (
+        Drawing,
+        analyse,
+        document,
+        fences,
+        import_drawing,
+        load_part,
+        model,
+        plan,
+        validate,
+        validate_fences,
+    )
     from algrasp.errors import (
         AlgraspError,
         ConfigError,

@@ -349,7 +349,7 @@ def plan(source: PartSource, *, action: Action | str = "squeeze", min_margin_deg
 
 def fences(source: PartSource, *, fence_friction: float | list[float] | tuple[float, float] | None = None,
            belt_width: float | None = None, min_margin_deg: float = 1.0, exact: bool | None = None,
-           physics: PhysicsSource = None) -> FenceLayout:
+           physics: PhysicsSource = None, tail: float | Mapping[str, Any] | None = None) -> FenceLayout:
     """The fewest conveyor fences that bring the part from any orientation to one (up to
     its push function's symmetry), laid out on a belt moving along +x (conventions §9).
 
@@ -366,6 +366,11 @@ def fences(source: PartSource, *, fence_friction: float | list[float] | tuple[fl
         How far every fence angle may be off (degrees).
     exact, physics
         The model (as :func:`analyse`); ``physics.support_friction`` is the belt's.
+    tail : float or {"radius", "sweep_deg"}, optional
+        A curved tail on the last fence: an arc of that radius (part units) tangent to it
+        at its tip, turning towards the belt by ``sweep_deg`` (default the fence's angle
+        to the belt: it ends parallel to the belt); ``to_dict()["tail"]`` gives the
+        orientations the part leaves the tail in.
 
     Returns
     -------
@@ -390,7 +395,76 @@ def fences(source: PartSource, *, fence_friction: float | list[float] | tuple[fl
     rules = fence_rules(_friction(fence_friction))
     width = None if belt_width is None else _number(belt_width, "belt_width")
     analysis = analyse(source, exact=exact, physics=physics)
-    return plan_fences(analysis, rules, _number(min_margin_deg, "min_margin_deg"), width)
+    out = plan_fences(analysis, rules, _number(min_margin_deg, "min_margin_deg"), width)
+    return out if tail is None else _with_tail(out, tail)
+
+
+def _with_tail(out: FenceLayout, tail: object) -> FenceLayout:
+    """``out`` with the tail a request gives: a radius, or ``{"radius", "sweep_deg"}``."""
+    from optimisation.fence_layout import with_tail
+
+    if isinstance(tail, Mapping):
+        unknown = set(tail) - {"radius", "sweep_deg"}
+        if unknown or "radius" not in tail:
+            raise ConfigError("tail", f"expected {{\"radius\": R, \"sweep_deg\": S (optional)}}, got {dict(tail)!r}")
+        sweep = tail.get("sweep_deg")
+        return with_tail(out, _number(tail["radius"], "tail"), None if sweep is None else _number(sweep, "tail"))
+    return with_tail(out, _number(tail, "tail"))
+
+
+def validate_fences(source: PartSource, *, samples: int = 3, seed: int = 0, record: bool = False,
+                    record_dir: str | Path | None = None, tolerance_deg: float = 0.25, **options: Any) -> Any:
+    """The fence design of :func:`fences` (``options`` as its keywords) simulated on a
+    belt in Drake from ``samples`` seeded random orientations and lateral positions
+    (conventions §9; needs the ``sim`` extra); ``record`` writes it to one MCAP record in
+    ``record_dir`` (default ``$ALGRASP_LOG_DIR`` or ``logs/``).
+
+    Parameters
+    ----------
+    source : PartSource
+        The part (as :func:`fences`).
+    samples, seed : int, default 3 and 0
+        Starts simulated, and the seed of their random orientations and lateral positions.
+    record : bool, default False
+        Write the run to an MCAP record (``/tf``: the part's pose; ``/scene``: the walls).
+    record_dir : str or Path, optional
+        Where the record goes.
+    tolerance_deg : float, default 0.25
+        A sample agrees within the design's final uncertainty plus this (degrees).
+    **options
+        The keywords of :func:`fences` (``tail`` too: then the claim is where the part
+        leaves the tail).
+
+    Returns
+    -------
+    algrasp.sim.belt.BeltValidation
+        ``agreement`` (final orientations within the design's uncertainty + ``tolerance_deg``
+        of a claimed one, modulo its symmetry), ``agreement_on_last_fence``, per-sample
+        outcomes; ``to_dict()`` is the document, ``run_id`` the record's.
+
+    Examples
+    --------
+    >>> validate_fences({"name": "r", "boundary": [[0, 0], [4, 0], [4, 2], [0, 2]]}, samples=0)
+    Traceback (most recent call last):
+    ...
+    algrasp.errors.ConfigError: samples: expected a whole number ≥ 1, got 0
+    """
+    from algrasp.sim.belt import record_validation
+    from algrasp.sim.belt import validate_fences as simulate
+
+    for name, value, low in (("samples", samples, 1), ("seed", seed, 0)):
+        if isinstance(value, bool) or not isinstance(value, int) or value < low:
+            raise ConfigError(name, f"expected a whole number ≥ {low}, got {value!r}")
+    layout = fences(source, **options)
+    analysis = analyse(source, exact=options.get("exact"), physics=options.get("physics"))
+    physics = DEFAULT_PHYSICS if analysis.robust is None else analysis.robust.physics
+    v = simulate(analysis.part, layout, physics, samples, seed, _number(tolerance_deg, "tolerance_deg"), record)
+    if not record:
+        return v
+    doc = source if isinstance(source, Mapping) else {"name": analysis.part.name}
+    opts = {**{k: val for k, val in options.items() if k not in ("physics", "exact")}, **model_of(analysis).to_options()}
+    return record_validation(v, layout, dict(doc), {**opts, "samples": samples, "seed": seed},
+                             None if record_dir is None else Path(record_dir))
 
 
 def _friction(value: object) -> float | tuple[float, float] | None:

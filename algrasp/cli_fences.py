@@ -30,6 +30,16 @@ def add_fences_command(sub: Any) -> None:
     p.add_argument("--svg", metavar="OUT.svg", help="draw the belt and fences (dimensioned, part units)")
     p.add_argument("--dxf", metavar="OUT.dxf", help="the same drawing as DXF (layer FENCES: one line per fence)")
     p.add_argument("--drawing", metavar="OUT.dxf|OUT.svg", help="the drawing, as its suffix says")
+    p.add_argument("--tail", type=float, metavar="R", help="a curved tail of radius R (part units) on the last fence, "
+                   "tangent at its tip (Brokowski, Peshkin & Goldberg 1995)")
+    p.add_argument("--tail-sweep", type=float, metavar="DEG", help="with --tail: how far it turns towards the belt "
+                   "(default the last fence's angle to the belt: it ends parallel to the belt)")
+    p.add_argument("--validate", type=int, metavar="N", help="simulate N seeded starts on the belt in Drake "
+                   "(orientation and lateral position random; needs the sim extra)")
+    p.add_argument("--seed", type=int, default=0, metavar="S", help="with --validate: the random starts' seed (default 0)")
+    from algrasp.cli import _record_options
+
+    _record_options(p)
     model_options(p)
     p.set_defaults(func=cmd_fences)
 
@@ -40,16 +50,52 @@ def cmd_fences(args: argparse.Namespace) -> int:
 
     doc = read_document(args.part, args)
     model = model_from_args(args)
-    layout = fences(doc, fence_friction=args.fence_friction, belt_width=args.belt_width,
-                    min_margin_deg=args.min_margin_deg, exact=model.exact, physics=model.physics)
+    tail = None if args.tail is None else {"radius": args.tail, "sweep_deg": args.tail_sweep}
+    if tail is None and args.tail_sweep is not None:
+        from algrasp.errors import ConfigError
+
+        raise ConfigError("tail", "--tail-sweep needs --tail R")
+    options = {"fence_friction": args.fence_friction, "belt_width": args.belt_width,
+               "min_margin_deg": args.min_margin_deg, "exact": model.exact, "physics": model.physics, "tail": tail}
+    layout = fences(doc, **options)
     written = _drawings(layout, args)
+    validation = None
+    if args.validate is not None:
+        from algrasp.api import validate_fences
+
+        validation = validate_fences(doc, samples=args.validate, seed=args.seed, record=not args.no_record,
+                                     record_dir=args.record_dir, **options)
     if args.json:
-        print(json.dumps(layout.to_dict(), indent=2))
+        out = dict(layout.to_dict())
+        if validation is not None:
+            out["validation"] = validation.to_dict()
+        print(json.dumps(out, indent=2))
         return 0
     print_layout(layout.to_dict())
     for path in written:
         print(f"drawing written to {path}")
+    if validation is not None:
+        print_validation(validation.to_dict())
     return 0
+
+
+def print_validation(v: dict[str, Any]) -> None:
+    """A belt validation, a line per sample and the agreement."""
+    tail = " after the tail" if v["tail"] else ""
+    finals = ", ".join(f"{f:.4g}°" for f in v["final_orientations_deg"])
+    print(f"Drake on the belt: {v['belt_speed_m_s']:.3g} m/s, support friction {v['support_friction']:.3g}, "
+          f"fence friction {v['fence_friction']:.3g}; seed {v['seed']}; agreement within the design's "
+          f"±{v['final_uncertainty_deg']:.3g}° + {v['tolerance_deg']:g}° of {finals}"
+          f"{tail} (mod {v['symmetry_period_deg']:.4g}°)")
+    for k, s in enumerate(v["samples"], 1):
+        fence = "—" if s["on_last_fence_deg"] is None else f"{s['on_last_fence_deg']:.2f}° (off {s['on_last_fence_error_deg']:.2f}°)"
+        print(f"  sample {k}: start {s['initial_deg']:.2f}° at {s['lateral']:.3g} from the rail → on the last fence {fence}, "
+              f"final {s['simulated_deg']:.2f}° (off {s['error_deg']:.2f}°): {'agrees' if s['agrees'] else 'DISAGREES'}")
+    n = len(v["samples"])
+    print(f"agreement {v['agreement']:.0%} ({round(v['agreement'] * n)}/{n}); on the last fence, before the part comes off "
+          f"its end: {v['agreement_on_last_fence']:.0%}; {v['wall_seconds']:.1f} s wall")
+    if v.get("run_id"):
+        print(f"run {v['run_id']} recorded")
 
 
 def _drawings(layout: FenceLayout, args: argparse.Namespace) -> list[str]:
@@ -86,3 +132,7 @@ def print_layout(doc: dict[str, Any]) -> None:
     Console().print(table)
     print(f"final orientation{'s' if len(doc['final_orientations_deg']) > 1 else ''}: {finals} "
           f"± {doc['final_uncertainty_deg']:.3g}°")
+    tail = doc.get("tail")
+    if tail:
+        print(f"tail: radius {tail['radius']:.4g} {u}, sweep {tail['sweep_deg']:.4g}° on fence {n}; the part leaves it at "
+              + ", ".join(f"{f:.4g}°" for f in tail["final_orientations_deg"]))

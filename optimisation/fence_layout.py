@@ -25,6 +25,7 @@ import numpy as np
 
 from algrasp.errors import ConfigError
 from algrasp.geometry.angles import to_deg, to_rad
+from algrasp.geometry.tolerances import ROUNDING
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.deadband import mean_radius
 from algrasp.planning.fences import DEFAULT_MIN_MARGIN_DEG, DEFAULT_RULES, FenceDesign, FenceRules, design_fences
@@ -38,6 +39,18 @@ CLEARANCE = 0.5
 """c: room beside a fence's tip, in covering radii a."""
 SPACING = 2.0
 """Gap between a fence's tip and the next fence's root along the belt, in covering radii."""
+
+
+@dataclass(frozen=True)
+class Tail:
+    """The curved tail of the last fence (Brokowski, Peshkin & Goldberg 1995): an arc of
+    ``radius`` (part units) tangent to the fence at its tip, turning by ``sweep``
+    (radians) towards the belt's direction, so that the part flush against it turns with
+    it and leaves with its contact edge at ``sweep`` less to the belt (the default sweep,
+    the fence's steepness β, leaves it parallel to the belt: no torque as it comes off)."""
+
+    radius: float
+    sweep: float
 
 
 @dataclass(frozen=True)
@@ -70,6 +83,9 @@ class FenceLayout:
     positions: tuple[float, ...]
     cover_radius: float
     units: str
+    tail: Tail | None = None
+    last_reach: float | None = None
+    """The last fence's extent across the belt when a tail shortens it (else ``reach``)."""
 
     @property
     def steepness(self) -> tuple[float, ...]:
@@ -79,12 +95,47 @@ class FenceLayout:
     def tip(self, i: int) -> tuple[float, float]:
         """Fence i's free end (x, y) on the belt (y = 0 the right rail, y = W the left)."""
         beta = self.steepness[i]
-        x = self.positions[i] + self.reach / math.tan(beta)
-        return x, self.reach if self.design.sides[i] == 0 else self.belt_width - self.reach
+        h = self.last_reach if self.last_reach is not None and i == len(self.lengths) - 1 else self.reach
+        x = self.positions[i] + h / math.tan(beta)
+        return x, h if self.design.sides[i] == 0 else self.belt_width - h
 
     def root(self, i: int) -> tuple[float, float]:
         """Fence i's end on its rail (x, y)."""
         return self.positions[i], 0.0 if self.design.sides[i] == 0 else self.belt_width
+
+    def tail_turn(self) -> float:
+        """Signed turn (radians) the tail gives the part: −sweep on the right rail
+        (clockwise, α = β towards 0), +sweep on the left (α = π − β towards π); 0 without."""
+        if self.tail is None:
+            return 0.0
+        return -self.tail.sweep if self.design.sides[-1] == 0 else self.tail.sweep
+
+    def tail_arc(self) -> tuple[tuple[float, float], float, float, float] | None:
+        """(centre, radius, start, end): the tail's arc counter-clockwise from ``start`` to
+        ``end`` (radians, the directions from the centre), as DXF draws arcs; None without.
+
+        The centre is R behind the last fence's face: C = tip − R n, n = (−sin α, cos α)
+        the face's normal (towards the part), so the arc leaves the tip along the fence
+        (tangent) and bends away from the part, the part riding its convex side."""
+        if self.tail is None:
+            return None
+        a = self.design.angles[-1]
+        tx, ty = self.tip(len(self.lengths) - 1)
+        R = self.tail.radius
+        c = (tx + R * math.sin(a), ty - R * math.cos(a))
+        at_tip = math.atan2(math.cos(a), -math.sin(a))  # the direction of n from the centre
+        turn = self.tail_turn()
+        lo, hi = (at_tip + turn, at_tip) if turn < 0 else (at_tip, at_tip + turn)
+        return c, R, lo, hi
+
+    def tail_points(self, n: int = 32) -> list[tuple[float, float]]:
+        """The tail from the last fence's tip to its end, ``n`` + 1 points (part units)."""
+        arc = self.tail_arc()
+        if arc is None:
+            return []
+        (cx, cy), R, lo, hi = arc
+        ts = np.linspace(hi, lo, n + 1) if self.tail_turn() < 0 else np.linspace(lo, hi, n + 1)
+        return [(cx + R * math.cos(t), cy + R * math.sin(t)) for t in ts]
 
     def to_dict(self) -> dict[str, object]:
         """The fence document (degrees; lengths in ``units``): ``FenceDocument``."""
@@ -100,7 +151,12 @@ class FenceLayout:
                 "min_steepness_deg": _deg(d.rules.min_steepness), "fences": fences,
                 "total_length": float(sum(self.lengths)), "symmetry_period_deg": _deg(d.symmetry),
                 "final_orientations_deg": [_deg(f) for f in d.final_orientations],
-                "final_uncertainty_deg": _deg(d.final_uncertainty)}
+                "final_uncertainty_deg": _deg(d.final_uncertainty),
+                **({} if self.tail is None else {
+                    "tail": {"radius": self.tail.radius, "sweep_deg": _deg(self.tail.sweep),
+                             "turn_deg": _deg(self.tail_turn()),
+                             "final_orientations_deg": [_deg((f + self.tail_turn()) % (2 * np.pi))
+                                                        for f in d.final_orientations]}})}
 
 
 def _deg(rad: float) -> float:
@@ -136,6 +192,42 @@ def layout(analysis: Analysis, design: FenceDesign, belt_width: float | None = N
         positions.append(positions[-1] + h / math.tan(b) + SPACING * a)
     lengths = tuple(h / math.sin(b) for b in beta)
     return FenceLayout(design, W, h, tuple(s), lengths, tuple(positions), a, analysis.part.units)
+
+
+def with_tail(out: FenceLayout, radius: float, sweep_deg: float | None = None) -> FenceLayout:
+    """``out`` with a curved tail of ``radius`` (part units) on its last fence, turning
+    by ``sweep_deg`` (default the fence's steepness: the tail ends parallel to the belt).
+
+    The last fence is shortened so that its tail reaches across the belt no further than
+    its tip did plus c (the room beside a tip): the part still passes the far rail.
+
+    Raises ConfigError (``tail``) unless 0 < radius, 0 < sweep ≤ β and the shortened
+    fence still lets the part finish its turn (a wider belt gives it room)."""
+    from dataclasses import replace
+
+    beta = out.steepness[-1]
+    sweep = beta if sweep_deg is None else to_rad(float(sweep_deg))
+    if not (math.isfinite(radius) and radius > 0.0):
+        raise ConfigError("tail", f"expected a radius > 0, got {radius!r}")
+    if not (math.isfinite(sweep) and 0.0 < sweep <= beta + ROUNDING):
+        raise ConfigError("tail", f"expected 0 < sweep_deg ≤ {to_deg(beta):.4g} (the last fence's angle to the belt: "
+                          f"a larger sweep turns the tail back against the belt), got {sweep_deg!r}")
+    # The straight part is shortened so that the tail rises no further across the belt
+    # than the fence's tip did plus c: by Δ = R(1 − cos sweep) − c across the belt. The
+    # last fence must still let the part finish its turn: W − Δ ≥ 6a + 2c + s_N cos β_N
+    # (the layout's own bound, c less for a single fence), which a wider belt makes room for.
+    a = out.cover_radius
+    c = CLEARANCE * a
+    delta = max(radius * (1.0 - math.cos(sweep)) - c, 0.0)
+    need = out.push_bounds[-1] * math.cos(beta) - (c if len(out.lengths) == 1 else 0.0)
+    slack = out.belt_width - ((6.0 + 2.0 * CLEARANCE) * a + need)
+    if delta > slack + ROUNDING:
+        raise ConfigError("tail", f"a tail of radius {radius:g} {out.units} shortens the last fence by {delta:.4g} {out.units} "
+                          f"across the belt, more than the {max(slack, 0.0):.4g} {out.units} it can spare: use a smaller "
+                          f"radius or sweep, or a belt {delta - slack:.4g} {out.units} wider (belt_width)")
+    h = out.reach - delta
+    lengths = out.lengths[:-1] + (h / math.sin(beta),)
+    return replace(out, tail=Tail(float(radius), float(sweep)), last_reach=h, lengths=lengths)
 
 
 def plan_fences(analysis: Analysis, rules: FenceRules = DEFAULT_RULES, min_margin_deg: float = DEFAULT_MIN_MARGIN_DEG,

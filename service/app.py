@@ -32,7 +32,7 @@ from service.models import FencesBody, PartJson, PlanBody
 from service.runtime import AUTH, VERSION, ServiceState, check_samples, encoded, require_key, run_task, state, who
 from service.settings import Settings
 from service.store import Store
-from service.work import analysis_task, fences_task, import_task, plan_task
+from service.work import analysis_task, fences_task, fences_validate_task, import_task, plan_task
 
 if TYPE_CHECKING:  # the planning stack loads in the route, on first use
     from algrasp.pipeline import PlanRequest
@@ -224,8 +224,17 @@ async def fences(request: Request, body: FencesBody) -> Response:
     ``algrasp fences --json``; with ``drawing`` its SVG or DXF); a same-input request for
     the document is answered from the cache."""
     svc = state(request)
+    check_samples(svc.settings, body.validate_, "validate.samples")
     options = body.options(svc.settings.cell_physics)
     key = canonical_hash(["fences", VERSION, body.model_dump(by_alias=True)])
+    if body.validate_ is not None and body.drawing is None:  # simulated: recorded, never cached
+        limit = svc.settings.plan_time_limit_s + svc.settings.validation_time_limit_s
+        out = await run_task(svc, "slow", who(request), fences_validate_task, body.part, options,
+                             body.validate_.samples, body.validate_.seed, str(svc.settings.log_dir),
+                             timeout_s=limit, stage="fences")
+        svc.metrics.validations.inc()
+        svc.metrics.samples.inc(body.validate_.samples)
+        return Response(encoded(svc, out, "validate.samples"), media_type="application/json")
     if body.drawing is not None:
         text = await run_task(svc, "slow", who(request), fences_task, body.part, options, body.drawing,
                               timeout_s=svc.settings.plan_time_limit_s, stage="fences")

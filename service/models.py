@@ -141,6 +141,21 @@ def _fence_friction(v: Range | None) -> Range | None:
     return v
 
 
+class TailOptions(_Strict):
+    """The last fence's curved tail (conventions §9)."""
+
+    radius: float = Field(gt=0.0, le=1e9, description="of the arc, part units")
+    sweep_deg: float | None = Field(None, gt=0.0, lt=90.0, description="its turn towards the belt (default the last "
+                                    "fence's angle to the belt: it ends parallel to the belt)")
+
+
+class FenceValidateOptions(_Strict):
+    """Drake validation of the fence design on a belt (``samples`` also bounded by ``ALGRASP_MAX_SAMPLES``)."""
+
+    samples: int = Field(3, ge=1, description="seeded random starts (orientation and lateral position)")
+    seed: int = Field(0, ge=0, le=2**32 - 1)
+
+
 class FencesBody(ModelOptions):
     """``POST /v1/fences``: the part and the fence rules (conventions §9)."""
 
@@ -152,6 +167,9 @@ class FencesBody(ModelOptions):
     min_margin_deg: float = Field(1.0, ge=0.0, lt=45.0, description="every fence angle may be off by this much")
     drawing: Literal["svg", "dxf"] | None = Field(None, description="answer the drawing of the belt and fences "
                                                    "(image/svg+xml or application/dxf, part units) instead of the document")
+    tail: TailOptions | None = Field(None, description="a curved tail on the last fence")
+    validate_: FenceValidateOptions | None = Field(None, alias="validate", description="simulate the design on a belt "
+                                                   "in Drake (the document's validation)")
 
     @field_validator("fence_friction")
     @classmethod
@@ -162,7 +180,8 @@ class FencesBody(ModelOptions):
         """Keyword arguments of ``algrasp.api.fences`` but the part (physics over ``cell``)."""
         model = self.model_options(cell)
         return {"fence_friction": self.fence_friction, "belt_width": self.belt_width,
-                "min_margin_deg": self.min_margin_deg, "exact": model["exact"], "physics": model["physics"]}
+                "min_margin_deg": self.min_margin_deg, "exact": model["exact"], "physics": model["physics"],
+                "tail": None if self.tail is None else self.tail.model_dump()}
 
 
 class JobOptions(ModelOptions):

@@ -65,6 +65,17 @@ def fences_task(doc: dict[str, Any], options: dict[str, Any], drawing: str | Non
     return svg_text(layout) if drawing == "svg" else dxf_text(layout)
 
 
+def fences_validate_task(doc: dict[str, Any], options: dict[str, Any], samples: int, seed: int,
+                         record_dir: str) -> dict[str, Any]:
+    """``POST /v1/fences`` with ``validate``: the fence document with its ``validation``
+    (simulated on a belt in Drake, in this worker) and the record's ``run_id``."""
+    from algrasp.api import fences, validate_fences
+
+    layout = fences(doc, **options)
+    v = validate_fences(doc, samples=samples, seed=seed, record=True, record_dir=record_dir, **options)
+    return {**layout.to_dict(), "validation": v.to_dict(), "run_id": v.run_id}
+
+
 def plan_task(doc: dict[str, Any], req: PlanRequest, record_dir: str, sim_workers: int,
               run_id: str | None = None) -> TaskResult:
     """``POST /v1/plans``: the plan document (+ ``validation`` when asked for). ``req`` is

@@ -202,6 +202,29 @@ class FenceDocument(Open):
     final_uncertainty_deg: float
 
 
+class FenceValidationSample(Open):
+    initial_deg: float
+    lateral: float = Field(description="the start's distance from the first fence's rail (part units)")
+    simulated_deg: float
+    error_deg: float = Field(description="from the nearest claimed final orientation, modulo the symmetry period")
+    agrees: bool
+    on_last_fence_deg: float | None = None
+
+
+class FenceValidationDocument(Open):
+    """``algrasp fences --validate`` and ``POST /v1/fences`` with ``validate``: the design
+    simulated on a belt in Drake (conventions §9)."""
+
+    samples: list[FenceValidationSample]
+    agreement: float
+    agreement_on_last_fence: float
+    tolerance_deg: float
+    final_orientations_deg: list[float]
+    belt_speed_m_s: float
+    support_friction: float
+    fence_friction: float
+
+
 # ------------------------------------------------------------------ validation (Drake)
 class ValidationSample(Open):
     initial_deg: float
@@ -232,7 +255,7 @@ class ValidationDocument(Open):
 
 
 # ------------------------------------------------------------------ runs, jobs, errors
-Command = Literal["analyze", "plan", "validate", "service", "batch", "design"]
+Command = Literal["analyze", "plan", "validate", "service", "batch", "design", "fences"]
 
 
 class ErrorDetail(Open):

@@ -5,7 +5,8 @@ Belt frame: x along the belt's motion, y across it (y = 0 the right rail looking
 downstream, y = W the left). Each fence is one line from its root on its rail to its tip;
 dimensions give the belt width, every fence's root position and length, and its angle
 to the belt. DXF layers: ``BELT`` (rails), ``FENCES`` (one LINE per fence, what a shop
-cuts), ``DIMENSIONS`` and ``TEXT``; ``$INSUNITS`` is the part's unit where DXF has one.
+cuts, and the last fence's curved tail as one ARC tangent to it at its tip), ``DIMENSIONS``
+and ``TEXT``; ``$INSUNITS`` is the part's unit where DXF has one.
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ INSUNITS = {"in": 1, "ft": 2, "mm": 4, "cm": 5, "m": 6, "um": 13}
 
 def _extent(layout: FenceLayout) -> tuple[float, float]:
     """x range of the drawing: the first root to the last tip, plus a part's width each side."""
-    last = layout.tip(len(layout.lengths) - 1)[0]
+    last = max([layout.tip(len(layout.lengths) - 1)[0]] + [x for x, _ in layout.tail_points()])
     pad = 4.0 * layout.cover_radius
     return -pad, max(last, max(layout.positions)) + pad
 
@@ -67,6 +68,16 @@ def _dxf_document(layout: FenceLayout) -> Any:
     for i, (a, b) in enumerate(_fence_lines(layout)):
         msp.add_line(a, b, dxfattribs={"layer": "FENCES"})
         _dimension_fence(msp, layout, i, a, b, text_h)
+    arc = layout.tail_arc()
+    if arc is not None and layout.tail is not None:
+        (cx, cy), R, lo, hi = arc
+        msp.add_arc((cx, cy), R, to_deg(lo), to_deg(hi), dxfattribs={"layer": "FENCES"})
+        end = layout.tail_points(1)[-1]
+        msp.add_text(f"tail R {R:.4g} {layout.units}, {to_deg(layout.tail.sweep):.2f}° (tangent to fence "
+                     f"{len(layout.lengths)} at its tip)", height=text_h,
+                     dxfattribs={"layer": "TEXT"}).set_placement((end[0], end[1] + (text_h if end[1] < W / 2 else -2 * text_h)))
+        msp.add_radius_dim(center=(cx, cy), radius=R, angle=to_deg(0.5 * (lo + hi)), dxfattribs={"layer": "DIMENSIONS"},
+                           override={"dimtxt": text_h, "dimasz": text_h}).render()
     dim = msp.add_linear_dim(base=(x0 + text_h, W / 2), p1=(x0, 0.0), p2=(x0, W), angle=90,
                              dxfattribs={"layer": "DIMENSIONS"}, override={"dimtxt": text_h, "dimasz": text_h})
     dim.render()
@@ -112,6 +123,14 @@ def svg_text(layout: FenceLayout) -> str:
         out.append(_svg_label(mx, my, f"{i + 1}: L {layout.lengths[i]:.4g} {u}, {beta:.2f}°"))
         y = a[1] - 3.0 * h if a[1] == 0.0 else a[1] + 2.0 * h
         out.append(_svg_label(a[0], y, f"x = {layout.positions[i]:.4g}"))
+    arc = layout.tail_arc()
+    if arc is not None and layout.tail is not None:
+        (cx, cy), R, lo, hi = arc
+        pts = layout.tail_points(1)
+        sweep_flag = 0 if layout.tail_turn() < 0 else 1  # in the group's (belt) coordinates: 1 turns from +x to +y
+        out.append(f'<path class="tail" d="M {pts[0][0]:.6g} {pts[0][1]:.6g} A {R:.6g} {R:.6g} 0 0 {sweep_flag} '
+                   f'{pts[-1][0]:.6g} {pts[-1][1]:.6g}" fill="none" stroke="#c00" stroke-width="{h / 3:.4g}"/>')
+        out.append(_svg_label(pts[-1][0], pts[-1][1] + 2.0 * h, f"tail R {R:.4g} {u}, {to_deg(layout.tail.sweep):.2f}°"))
     out.append(_svg_label(x0, -6.0 * h, f"belt moves +x; lengths in {u}"))
     out.append("</g></svg>")
     return "\n".join(out) + "\n"

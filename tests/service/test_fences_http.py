@@ -34,6 +34,10 @@ def test_fences_answer_the_document(server: Server) -> None:
     ({"belt_width": -5}, "belt_width"),
     ({"min_margin_deg": 90}, "min_margin_deg"),
     ({"wobble": 1}, "wobble"),
+    ({"validate": {"samples": 100000}}, "validate.samples"),
+    ({"validate": {"samples": 0}}, "samples"),
+    ({"tail": {"radius": -1}}, "radius"),
+    ({"tail": {"radius": 10, "sweep_deg": 80}}, "tail"),
 ])
 def test_bad_input_is_422_naming_the_field(server: Server, body: dict[str, Any], field: str) -> None:
     with server.client() as c:
@@ -74,3 +78,12 @@ def test_drawings_over_http(server: Server, drawing: str, media: str, tmp_path: 
     lines = list(ezdxf.readfile(path).modelspace().query('LINE[layer=="FENCES"]'))
     want = algrasp.fences(RECT, exact=True).to_dict()["fences"]
     assert [round(ln.dxf.start.x, 6) for ln in lines] == [round(f["position"], 6) for f in want]
+
+
+def test_tail_is_the_apis(server: Server) -> None:
+    with server.client() as c:
+        r = c.post("/v1/fences", json={"part": RECT, "exact": True, "belt_width": 300, "tail": {"radius": 25}})
+        dxf = c.post("/v1/fences", json={"part": RECT, "exact": True, "belt_width": 300, "tail": {"radius": 25}, "drawing": "dxf"})
+    assert r.status_code == 200, r.text
+    assert r.json()["tail"] == json.loads(json.dumps(algrasp.fences(RECT, exact=True, belt_width=300, tail=25.0).to_dict()["tail"]))
+    assert dxf.status_code == 200 and "ARC" in dxf.text

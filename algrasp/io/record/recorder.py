@@ -222,6 +222,65 @@ class RunRecorder:
             self._writer.add_message(tf_ch, ns, _transforms(ns, x, y, phi, alpha, ql, qh).SerializeToString(), ns)
 
 
+    def belt_trajectories(self, outline_m: FloatArray, walls: list[Any], wall_thickness_m: float,
+                          runs: list[list[tuple[float, ...]]]) -> None:
+        """A belt validation's runs (conventions §9) as Foxglove ``/scene`` (the part's
+        outline in frame ``part``; rails, fences and tail as boxes in ``world``) and ``/tf``
+        (world → part). ``runs[k]`` holds (t, x, y, φ) samples in SI units; ``walls`` are
+        :class:`algrasp.sim.belt.Wall` (metres)."""
+        from foxglove_schemas_protobuf.FrameTransform_pb2 import FrameTransform
+        from foxglove_schemas_protobuf.FrameTransforms_pb2 import FrameTransforms
+        from foxglove_schemas_protobuf.SceneUpdate_pb2 import SceneUpdate
+        from foxglove_schemas_protobuf.Vector3_pb2 import Vector3
+        from google.protobuf.timestamp_pb2 import Timestamp
+
+        scene_ch = self._proto_channel("/scene", SceneUpdate)
+        tf_ch = self._proto_channel("/tf", FrameTransforms)
+        start_ns = self._t0_ns
+        for samples in runs:
+            if not samples:
+                continue
+            scene = _belt_scene(outline_m, walls, wall_thickness_m, start_ns)
+            self._writer.add_message(scene_ch, start_ns, scene.SerializeToString(), start_ns)
+            for t, x, y, phi in samples:
+                ns = start_ns + int(t * 1e9)
+                stamp = Timestamp(seconds=ns // 1_000_000_000, nanos=ns % 1_000_000_000)
+                tf = FrameTransforms(transforms=[FrameTransform(timestamp=stamp, parent_frame_id="world", child_frame_id="part",
+                                                                translation=Vector3(x=x, y=y, z=0.0), rotation=_quat_z(phi))])
+                self._writer.add_message(tf_ch, ns, tf.SerializeToString(), ns)
+            start_ns += int((samples[-1][0] + SAMPLE_GAP_S) * 1e9)
+
+
+def _belt_scene(outline_m: FloatArray, walls: list[Any], thick: float, ns: int) -> Any:
+    """The part's hull outline (frame ``part``) and every wall as a box (frame ``world``)."""
+    from foxglove_schemas_protobuf.Color_pb2 import Color
+    from foxglove_schemas_protobuf.CubePrimitive_pb2 import CubePrimitive
+    from foxglove_schemas_protobuf.LinePrimitive_pb2 import LinePrimitive
+    from foxglove_schemas_protobuf.Point3_pb2 import Point3
+    from foxglove_schemas_protobuf.Pose_pb2 import Pose
+    from foxglove_schemas_protobuf.SceneEntity_pb2 import SceneEntity
+    from foxglove_schemas_protobuf.SceneUpdate_pb2 import SceneUpdate
+    from foxglove_schemas_protobuf.Vector3_pb2 import Vector3
+    from google.protobuf.timestamp_pb2 import Timestamp
+
+    stamp = Timestamp(seconds=ns // 1_000_000_000, nanos=ns % 1_000_000_000)
+    line = LinePrimitive(type=LinePrimitive.LINE_LOOP, thickness=2.0, scale_invariant=True,
+                         points=[Point3(x=float(px), y=float(py), z=0.0) for px, py in outline_m],
+                         color=Color(r=0.1, g=0.5, b=0.9, a=1.0), pose=Pose(orientation=_quat_z(0.0)))
+    entities = [SceneEntity(timestamp=stamp, frame_id="part", id="part", frame_locked=True, lines=[line])]
+    cubes = []
+    for w in walls:
+        c, s = math.cos(w.alpha), math.sin(w.alpha)
+        centre = Vector3(x=w.start[0] + 0.5 * w.length * c + 0.5 * thick * s,
+                         y=w.start[1] + 0.5 * w.length * s - 0.5 * thick * c, z=0.0)
+        fence = w.name.startswith(("fence", "tail"))
+        cubes.append(CubePrimitive(pose=Pose(position=centre, orientation=_quat_z(w.alpha)),
+                                   size=Vector3(x=w.length, y=thick, z=thick),
+                                   color=Color(r=0.8, g=0.1, b=0.1, a=0.9) if fence else Color(r=0.6, g=0.6, b=0.6, a=0.8)))
+    entities.append(SceneEntity(timestamp=stamp, frame_id="world", id="fences", cubes=cubes))
+    return SceneUpdate(entities=entities)
+
+
 def _quat_z(angle: float) -> Any:
     from foxglove_schemas_protobuf.Quaternion_pb2 import Quaternion
 

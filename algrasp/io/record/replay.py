@@ -168,9 +168,25 @@ def _replay(rec: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
             doc = _optimised(analysis, plan, options, doc)
         diffs += _compare("plan", recorded, doc)
         steps = recorded["steps"]
+    if "/fences" in rec:  # a fence validation (conventions §9): its design, recomputed
+        diffs += _compare("fences", rec["/fences"][0], _fences(request))
     run = rec.get("/run", [{}])[-1]
     return {"run_id": request["run_id"], "action": options.get("action") or run.get("action"), "steps": steps, "differences": diffs,
             "summary": run, "request": request, "validation": rec.get("/validation", [None])[0]}
+
+
+def _fences(request: dict[str, Any]) -> dict[str, Any]:
+    """The fence document of a recorded fence run's request, recomputed."""
+    from algrasp.api import fences
+
+    opts = request["options"]
+    from algrasp.planning.analysis import Model
+
+    model = Model.from_record(opts)
+    keys = ("fence_friction", "belt_width", "min_margin_deg", "tail")
+    layout = fences(request["part"], exact=model.exact, physics=None if model.exact else model.physics.to_dict(),
+                    **{k: opts[k] for k in keys if k in opts})
+    return dict(layout.to_dict())
 
 
 def plan_options(options: dict[str, Any], plan_doc: dict[str, Any]) -> dict[str, Any]:

@@ -7,7 +7,7 @@ degrees and the part's unit, as every interface does (docs/conventions.md §1). 
 on ``/plan``).
 
 >>> TOPICS["/plan"]["title"], sorted(TOPICS)
-('algrasp.Plan', ['/analysis', '/plan', '/request', '/run', '/sim/state', '/validation'])
+('algrasp.Plan', ['/analysis', '/fence_validation', '/fences', '/plan', '/request', '/run', '/sim/state', '/validation'])
 """
 
 from __future__ import annotations
@@ -18,6 +18,8 @@ from pydantic import BaseModel
 
 from algrasp.io.documents import (
     AnalysisDocument,
+    FenceDocument,
+    FenceValidationDocument,
     PlanDocument,
     RequestDocument,
     RunSummary,
@@ -37,6 +39,8 @@ TOPICS: dict[str, dict[str, Any]] = {
     "/plan": _channel(PlanDocument, "algrasp.Plan"),
     "/validation": _channel(ValidationDocument, "algrasp.Validation"),
     "/sim/state": _channel(SimState, "algrasp.SimState"),
+    "/fences": _channel(FenceDocument, "algrasp.Fences"),
+    "/fence_validation": _channel(FenceValidationDocument, "algrasp.FenceValidation"),
     "/run": _channel(RunSummary, "algrasp.Run"),
 }
 """Each JSON channel's schema; the title is the MCAP schema name viewers show."""
