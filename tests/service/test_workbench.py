@@ -62,19 +62,26 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
     s.kill()
 
 
-@pytest.fixture()
-def page(browser: Any, server: Server) -> Iterator[Any]:
-    """A fresh page on the workbench; fails the test on any console error or page error."""
+def open_page(browser: Any, server: Server, allowed: str | None = None) -> Iterator[Any]:
+    """A fresh page on the workbench; fails the test on any console error or page error
+    (but console errors containing ``allowed``, a note the test provokes)."""
     ctx = browser.new_context(viewport={"width": 1300, "height": 1000}, base_url=server.url)
     pg = ctx.new_page()
     errors: list[str] = []
-    pg.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    pg.on("console", lambda m: errors.append(m.text)
+          if m.type == "error" and (allowed is None or allowed not in m.text) else None)
     pg.on("pageerror", lambda e: errors.append(str(e)))
     pg.goto("/")
     pg.wait_for_selector("body[data-ready=true]")
     yield pg
     ctx.close()
     assert errors == [], f"console errors: {errors}"
+
+
+@pytest.fixture()
+def page(browser: Any, server: Server) -> Iterator[Any]:
+    """A fresh page on the workbench; fails the test on any console error or page error."""
+    yield from open_page(browser, server)
 
 
 def shot(pg: Any, name: str) -> None:

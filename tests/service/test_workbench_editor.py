@@ -13,7 +13,7 @@ from typing import Any
 
 import pytest
 
-from tests.service.test_workbench import browser, chromium, page, plan_in_page, server  # noqa: F401
+from tests.service.test_workbench import browser, chromium, open_page, page, plan_in_page, server  # noqa: F401
 
 pytestmark = [
     pytest.mark.browser,
@@ -24,16 +24,7 @@ pytestmark = [
 @pytest.fixture()
 def refused_page(browser: Any, server: Any) -> Iterator[Any]:  # noqa: F811
     """A page whose only console errors may be Chromium's note of the 422 the test provokes."""
-    ctx = browser.new_context(viewport={"width": 1300, "height": 1000}, base_url=server.url)
-    pg = ctx.new_page()
-    errors: list[str] = []
-    pg.on("console", lambda m: errors.append(m.text) if m.type == "error" and "status of 422" not in m.text else None)
-    pg.on("pageerror", lambda e: errors.append(str(e)))
-    pg.goto("/")
-    pg.wait_for_selector("body[data-ready=true]")
-    yield pg
-    ctx.close()
-    assert errors == [], f"console errors: {errors}"
+    yield from open_page(browser, server, allowed="status of 422")
 
 
 def canvas(pg: Any) -> Any:

@@ -140,11 +140,7 @@ def sheet_documents(filename: str, data: bytes, documents: int, layer: str | Non
     """:func:`list_parts`' listing of a DXF/SVG sheet with the part documents of its first
     ``documents`` parts (``"documents"``), the drawing read once: one upload shows a sheet."""
     sheet, doc_units, k, source = _sheet(filename, data, layer, element_id, None, tolerance, units)
-    out = sheet.summary(units or doc_units)
-    for row in out["parts"]:
-        row["bbox"] = [k * v for v in row["bbox"]]
-        row["area"] = k * k * row["area"]
-    out["warnings"] = [*source.get("warnings", []), *out["warnings"]]
+    out = _listing(sheet, units or doc_units, k, source)
     name = PurePath(filename).stem
     out["documents"] = [_part_document(sheet, i, name, units or doc_units, k, dict(source))
                         for i in range(min(documents, len(sheet.parts)))]
@@ -169,7 +165,12 @@ def list_parts(filename: str, data: bytes, layer: str | None = None, element_id:
     """``{"parts": [{"index", "bbox", "area", "holes", "segments", "units"}], "ignored",
     "warnings"}`` of a DXF/SVG sheet, lengths in the document's unit."""
     sheet, doc_units, k, source = _sheet(filename, data, layer, element_id, None, tolerance, units)
-    out = sheet.summary(units or doc_units)
+    return _listing(sheet, units or doc_units, k, source)
+
+
+def _listing(sheet: Any, units: str, k: float, source: dict[str, Any]) -> dict[str, Any]:
+    """The sheet's summary in ``units`` (lengths scaled by ``k``), the reader's warnings first."""
+    out: dict[str, Any] = sheet.summary(units)
     for row in out["parts"]:
         row["bbox"] = [k * v for v in row["bbox"]]
         row["area"] = k * k * row["area"]

@@ -134,13 +134,19 @@ def _texts_in(poly: Any, marks: Marks) -> list[str]:
     return [t for x, y, t in marks.texts if poly.covers(Point(x, y))]
 
 
+def _components(lp: Loops) -> dict[int, list[int]]:
+    """The faces of each connected component, largest first (``lp.order`` is by area)."""
+    by_comp: dict[int, list[int]] = {}
+    for i in lp.order:
+        by_comp.setdefault(lp.component[i], []).append(i)
+    return by_comp
+
+
 def frames(lp: Loops, marks: Marks, size: float) -> tuple[set[int], list[str]]:
     """The loops that are frames or title-block cells, and what was said about them."""
     out: set[int] = set()
     said: list[str] = []
-    by_comp: dict[int, list[int]] = {}
-    for i in lp.order:
-        by_comp.setdefault(lp.component[i], []).append(i)
+    by_comp = _components(lp)
     for c, faces in by_comp.items():
         main = faces[0]  # the largest face of the component (order is by decreasing area)
         if lp.parent[main] is not None or c not in lp.outer or not _is_rectangle(lp.outer[c], size):
@@ -172,9 +178,7 @@ def tables(lp: Loops, marks: Marks, size: float) -> tuple[set[int], list[str]]:
     least half of them. A part is never a grid of empty rectangles with writing in them."""
     out: set[int] = set()
     said: list[str] = []
-    by_comp: dict[int, list[int]] = {}
-    for i in lp.order:
-        by_comp.setdefault(lp.component[i], []).append(i)
+    by_comp = _components(lp)
     for c, cells in by_comp.items():
         if len(cells) < TABLE_MIN_CELLS or c not in lp.outer or any(lp.children(j) for j in cells):
             continue
