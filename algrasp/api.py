@@ -310,8 +310,11 @@ def plan(source: PartSource, *, action: Action | str = "squeeze", min_margin_deg
         Every transition tolerates that much gripper error (degrees).
     exact, physics
         The model (as :func:`analyse`).
-    limits : {"headline", "none", "all"}
-        Which physics limits to search (``plan.limits``; robust model only).
+    limits : {"headline", "refusal", "none", "all"}
+        Which physics limits to search (``plan.limits``; robust model only): ``headline``
+        the largest jaw friction with a plan and every limit with a refusal; ``refusal``
+        limits with a refusal only; ``none`` no search at all (a refusal says so); ``all``
+        every limit either way.
     optimise : bool, default False
         Push distances, jaw timing and cycle time for the ``gripper`` profile (CasADi;
         ``plan.execution``, and its fields in ``plan.to_dict()``).

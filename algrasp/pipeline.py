@@ -15,7 +15,7 @@ from typing import Any, Literal
 from algrasp.errors import ConfigError
 from algrasp.planning.actions import Action
 from algrasp.planning.analysis import Analysis, Model, analyse_document
-from algrasp.planning.plans import LimitsWanted, Plan, make_plan
+from algrasp.planning.plans import LIMITS_WANTED, LimitsWanted, Plan, make_plan
 
 
 @dataclass(frozen=True)
@@ -56,8 +56,8 @@ class PlanRequest:
             raise ConfigError("placement", f"expected centred, random or None, got {self.placement!r}")
         if not 0.0 < self.tolerance_deg < 180.0:
             raise ConfigError("tolerance_deg", f"must be in (0, 180) degrees, got {self.tolerance_deg}")
-        if self.limits not in ("none", "headline", "all"):
-            raise ConfigError("limits", f"expected none, headline or all, got {self.limits!r}")
+        if self.limits not in LIMITS_WANTED:
+            raise ConfigError("limits", f"expected one of {', '.join(LIMITS_WANTED)}, got {self.limits!r}")
         _ = self.model  # the physics are checked here, before any work
         from algrasp.planning.cells import parse_cells
 

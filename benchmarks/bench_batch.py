@@ -4,10 +4,13 @@ cannot be oriented) with ``algrasp batch`` on the local pool. Prints wall time,
 throughput in parts per minute and peak memory (resident set of the batch process and
 of its largest worker), without validation and with Drake samples.
 
-Target (issue 21): 10,000 parts without validation ≤ 5 min on 2 cores; with 4 Drake
-samples per part the parts/min is printed (on the first ``--drake-parts`` parts).
+Targets: 10,000 parts without validation ≤ 5 min on 2 cores (issue 21), ≤ 1 min on the
+robust model, optimised (issue 34: measured with ``--limits none``, the catalogue screen,
+and with the default ``headline`` limits); with 4 Drake samples per part the parts/min is
+printed (on the first ``--drake-parts`` parts).
 
     python benchmarks/bench_batch.py [--parts 10000] [--samples 0 4] [--drake-parts 40] [--workers 2]
+                                     [--limits none headline]
 """
 
 from __future__ import annotations
@@ -43,7 +46,7 @@ def catalogue(n: int) -> list[dict[str, Any]]:
     return [dict(makers[i % len(makers)](i), name=f"part-{i:03d}", units="mm") for i in range(n)]
 
 
-def run(parts: list[dict[str, Any]], samples: int, workers: int) -> None:
+def run(parts: list[dict[str, Any]], samples: int, workers: int, limits: str = "headline") -> None:
     with tempfile.TemporaryDirectory() as tmp:
         cat = Path(tmp) / "catalogue"
         cat.mkdir()
@@ -52,7 +55,7 @@ def run(parts: list[dict[str, Any]], samples: int, workers: int) -> None:
         out = Path(tmp) / "out"
         t0 = time.perf_counter()
         code = algrasp(["batch", str(cat), "--out", str(out), "--workers", str(workers), "--validate-samples", str(samples),
-                        "--record-dir", str(Path(tmp) / "logs")])
+                        "--record-dir", str(Path(tmp) / "logs"), "--limits", limits])
         wall = time.perf_counter() - t0
         spec = json.loads((out / "gripper_spec.json").read_text())
         agreements = [json.loads(x)["result"]["validation"]["agreement"] for x in (out / "results.jsonl").read_text().splitlines()
@@ -60,7 +63,7 @@ def run(parts: list[dict[str, Any]], samples: int, workers: int) -> None:
         extra = f", mean agreement {sum(agreements) / len(agreements):.3f}" if agreements else ""
         peak_self = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
         peak_worker = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
-        print(f"== {len(parts)} parts, {samples} Drake samples each, {workers} workers: exit {code}, {wall:.1f} s "
+        print(f"== {len(parts)} parts, {samples} Drake samples each, {workers} workers, limits {limits}: exit {code}, {wall:.1f} s "
               f"({wall / 60:.2f} min), {60 * len(parts) / wall:.1f} parts/min; oriented {spec['oriented']}, "
               f"not oriented {len(spec['not_oriented'])}{extra}; peak RSS {peak_self:.0f} MiB (batch process), "
               f"{peak_worker:.0f} MiB (largest worker)")
@@ -74,10 +77,13 @@ def main() -> None:
     ap.add_argument("--samples", type=int, nargs="+", default=[0, 4])
     ap.add_argument("--drake-parts", type=int, default=40, help="parts of the catalogue validated in Drake")
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--limits", nargs="+", default=["none", "headline"], choices=("none", "headline", "all"),
+                    help="physics limits per part, one run each without validation (none: the fastest screen)")
     args = ap.parse_args()
     parts = catalogue(args.parts)
     for s in args.samples:
-        run(parts if s == 0 else parts[:args.drake_parts], s, args.workers)
+        for limits in args.limits if s == 0 else ["headline"]:
+            run(parts if s == 0 else parts[:args.drake_parts], s, args.workers, limits)
 
 
 if __name__ == "__main__":

@@ -64,7 +64,8 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
 
         fence_rules(args.fence_friction)
     return asdict(DesignOptions(args.min_margin_deg, args.validate_samples, args.seed, None, profile,
-                                model["exact"], model.get("physics"), args.sim_physics, args.fences, args.fence_friction))
+                                model["exact"], model.get("physics"), args.sim_physics, args.fences, args.fence_friction,
+                                args.limits))
 
 
 def cmd_batch(args: argparse.Namespace) -> int:
@@ -150,6 +151,9 @@ def add_commands(sub: Any) -> None:
 
     p.add_argument("--fence-friction", "--belt-friction", dest="fence_friction", type=span, metavar="V|LO,HI",
                    help="with --fences: part–fence friction μ_f (default 0.1,0.3)")
+    p.add_argument("--limits", choices=("none", "headline", "all"), default="headline",
+                   help="physics limits per part: headline (default) the largest jaw friction with a plan and every "
+                   "limit with a refusal; none no search (fastest screen of a catalogue); all every limit")
     from algrasp.cli import model_options
 
     model_options(p)

@@ -20,7 +20,7 @@ from algrasp.geometry.angles import to_deg
 from algrasp.pipeline import PlanRequest, plan_part
 from algrasp.planning.actions import ACTIONS
 from algrasp.planning.analysis import Analysis, Model
-from algrasp.planning.plans import Plan, make_plan
+from algrasp.planning.plans import LimitsWanted, Plan, make_plan
 from algrasp.sim.config import meters_per_unit
 
 
@@ -39,6 +39,10 @@ class DesignOptions:
     fences: bool = False
     """Also design conveyor fences for the part (conventions §9)."""
     fence_friction: list[float] | None = None
+    limits: LimitsWanted = "headline"
+    """Physics limits per part (:data:`algrasp.planning.plans.LimitsWanted`): ``none``
+    screens a catalogue fastest (a refusal says only why; the gripper's largest jaw
+    friction is not given)."""
 
     @property
     def model(self) -> Model:
@@ -55,14 +59,15 @@ def _score(plan: Plan) -> tuple[bool, int, float]:
     return (len(plan.final_orientations) != 1, len(plan.steps), -math.inf if m is None else -m)
 
 
-def choose_plan(analysis: Analysis, min_margin_deg: float) -> tuple[Plan | None, dict[str, Any]]:
+def choose_plan(analysis: Analysis, min_margin_deg: float,
+                limits: LimitsWanted = "headline") -> tuple[Plan | None, dict[str, Any]]:
     """The best plan over both actions (None if neither orients the part) and, per
-    action, its step count or why it failed."""
+    action, its step count or why it failed (with the ``limits`` searched)."""
     plans: dict[str, Plan] = {}
     compared: dict[str, Any] = {}
     for action in ACTIONS:
         try:
-            plans[action] = make_plan(analysis, action, min_margin_deg, "headline")
+            plans[action] = make_plan(analysis, action, min_margin_deg, limits)
             p, m = plans[action], _min_margin(plans[action])
             compared[action] = {"steps": len(p.steps), "final_orientations": len(p.final_orientations),
                                 "min_margin_deg": None if m is None else to_deg(m)}
@@ -84,7 +89,7 @@ def max_diameter(analysis: Analysis) -> float:
 def design_part(doc: dict[str, Any], opts: DesignOptions, rec: Any, analysis: Analysis, sim_workers: int = 1) -> dict[str, Any]:
     """The fixture design of one analysed part (see module docs); ``rec`` records the
     chosen plan's run. Lengths in the part's unit and in mm."""
-    best, compared = choose_plan(analysis, opts.min_margin_deg)
+    best, compared = choose_plan(analysis, opts.min_margin_deg, opts.limits)
     units = analysis.part.units
     out: dict[str, Any] = {"name": analysis.part.name, "units": units, "compared": compared, "orientable": best is not None}
     if opts.fences:
@@ -94,7 +99,7 @@ def design_part(doc: dict[str, Any], opts: DesignOptions, rec: Any, analysis: An
         return out
     req = PlanRequest(best.action, opts.min_margin_deg, True, opts.gripper_profile, samples=opts.samples, seed=opts.seed,
                       placement=opts.placement, exact=opts.exact, physics=opts.physics, sim_physics=opts.sim_physics,
-                      limits="headline")  # the chosen plan already carries these limits: not searched again
+                      limits=opts.limits)  # the chosen plan already carries these limits: not searched again
     res = plan_part(doc, req, rec, sim_workers=sim_workers, analysis=analysis, plan=best)  # analysed and planned once
     out["action"] = best.action
     # The sampled trajectories (100 Hz: most of a plan's bytes) stay in the run record;
@@ -165,6 +170,10 @@ def catalogue_spec(results: list[dict[str, Any]]) -> dict[str, Any]:
 def _jaw_friction(ok: list[dict[str, Any]]) -> dict[str, Any]:
     """The largest jaw friction every oriented part's plan tolerates, and what it means
     for the jaws (``jaw_friction_max`` None: no part is limited by jaw friction up to 1)."""
+    unsearched = sum("jaw_friction_max" not in (r["result"].get("limits") or {}) for r in ok)
+    if unsearched:
+        return {"jaw_friction_max": None,
+                "jaw_advice": f"not searched for {unsearched} oriented part(s) (limits 'none'): run with limits headline"}
     values = [g["jaw_friction_max"] for r in ok if (g := r["result"]["gripper"]).get("jaw_friction_max") is not None]
     if not values:
         return {"jaw_friction_max": None, "jaw_advice": "no oriented part is limited by jaw friction up to μ 1"}

@@ -202,7 +202,8 @@ class JobOptions(ModelOptions):
         """Keyword arguments of :class:`service.fixture.DesignOptions` (physics over ``cell``)."""
         friction = [self.fence_friction] if isinstance(self.fence_friction, (int, float)) else self.fence_friction
         out: dict[str, Any] = {"min_margin_deg": self.min_margin_deg, "gripper_profile": self.gripper,
-                               **self.model_options(cell), "fences": self.fences, "fence_friction": friction}
+                               **self.model_options(cell), "fences": self.fences, "fence_friction": friction,
+                               "limits": "all" if self.limits else "headline"}
         if self.validate_ is not None:
             v = self.validate_
             out.update(samples=v.samples, seed=v.seed, placement=v.placement, sim_physics=v.sim_physics)

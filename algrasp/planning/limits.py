@@ -136,8 +136,9 @@ def limits(analysis: Analysis, action: str, planner: Planner, names: tuple[str, 
     assert analysis.robust is not None
     physics = analysis.robust.physics
     known: Known = {} if refused is None else {physics: not refused}
-    out: dict[str, Any] = {n: search_limit(analysis, physics, action, SEARCHES[n], planner, margin_deg, known)
-                           for n in names}
+    hopeless = _hopeless(analysis, physics, action, planner, margin_deg, known, names) if refused else set()
+    out: dict[str, Any] = {n: {"value": None, "bounded": True} if n in hopeless else
+                           search_limit(analysis, physics, action, SEARCHES[n], planner, margin_deg, known) for n in names}
     stuck = all(out[n]["value"] is None for n in names)
     if physics.placement == "any" and action == "squeeze" and stuck:
         out["placement_centred"] = plan_exists(analysis, replace(physics, placement="centred"), action, planner, margin_deg,
@@ -145,6 +146,32 @@ def limits(analysis: Analysis, action: str, planner: Planner, names: tuple[str, 
     if stuck and not out.get("placement_centred"):
         out["ideal_cell"] = _in_ideal_cell(analysis, physics, action, planner, margin_deg, known)
     out["advice"] = advice(action, out, analysis.part.units)
+    return out
+
+
+SCREENS = (("jaw_friction_max", "support_friction_min", "part_mass_kg_min"), ("support_friction_max", "part_mass_kg_max"))
+"""Range searches screened together after a refusal: each group's easy ends applied at
+once (with frictionless jaws) are at least as easy as any one of them with the others as
+given, so if that combined cell has no plan (monotony, which the bisections assume too)
+none of the group's searches can find one; two probes instead of five when no single
+range helps, the common refusal under the default ranges."""
+
+
+def _hopeless(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float, known: Known,
+              names: tuple[str, ...]) -> set[str]:
+    """The searches of :data:`SCREENS` that cannot succeed; the second group is probed
+    only when the first fails (when it passes, single ranges tend to help: no saving)."""
+    out: set[str] = set()
+    for group in SCREENS:
+        wanted = [n for n in group if n in names]
+        if len(wanted) < 2:
+            return out
+        easy = physics.with_range("jaw_friction", (0.0, 0.0))
+        for n in wanted:
+            easy = _with(easy, SEARCHES[n], SEARCHES[n].easy(physics, analysis))
+        if plan_exists(analysis, easy, action, planner, margin_deg, known):
+            return out
+        out.update(wanted)
     return out
 
 

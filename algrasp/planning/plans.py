@@ -295,15 +295,21 @@ def _clusters(sorted_angles: FloatArray) -> FloatArray:
     return out
 
 
-LimitsWanted = Literal["none", "headline", "all"]
+LimitsWanted = Literal["none", "refusal", "headline", "all"]
+"""Which physics limits a plan searches (robust model; conventions §8): ``none`` not even
+on a refusal (a catalogue screen: a refusal then costs one planning attempt, not the
+~15 probes of its limit search); ``refusal`` every limit on a refusal only; ``headline``
+also the largest jaw friction with a plan; ``all`` every limit either way."""
+LIMITS_WANTED: tuple[str, ...] = ("none", "refusal", "headline", "all")
 
 
-def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0, limits: LimitsWanted = "none") -> Plan:
+def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0, limits: LimitsWanted = "refusal") -> Plan:
     """The shortest verified plan of ``action`` for the analysed part, with the physics
     limits asked for (robust model: ``headline`` is the largest jaw friction).
 
     Raises NotOrientableError (constant width, no step, margin too large, too uncertain);
-    in the robust model a refusal carries every limit (``limits``) and says them.
+    in the robust model a refusal carries every limit (``limits``) and says them, unless
+    ``limits`` is ``none``.
     """
     if action not in ("squeeze", "push_grasp"):
         raise ConfigError("action", f"expected squeeze or push_grasp, got {action!r}")
@@ -314,13 +320,15 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0, l
     try:
         plan = plan_once(analysis, action, min_margin_deg)
     except NotOrientableError as e:
+        if limits == "none":
+            raise NotOrientableError(e.reason, f"{e.message} (physics limits not searched: limits 'none')") from None
         found = lim.limits(analysis, action, plan_once, margin_deg=min_margin_deg, refused=True)
         if action == "squeeze":
             found["push_grasp_orients"] = lim.plan_exists(analysis, analysis.robust.physics, "push_grasp", plan_once,
                                                           min_margin_deg)
         other = "; a push-grasp plan exists under these ranges" if found.get("push_grasp_orients") else ""
         raise NotOrientableError(e.reason, f"{e.message}. Under the given ranges: {found['advice']}{other}", found) from None
-    if limits == "none":
+    if limits in ("none", "refusal"):
         return replace(plan, analysis=analysis)
     wanted = lim.HEADLINE if limits == "headline" else tuple(lim.SEARCHES)
     return replace(plan, analysis=analysis, limits=lim.limits(analysis, action, plan_once, wanted, min_margin_deg, refused=False))

@@ -126,3 +126,15 @@ def test_a_batch_part_is_analysed_once_and_each_action_planned_once(tmp_path: Pa
     response, _, err = design_task(dict(rectangle(10.0, 4.0), name="r"), {"min_margin_deg": 0.0}, str(tmp_path), 1)
     assert err is None and response is not None and response["orientable"]
     assert calls == {"analyse": 1, "plan": 2}
+
+
+def test_batch_limits_none_says_the_jaw_limit_was_not_searched(tmp_path: Path) -> None:
+    cat = _catalogue(tmp_path / "cat")
+    out = tmp_path / "out"
+    assert main(["batch", str(cat), "--out", str(out), "--workers", "1", "--limits", "none",
+                 "--record-dir", str(tmp_path / "records")]) == 0
+    spec = _spec(out)
+    assert spec["oriented"] == 3 and spec["jaw_friction_max"] is None
+    assert "not searched for 3 oriented part(s)" in str(spec["jaw_advice"])
+    lines = [json.loads(x) for x in (out / "results.jsonl").read_text().splitlines()]
+    assert all(not r["result"]["limits"] for r in lines)

@@ -11,7 +11,7 @@ import math
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from algrasp.errors import AlgraspError, PartDocumentError, RecordError
 from algrasp.io.jsonguard import JsonBounds, parse_json
@@ -138,12 +138,13 @@ def _damaged(path: Path) -> Iterator[None]:
 def _rebuild(request: dict[str, Any], options: dict[str, Any]) -> tuple[Any, Any]:
     """Analysis and (when ``options`` name an action) plan of a recorded request."""
     from algrasp.planning.analysis import Model, analyse_document
-    from algrasp.planning.plans import LimitsWanted, make_plan
+    from algrasp.planning.plans import LIMITS_WANTED, LimitsWanted, make_plan
 
     analysis = analyse_document(request["part"], Model.from_record(options))
     action = options.get("action")
-    wanted = options.get("limits", "none") if analysis.robust is not None else "none"
-    limits: LimitsWanted = "headline" if wanted == "headline" else "all" if wanted == "all" else "none"
+    # A record without the field predates it: its plan searched limits on a refusal only.
+    wanted = options.get("limits", "refusal") if analysis.robust is not None else "none"
+    limits = cast(LimitsWanted, wanted if wanted in LIMITS_WANTED else "refusal")
     return analysis, None if not action else make_plan(analysis, action, options.get("min_margin_deg", 0.0), limits)
 
 

@@ -1,0 +1,67 @@
+"""Limit searches after a refusal (algrasp/planning/limits.py, conventions §8): the
+screen of several ranges in one probe gives the same limits as searching each range
+alone, and ``limits="none"`` refuses after one planning attempt."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import pytest
+
+from algrasp.errors import NotOrientableError
+from algrasp.pipeline import WARM_UP_PART
+from algrasp.planning import limits as lim
+from algrasp.planning.analysis import ROBUST, analyse_document
+from algrasp.planning.plans import make_plan, plan_once
+from algrasp.testing import shapes
+
+PARTS = {"triangle": WARM_UP_PART, "random 5-gon": shapes.random_polygon(5, 3), "random 8-gon": shapes.random_polygon(8, 3),
+         "pie 40°": shapes.pie(1.0, 40.0)}
+
+
+def _refused_limits(doc: dict[str, Any], action: str) -> dict[str, Any] | None:
+    analysis = analyse_document(doc, ROBUST)
+    try:
+        plan_once(analysis, action)  # type: ignore[arg-type]
+    except NotOrientableError:
+        return lim.limits(analysis, action, plan_once, refused=True)
+    return None
+
+
+@pytest.mark.parametrize("name", PARTS)
+@pytest.mark.parametrize("action", ["squeeze", "push_grasp"])
+def test_screened_limits_equal_one_search_per_range(name: str, action: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    screened = _refused_limits(PARTS[name], action)
+    if screened is None:
+        pytest.skip("planned under the default ranges: nothing refused to screen")
+    monkeypatch.setattr(lim, "SCREENS", ())
+    assert screened == _refused_limits(PARTS[name], action)
+
+
+def test_the_screen_saves_probes_when_no_single_range_helps(monkeypatch: pytest.MonkeyPatch) -> None:
+    calls: list[int] = []
+    real = lim._plan_exists
+
+    def counted(*args: Any) -> bool:
+        calls.append(1)
+        return real(*args)
+
+    monkeypatch.setattr(lim, "_plan_exists", counted)
+    found = _refused_limits(PARTS["random 5-gon"], "squeeze")
+    screened = len(calls)
+    assert found is not None and all(found[n]["value"] is None for n in sum(lim.SCREENS, ()))
+    calls.clear()
+    monkeypatch.setattr(lim, "SCREENS", ())
+    assert _refused_limits(PARTS["random 5-gon"], "squeeze") == found
+    assert len(calls) == screened + 3  # five single probes where the screen made two
+
+
+def test_limits_none_refuses_after_one_attempt_without_searching(monkeypatch: pytest.MonkeyPatch) -> None:
+    analysis = analyse_document(PARTS["random 5-gon"], ROBUST)
+    with pytest.raises(NotOrientableError) as searched:
+        make_plan(analysis, "squeeze")
+    monkeypatch.setattr(lim, "_plan_exists", lambda *a: pytest.fail("a limit probe under limits='none'"))
+    with pytest.raises(NotOrientableError) as bare:
+        make_plan(analysis, "squeeze", limits="none")
+    assert bare.value.reason == searched.value.reason and bare.value.limits is None
+    assert "not searched" in bare.value.message and searched.value.limits is not None
