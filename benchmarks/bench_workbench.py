@@ -41,7 +41,7 @@ def main() -> None:
                 paint.append(page.evaluate("performance.getEntriesByName('first-contentful-paint')[0].startTime"))
                 ready.append(page.evaluate("performance.now()"))
                 page.select_option("#example", "pie-20")
-                page.wait_for_selector("#plot-d svg")
+                page.wait_for_selector("#plot-d canvas")
                 drawn.append(page.evaluate("performance.now()"))
                 weight = sum(sizes.values())
                 ctx.close()

@@ -40,7 +40,7 @@ PIE = "pie-20"
 def _part(pg: Any) -> list[Any]:
     pg.click("button[data-page=part]")
     pg.select_option("#example", PIE)
-    pg.wait_for_selector("#plot-d svg")
+    pg.wait_for_selector("#plot-d canvas")
     return []
 
 
@@ -48,7 +48,7 @@ def _plan(pg: Any) -> list[Any]:
     """The bracket's robust push-grasp plan (its limits shown), played from 200°."""
     pg.click("button[data-page=part]")
     pg.select_option("#example", "bracket")
-    pg.wait_for_selector("#plot-d svg")
+    pg.wait_for_selector("#plot-d canvas")
     pg.click("button[data-page=plan]")
     pg.select_option("#action", "push_grasp")
     pg.select_option("#model", "robust")

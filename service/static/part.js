@@ -5,7 +5,8 @@
 import { api, begin } from "./api.js";
 import { bounds, documentPolylines, mod } from "./geom.js";
 import { drawScene, turningView } from "./scene.js";
-import { el, linePlot, path } from "./svg.js";
+import { linePlot } from "./plots.js";
+import { el, path } from "./svg.js";
 
 const SAMPLES = 720;
 let cursors = [];

@@ -8,7 +8,7 @@ import { mod } from "./geom.js";
 import { follow, hasImages, middle, withinClaim } from "./motion.js";
 import { drawScene, frameOf, sceneExtent, turningView, unionBox } from "./scene.js";
 import { describePhysics, limitsWanted, physicsRequest } from "./physics.js";
-import { linePlot } from "./svg.js";
+import { clearPlot, linePlot } from "./plots.js";
 
 export function planRequest(state, extra = {}) {
   const gripper = document.getElementById("gripper").value.trim();
@@ -58,7 +58,7 @@ export function clearPlan(state) {
   delete summary.dataset.steps;
   for (const id of ["plan-physics", "plan-limits"]) document.getElementById(id).textContent = "";
   document.querySelector("#plan-steps tbody").replaceChildren();
-  document.getElementById("plot-intervals").replaceChildren();
+  clearPlot(document.getElementById("plot-intervals"));
   clearEnd();
 }
 

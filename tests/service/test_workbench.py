@@ -115,8 +115,8 @@ def plan_in_page(pg: Any, action: str, model: str = "exact") -> dict[str, Any]:
 
 def test_upload_a_dxf_plan_and_animate_from_a_dragged_start(page: Any, tmp_path: Path) -> None:
     page.set_input_files("#file", str(pie_dxf(tmp_path / "pie.dxf")))
-    page.wait_for_selector("#plot-d svg")
-    page.hover("#plot-squeeze svg", position={"x": 300, "y": 120})  # hover θ: the part turns between the jaws
+    page.wait_for_selector("#plot-d canvas")
+    page.hover("#plot-squeeze .u-over", position={"x": 300, "y": 100})  # hover θ: the part turns between the jaws
     assert "jaws touching" in page.inner_text("#part-view")
     shot(page, "1-part")
     # Paper (conventions §6): the pie's squeeze plan has 3 squeezes and 2 final orientations 180° apart
@@ -150,7 +150,7 @@ def test_sheet_of_real_gears_shows_thumbnails_and_warnings(page: Any, server: Se
     with server.client() as c:  # what a controller gets for the same file
         sheet = c.post("/v1/imports", files={"file": (drawing.name, drawing.read_bytes())}, data={"list": "true"}).json()
     page.set_input_files("#file", str(drawing))
-    page.wait_for_selector("#plot-d svg", timeout=30_000)
+    page.wait_for_selector("#plot-d canvas", timeout=30_000)
     assert page.locator("#thumbs .thumb").count() == (len(sheet["parts"]) if len(sheet["parts"]) > 1 else 0)
     assert page.locator("#warnings li").count() >= len(sheet["warnings"])
     if len(sheet["parts"]) > 1:
@@ -161,7 +161,7 @@ def test_sheet_of_real_gears_shows_thumbnails_and_warnings(page: Any, server: Se
 @pytest.mark.sim
 def test_validation_plays_back(page: Any) -> None:
     page.select_option("#example", "pie-20")
-    page.wait_for_selector("#plot-d svg")
+    page.wait_for_selector("#plot-d canvas")
     page.click("button[data-page=validation]")
     page.fill("#samples", "2")
     with page.expect_response(lambda r: "/playback" in r.url, timeout=180_000) as resp:
@@ -219,7 +219,7 @@ def test_physics_ranges_reach_the_plan_and_its_limits_show(page: Any) -> None:
     """The Plan page's cell physics go into the request; the page shows them and the
     jaw-friction limit the service returned."""
     page.select_option("#example", "bracket")
-    page.wait_for_selector("#plot-d svg")
+    page.wait_for_selector("#plot-d canvas")
     page.click("button[data-page=plan]")
     page.fill("#phys-jaw_friction", "0,0.2")
     page.select_option("#phys-placement", "centred")

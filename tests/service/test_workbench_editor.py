@@ -65,7 +65,7 @@ def test_an_arc_a_hole_and_a_centre_of_mass_are_drawn_saved_and_analysed(page: A
     assert doc["center_of_mass"] == [30.0, 20.0]
     with page.expect_response(lambda r: "/v1/analyses" in r.url) as resp:
         page.click("#editor-use")
-    page.wait_for_selector("#plot-d svg")
+    page.wait_for_selector("#plot-d canvas")
     part = resp.value.json()["part"]
     assert part["area"] == pytest.approx(area, rel=1e-6)  # the API's exact arc area
     assert part["center_of_mass"] == pytest.approx([30.0, 20.0])

@@ -46,7 +46,7 @@ def test_the_animation_follows_the_robust_plans_own_images(page: Any) -> None:  
     from algrasp import plan as make_plan
 
     page.select_option("#example", "bracket")
-    page.wait_for_selector("#plot-d svg")
+    page.wait_for_selector("#plot-d canvas")
     with page.expect_request(lambda r: r.url.endswith("/v1/plans")) as req:
         doc = plan_in_page(page, "push_grasp", "robust")
     body = req.value.post_data_json
@@ -76,7 +76,7 @@ def test_an_exact_plan_ends_at_the_cores_orientation_and_geom_has_no_planner(pag
     from algrasp import plan as make_plan
 
     page.select_option("#example", "pie-20")
-    page.wait_for_selector("#plot-d svg")
+    page.wait_for_selector("#plot-d canvas")
     doc = plan_in_page(page, "squeeze", "exact")
     wedges = play_from(page, 77)
     final = [w for w in wedges if w["done"] and w["step"] == len(doc["steps"])][-1]

@@ -76,7 +76,7 @@ def test_a_sheet_is_uploaded_once_and_its_warnings_said_once(page: Any, server: 
     uploads: list[Any] = []
     page.on("request", lambda r: uploads.append(r) if r.url.endswith("/v1/imports") else None)
     page.set_input_files("#file", str(drawing))
-    page.wait_for_selector("#plot-d svg", timeout=60_000)
+    page.wait_for_selector("#plot-d canvas", timeout=60_000)
     assert len(uploads) == 1
     items = page.eval_on_selector_all("#warnings li", "els => els.map(e => e.textContent)")
     assert len(items) == len(set(items)) and items
@@ -159,7 +159,7 @@ def test_a_part_drawn_by_clicks_is_saved_analysed_and_planned(page: Any) -> None
     assert sorted(map(tuple, doc["polygon"])) == sorted(pts)
     with page.expect_response(lambda r: "/v1/analyses" in r.url) as resp:
         page.click("#editor-use")
-    page.wait_for_selector("#plot-d svg")
+    page.wait_for_selector("#plot-d canvas")
     assert resp.value.json()["part"]["area"] == pytest.approx(shoelace(pts), rel=1e-9)
     assert page.inner_text("#part-facts").startswith("drawn part")
     plan = plan_in_page(page, "squeeze")

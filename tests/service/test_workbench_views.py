@@ -81,7 +81,7 @@ def test_periodic_regions_and_images_wrap_on_every_plot(page: Any, server: Any) 
     0–360°); the set images of the squeeze cover the whole axis."""
     a = analysis_of(server, "pie-20")
     page.select_option("#example", "pie-20")
-    page.wait_for_selector("#plot-push_grasp svg")
+    page.wait_for_selector("#plot-push_grasp canvas")
     d = plot_geometry(page, "plot-d")
     want = union([p for lo, hi in a["robust"]["squeeze"]["dead_zones_deg"] for p in wrapped(lo, hi, 180.0)])
     assert close(to_deg(d, d["dead"], 180.0), want)
@@ -115,7 +115,7 @@ def test_intervals_are_labelled_non_overlapping_rows(page: Any) -> None:  # noqa
     """The plan's Θᵢ: one row each, labelled Θ1…Θn, rows apart by more than a bar's width,
     and an interval past the period drawn in two pieces as long as the interval together."""
     page.select_option("#example", "pie-20")
-    page.wait_for_selector("#plot-d svg")
+    page.wait_for_selector("#plot-d canvas")
     plan = plan_in_page(page, "squeeze")
     geo = plot_geometry(page, "plot-intervals")
     P = 180.0
@@ -174,7 +174,7 @@ def test_a_new_plan_clears_the_old_end_and_a_failed_plan_clears_the_plan(page: A
     """After a played push-grasp plan, a new plan shows no "ends at φ = …" of the old one;
     a plan that fails leaves no old plan under its error; changed inputs mark the plan stale."""
     page.select_option("#example", "pie-20")
-    page.wait_for_selector("#plot-d svg")
+    page.wait_for_selector("#plot-d canvas")
     plan_in_page(page, "push_grasp")
     page.click("#anim-play")
     page.wait_for_selector("#anim-final[data-final-deg]", timeout=30_000)
@@ -198,7 +198,7 @@ def test_a_plan_opened_from_runs_names_its_run(page: Any, server: Any, pie: dict
     """...and the Part page shows the run's part, not the part chosen before."""
     run_a, _ = two_runs(server, pie)
     page.select_option("#example", "bracket")
-    page.wait_for_selector("#plot-d svg")
+    page.wait_for_selector("#plot-d canvas")
     page.click("button[data-page=runs]")
     page.locator("#runs-table tbody tr", has_text=run_a).click()
     page.wait_for_selector("#run-figure img")
@@ -226,7 +226,7 @@ def test_a_late_analysis_of_an_earlier_part_is_not_drawn(page: Any) -> None:  # 
         page.select_option("#example", "pie-20")
     until_routed(page, held)
     page.select_option("#example", "bracket")
-    page.wait_for_selector("#plot-d svg")
+    page.wait_for_selector("#plot-d canvas")
     assert "bracket" in page.inner_text("#part-facts")
     with page.expect_event("requestfinished", predicate=lambda r: '"pie' in (r.post_data or "")):
         held[0].continue_()
@@ -251,7 +251,7 @@ def test_playback_is_framed_and_validation_says_what_it_validated(page: Any, ser
     outline, com = np.array(geo["outline"]), np.array(geo["center_of_mass"])
     R = float(np.max(np.hypot(*(outline - com).T)))
     page.select_option("#example", "pie-20")
-    page.wait_for_selector("#plot-d svg")
+    page.wait_for_selector("#plot-d canvas")
     page.click("button[data-page=validation]")
     page.fill("#samples", "2")
     page.fill("#val-seed", "5")
@@ -293,7 +293,7 @@ def test_plot_titles_fit_their_plots(page: Any) -> None:  # noqa: F811
     """At 1280 px, where titles were cut off: every plot title ends inside its plot."""
     page.set_viewport_size({"width": 1280, "height": 900})
     page.select_option("#example", "pie-20")
-    page.wait_for_selector("#plot-push_grasp svg")
+    page.wait_for_selector("#plot-push_grasp canvas")
     out = page.evaluate("""() => [...document.querySelectorAll('#analysis svg.plot')].map((svg) => {
         const t = svg.querySelector('.plot-title').getBoundingClientRect(), s = svg.getBoundingClientRect();
         return [t.left >= s.left - 0.5 && t.right <= s.right + 0.5, svg.getAttribute('aria-label')]; })""")
@@ -308,11 +308,11 @@ def test_the_constant_region_is_one_orange_at_both_ends(page: Any) -> None:  # n
     from PIL import Image
 
     page.select_option("#example", "pie-20")
-    page.wait_for_selector("#plot-d svg")
+    page.wait_for_selector("#plot-d canvas")
     geo = plot_geometry(page, "plot-d")
-    box = page.locator("#plot-d svg").bounding_box()
+    box = page.locator("#plot-d canvas").bounding_box()
     scale = box["width"] / 520  # the plot's viewBox is 520 wide
-    img = Image.open(io.BytesIO(page.locator("#plot-d svg").screenshot())).convert("RGB")
+    img = Image.open(io.BytesIO(page.locator("#plot-d canvas").screenshot())).convert("RGB")
     colours = []
     for theta in (10.0, 170.0):
         x = (geo["x"] + theta / 180.0 * geo["width"]) * scale
