@@ -69,14 +69,16 @@ function axesOpts(spec) {
   ];
 }
 
-function options(host, spec, plot) {
+function options(host, spec, plot, xs) {
   const full = spec.xDomain;
+  // the samples' extent (uPlot's first view, a double click) means the whole domain
+  const range = (u, min, max) => (min <= xs[0] && max >= xs[xs.length - 1] ? [...full] : clamp(full, min, max));
   const lanes = (spec.lanes || []).length;
   return {
     title: spec.title, width: Math.max(320, host.clientWidth - 2), height: HEIGHT + (lanes ? lanes * LANE + 8 : 0),
     legend: { show: false },
     scales: {
-      x: { time: false, auto: false, range: (u, min, max) => clamp(full, min ?? full[0], max ?? full[1]) },
+      x: { time: false, auto: false, range },
       y: { range: spec.yDomain ? () => [...spec.yDomain] : (u, min, max) => {
         const pad = (max - min) * 0.08 || 1;
         return [min - pad, max + pad];
@@ -199,7 +201,8 @@ export function linePlot(host, spec) {
     out: Object.assign(document.createElement("output"), { className: "plot-readout" }),
     cursor: Object.assign(document.createElement("div"), { className: "plot-theta", hidden: true }) };
   host.replaceChildren();
-  const u = new globalThis.uPlot(options(host, spec, plot), aligned(spec.series), host);
+  const data = aligned(spec.series);
+  const u = new globalThis.uPlot(options(host, spec, plot, data[0]), data, host);
   u.root.setAttribute("role", "img");
   u.root.setAttribute("aria-label", spec.title);
   u.over.append(plot.cursor);

@@ -4,6 +4,7 @@ validated run, the Foxglove layout, a job's gripper specification, and the page 
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import re
@@ -31,6 +32,20 @@ def test_page_and_scripts_are_served_small_and_offline(server: Server) -> None:
             # no CDN: nothing is fetched from another host
             assert not re.search(r"""(?:src|href|import|from)\s*[=(]?\s*["']https?://""", r.text), path
         assert total <= 1_000_000, f"the page weighs {total} bytes"
+
+
+def test_the_vendored_plotting_library_is_served_as_its_source_says(server: Server) -> None:
+    """uPlot's files are linked from the page, served by the app (no CDN) and are the
+    npm package's bytes: their sha256 are the ones SOURCE.md lists."""
+    source = (STATIC / "vendor" / "uplot" / "SOURCE.md").read_text()
+    with server.client() as c:
+        page = c.get("/").text
+        for name in ("uPlot.iife.min.js", "uPlot.min.css"):
+            assert f'"/ui/vendor/uplot/{name}"' in page
+            r = c.get(f"/ui/vendor/uplot/{name}")
+            assert r.status_code == 200
+            assert f"`{hashlib.sha256(r.content).hexdigest()}`" in source, name
+    assert "1.6.32" in source and "MIT" in (STATIC / "vendor" / "uplot" / "LICENSE").read_text()
 
 
 def test_analysis_samples_are_the_closed_form(server: Server) -> None:

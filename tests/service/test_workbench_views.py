@@ -2,24 +2,22 @@
 regions and images, labelled Θᵢ bars, titles that fit, stale responses never drawn,
 panels cleared when their inputs change, playback framing and what a validation says.
 Expected values come from the public API called here (or from the paper), and are
-compared with the SVG geometry the page drew."""
+compared with the pixels of the plots' canvases (uPlot) and the scenes' SVG geometry."""
 
 from __future__ import annotations
 
-import re
 from typing import Any
 
+import numpy as np
 import pytest
 
 from tests.service.test_workbench import browser, chromium, page, plan_in_page, server  # noqa: F401
+from tests.service.test_workbench_plots import GREY, ORANGE, ORANGE_ON_GREY, canvas, column_share
 
 pytestmark = [
     pytest.mark.browser,
     pytest.mark.skipif(chromium() is None, reason="browser tests skipped: no Chromium found"),
 ]
-
-NUM = re.compile(r"-?\d+(?:\.\d+)?(?:e-?\d+)?")
-
 
 def wrapped(a: float, b: float, period: float) -> list[tuple[float, float]]:
     """[a, b] on a periodic axis [0, period]: the pieces of it and its shifted copies."""
@@ -43,30 +41,31 @@ def union(spans: list[tuple[float, float]]) -> list[tuple[float, float]]:
     return out
 
 
-def plot_geometry(pg: Any, host: str) -> dict[str, Any]:
-    """The plot's area (px) and the shapes in it, read from the SVG the page drew."""
-    return pg.evaluate("""(host) => {
-      const svg = document.querySelector(`#${host} svg`);
-      const area = svg.querySelector('rect.plot-area');
-      const num = (e, k) => Number(e.getAttribute(k));
-      const rects = (cls) => [...svg.querySelectorAll(`rect.${cls}`)].filter((r) => !r.closest('.legend'))
-        .map((r) => [num(r, 'x'), num(r, 'x') + num(r, 'width')]);
-      return {x: num(area, 'x'), width: num(area, 'width'), y: num(area, 'y'), height: num(area, 'height'),
-              dead: rects('band-dead'), ramp: rects('band-ramp'),
-              polys: [...svg.querySelectorAll('path.band-image')].map((p) => p.getAttribute('d')),
-              lanes: [...svg.querySelectorAll('g.lane')].map((g) => ({
-                 label: g.getAttribute('data-label'), text: g.querySelector('text').textContent,
-                 bars: [...g.querySelectorAll('line')].map((l) => [num(l, 'x1'), num(l, 'x2'), num(l, 'y1')])}))};
-    }""", host)
+def inside(theta: float, spans: list[tuple[float, float]], margin: float) -> bool | None:
+    """θ in one of the spans (True), away from all (False), or within `margin` of an edge (None)."""
+    if any(abs(theta - e) < margin for span in spans for e in span):
+        return None
+    return any(a < theta < b for a, b in spans)
 
 
-def to_deg(geo: dict[str, Any], spans: list[list[float]], period: float) -> list[tuple[float, float]]:
-    f = period / geo["width"]
-    return sorted(((a - geo["x"]) * f, (b - geo["x"]) * f) for a, b in spans)
-
-
-def close(got: list[tuple[float, float]], want: list[tuple[float, float]], tol: float = 0.05) -> bool:
-    return len(got) == len(want) and all(abs(g[0] - w[0]) <= tol and abs(g[1] - w[1]) <= tol for g, w in zip(got, want))
+def regions_drawn(pg: Any, host: str, period: float, ramps: list[tuple[float, float]],
+                  dead: list[tuple[float, float]]) -> list[str]:
+    """Every θ (0.5° apart, 1° clear of an edge) coloured as its regions say: orange on a
+    constant region or ramp (over grey where a dead zone is under it too), grey on a dead
+    zone only, neither elsewhere. Returns the θ where the colour is wrong."""
+    img, area = canvas(pg, host)
+    assert (area["x0"], area["x1"]) == (0, period)
+    wrong = []
+    for theta in np.arange(0.25, period, 0.5):
+        r, d = inside(theta, ramps, 1.0), inside(theta, dead, 1.0)
+        if r is None or d is None:
+            continue
+        want = ORANGE_ON_GREY if r and d else ORANGE if r else GREY if d else None
+        shares = {c: column_share(img, area, theta, c) for c in (ORANGE, GREY, ORANGE_ON_GREY)}
+        ok = all((v >= 0.4) if c == want else (v <= 0.02) for c, v in shares.items())
+        if not ok:
+            wrong.append(f"{theta:.2f}° wants {want}: {shares}")
+    return wrong
 
 
 def analysis_of(server: Any, name: str) -> dict[str, Any]:  # noqa: F811
@@ -76,60 +75,72 @@ def analysis_of(server: Any, name: str) -> dict[str, Any]:  # noqa: F811
 
 
 def test_periodic_regions_and_images_wrap_on_every_plot(page: Any, server: Any) -> None:  # noqa: F811
-    """pie-20: d's constant region [160°, 200°) and the squeeze ramp are shaded at 160–180°
-    and 0–20°; every dead zone in all its pieces (the push's zone about 0° at both ends of
-    0–360°); the set images of the squeeze cover the whole axis."""
+    """pie-20: d's constant region [160°, 200°) and the squeeze ramp are orange at 160–180°
+    and 0–20°; every dead zone grey in all its pieces (the push's zone about 0° at both ends
+    of 0–360°); the set images of the squeeze cover the whole axis."""
     a = analysis_of(server, "pie-20")
     page.select_option("#example", "pie-20")
     page.wait_for_selector("#plot-push_grasp canvas")
-    d = plot_geometry(page, "plot-d")
-    want = union([p for lo, hi in a["robust"]["squeeze"]["dead_zones_deg"] for p in wrapped(lo, hi, 180.0)])
-    assert close(to_deg(d, d["dead"], 180.0), want)
+    sq_dead = union([p for lo, hi in a["robust"]["squeeze"]["dead_zones_deg"] for p in wrapped(lo, hi, 180.0)])
     ramps = union([p for lo, hi in a["diameter"]["constant_intervals_deg"] for p in wrapped(lo, hi, 180.0)])
-    assert close(to_deg(d, d["ramp"], 180.0), ramps)
     assert ramps[0][0] == pytest.approx(0.0) and ramps[-1][1] == pytest.approx(180.0)  # both sides
-    r = plot_geometry(page, "plot-r")
-    want = union([p for lo, hi in a["robust"]["push"]["dead_zones_deg"] for p in wrapped(lo, hi, 360.0)])
-    got = to_deg(r, r["dead"], 360.0)
-    assert close(got, want)
-    assert got[0][0] == pytest.approx(0.0, abs=0.05) and got[-1][1] == pytest.approx(360.0, abs=0.05)
-    sq = plot_geometry(page, "plot-squeeze")
+    assert regions_drawn(page, "plot-d", 180.0, ramps, sq_dead) == []
+    push_dead = union([p for lo, hi in a["robust"]["push"]["dead_zones_deg"] for p in wrapped(lo, hi, 360.0)])
+    assert push_dead[0][0] == pytest.approx(0.0) and push_dead[-1][1] == pytest.approx(360.0)
+    r_const = union([p for lo, hi in a["radius"]["constant_intervals_deg"] for p in wrapped(lo, hi, 360.0)])
+    assert regions_drawn(page, "plot-r", 360.0, r_const, push_dead) == []
+    # the squeeze's ramps, orange in every column of theirs (images may cover part of it)
+    img, area = canvas(page, "plot-squeeze")
     ramp = union([p for s in a["squeeze"]["ramps"] for p in wrapped(s["start_deg"], s["end_deg"], 180.0)])
-    assert close(to_deg(sq, sq["ramp"], 180.0), ramp)
-    # the images, clipped to the axis, leave no θ without an image
-    f = 180.0 / sq["width"]
-    spans = []
-    for dpath in sq["polys"]:
-        xs = [float(v) for v in NUM.findall(dpath)[0::2]]
-        lo, hi = (min(xs) - sq["x"]) * f, (max(xs) - sq["x"]) * f
-        if hi > 0 and lo < 180:
-            spans.append((max(lo, 0.0), min(hi, 180.0)))
+    assert ramp[0][0] == pytest.approx(0.0) and ramp[-1][1] == pytest.approx(180.0)
+    for theta in np.arange(0.25, 180.0, 0.5):
+        where = inside(theta, ramp, 1.0)
+        if where is not None:
+            share = max(column_share(img, area, theta, c) for c in (ORANGE, ORANGE_ON_GREY))
+            assert (share >= 0.2) if where else (share <= 0.02), (theta, share)
+    # the images as drawn (in θ), clipped to the axis, leave no θ without an image
+    polys = page.evaluate("document.getElementById('plot-squeeze').plot.drawn.images")
+    spans = sorted((max(min(x for x, _ in q), 0.0), min(max(x for x, _ in q), 180.0)) for q in polys)
     reach = 0.0
-    for lo, hi in sorted(spans):
+    for lo, hi in spans:
+        if hi <= 0:
+            continue
         assert lo <= reach + 0.05, f"no image drawn on [{reach:.2f}, {lo:.2f}]"
         reach = max(reach, hi)
     assert reach == pytest.approx(180.0, abs=0.05)
 
 
 def test_intervals_are_labelled_non_overlapping_rows(page: Any) -> None:  # noqa: F811
-    """The plan's Θᵢ: one row each, labelled Θ1…Θn, rows apart by more than a bar's width,
-    and an interval past the period drawn in two pieces as long as the interval together."""
+    """The plan's Θᵢ: one green row each under the θ axis, labelled (text left of each row,
+    and Θ1…Θn said to screen readers), rows apart by more than a bar's width, an interval
+    past the period drawn in two pieces as long as the interval together."""
     page.select_option("#example", "pie-20")
     page.wait_for_selector("#plot-d canvas")
     plan = plan_in_page(page, "squeeze")
-    geo = plot_geometry(page, "plot-intervals")
+    img, area = canvas(page, "plot-intervals")
     P = 180.0
-    assert [ln["label"] for ln in geo["lanes"]] == [f"Θ{i + 1}" for i in range(len(plan["intervals_deg"]))]
-    assert all(ln["text"] == ln["label"] for ln in geo["lanes"])
-    rows = [ln["bars"][0][2] for ln in geo["lanes"]]
-    assert all(abs(b - a) >= 8 for a, b in zip(rows, rows[1:]))  # bars are 4 px: never touch
+    bottom = int(area["top"] + area["height"])
+    green = np.abs(img[bottom:] - (46, 125, 50)).max(axis=2) <= 12
+    rows = np.nonzero(green.any(axis=1))[0]
+    bars = np.split(rows, np.nonzero(np.diff(rows) > 1)[0] + 1)  # runs of adjacent rows: one bar each
+    assert len(bars) == len(plan["intervals_deg"])
+    centres = [bottom + float(np.mean(b)) for b in bars]
+    assert all(b - a >= 8 for a, b in zip(centres, centres[1:]))  # bars are 4 px: never touch
+    f = P / area["width"]
     crossing = 0
-    for (lo, hi), ln in zip(plan["intervals_deg"], geo["lanes"]):
-        assert len({y for _, _, y in ln["bars"]}) == 1
-        got = to_deg(geo, [[a, b] for a, b, _ in ln["bars"]], P)
-        assert close(got, wrapped(lo, hi, P))
+    for (lo, hi), bar, y in zip(plan["intervals_deg"], bars, centres):
+        cols = np.nonzero(green[int(np.median(bar))])[0]
+        pieces = np.split(cols, np.nonzero(np.diff(cols) > 1)[0] + 1)
+        got = [((c[0] - area["left"]) * f, (c[-1] + 1 - area["left"]) * f) for c in pieces]
+        want = wrapped(lo, hi, P)
+        assert len(got) == len(want) and all(abs(g[0] - w[0]) <= 2 * f and abs(g[1] - w[1]) <= 2 * f
+                                             for g, w in zip(got, want)), (got, want)
+        label = img[int(y) - 4:int(y) + 5, int(area["left"]) - 30:int(area["left"]) - 4]
+        assert (label.max(axis=2) < 160).sum() >= 8, "no label left of the bar"
         crossing += hi > P + 1e-6
     assert crossing  # the pie's 180° Θ₃ crosses the period
+    said = page.eval_on_selector_all("#plot-intervals .plot-lanes li", "els => els.map(e => e.textContent)")
+    assert [t.split(":")[0] for t in said] == [f"Θ{i + 1}" for i in range(len(plan["intervals_deg"]))]
 
 
 def until_routed(pg: Any, held: list[Any]) -> None:
@@ -290,34 +301,28 @@ def test_playback_is_framed_and_validation_says_what_it_validated(page: Any, ser
 
 
 def test_plot_titles_fit_their_plots(page: Any) -> None:  # noqa: F811
-    """At 1280 px, where titles were cut off: every plot title ends inside its plot."""
+    """At 1280 px, where titles were cut off: every plot title lies inside its plot, whole."""
     page.set_viewport_size({"width": 1280, "height": 900})
     page.select_option("#example", "pie-20")
     page.wait_for_selector("#plot-push_grasp canvas")
-    out = page.evaluate("""() => [...document.querySelectorAll('#analysis svg.plot')].map((svg) => {
-        const t = svg.querySelector('.plot-title').getBoundingClientRect(), s = svg.getBoundingClientRect();
-        return [t.left >= s.left - 0.5 && t.right <= s.right + 0.5, svg.getAttribute('aria-label')]; })""")
+    out = page.evaluate("""() => [...document.querySelectorAll('#analysis .plot-host')].map((host) => {
+        const t = host.querySelector('.u-title'), r = t.getBoundingClientRect(), s = host.getBoundingClientRect();
+        return [r.left >= s.left - 0.5 && r.right <= s.right + 0.5 && t.scrollWidth <= t.clientWidth, t.textContent]; })""")
     assert len(out) == 5 and all(ok for ok, _ in out), out
 
 
 def test_the_constant_region_is_one_orange_at_both_ends(page: Any) -> None:  # noqa: F811
     """pie-20's d(θ) is constant on [160°, 200°): the pixels at θ = 10° and 170° (inside both
-    pieces, under the curve's line) are the same orange, over the grey dead zone too."""
-    import io
-
-    from PIL import Image
-
+    pieces, near the bottom of the plot, under the curve's line) are the same orange, over
+    the grey dead zone too."""
     page.select_option("#example", "pie-20")
     page.wait_for_selector("#plot-d canvas")
-    geo = plot_geometry(page, "plot-d")
-    box = page.locator("#plot-d canvas").bounding_box()
-    scale = box["width"] / 520  # the plot's viewBox is 520 wide
-    img = Image.open(io.BytesIO(page.locator("#plot-d canvas").screenshot())).convert("RGB")
+    img, area = canvas(page, "plot-d")
     colours = []
     for theta in (10.0, 170.0):
-        x = (geo["x"] + theta / 180.0 * geo["width"]) * scale
-        y = (geo["y"] + geo["height"] * 0.9) * scale
-        colours.append(img.getpixel((int(x), int(y))))
+        x = area["left"] + theta / 180.0 * area["width"]
+        y = area["top"] + area["height"] * 0.9
+        colours.append(img[int(y), int(x)])
     for r, g, b in colours:
         assert r > 220 and 150 < g < 225 and b < 140, colours  # orange, not tan or grey
     assert max(abs(a - b) for a, b in zip(*colours)) <= 6  # one colour at both ends
