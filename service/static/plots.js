@@ -23,7 +23,8 @@ function save(blob, filename) {
 
 const slug = (s) => s.replace(/[^\w]+/g, "-").replace(/^-|-$/g, "").slice(0, 40) || "plot";
 
-// The plot as a PNG: its title over uPlot's canvas, on white, at least 2 device px per CSS px.
+// The plot as a PNG: its title over uPlot's canvas, on white, scaled up to 2 px per CSS px
+// on a 1× screen (uPlot draws at the screen's pixel ratio only).
 function toPng(u, title) {
   const src = u.ctx.canvas, dpr = devicePixelRatio, scale = Math.max(1, 2 / dpr);
   const head = Math.round(22 * dpr * scale);
@@ -35,6 +36,7 @@ function toPng(u, title) {
   g.font = `600 ${12 * dpr * scale}px system-ui, sans-serif`;
   g.textBaseline = "middle";
   g.fillText(title, 8 * dpr * scale, head / 2, canvas.width - 16 * dpr * scale);
+  g.imageSmoothingQuality = "high";
   g.drawImage(src, 0, head, src.width * scale, src.height * scale);
   return new Promise((ok) => canvas.toBlob(ok, "image/png"));
 }
