@@ -43,6 +43,12 @@ def cmd_import(args: argparse.Namespace) -> int:
     if args.list:
         return _list_parts(args)
     doc = import_file(args.file, **_import_options(args))
+    from algrasp.io.fence_import import is_fence_layout
+
+    if is_fence_layout(doc):
+        from algrasp.cli_fences import print_imported_layout
+
+        return print_imported_layout(doc, args.file, args.output)
     from algrasp.geometry.part import load_part
 
     load_part(doc)  # the imported document must be a valid part

@@ -193,3 +193,26 @@ def print_layout(doc: dict[str, Any]) -> None:
     if tail:
         print(f"tail: radius {tail['radius']:.4g} {u}, sweep {tail['sweep_deg']:.4g}° on fence {n}; the part leaves it at "
               + ", ".join(f"{f:.4g}°" for f in tail["final_orientations_deg"]))
+
+
+def print_imported_layout(doc: dict[str, Any], source: str, output: str | None) -> int:
+    """``algrasp import layout.dxf``: the fence layout read back, as JSON (or to ``output``,
+    with a line per fence)."""
+    text = json.dumps(doc, indent=2)
+    if output is None:
+        print(text)
+        return 0
+    from pathlib import Path
+
+    Path(output).write_text(text + "\n", encoding="utf-8")
+    u = doc["units"]
+    n = len(doc["fences"])
+    print(f"{source} → {output}: fence layout, {n} fence{'s' if n > 1 else ''} on a belt {doc['belt_width']:.6g} {u} wide, "
+          f"total length {doc['total_length']:.6g} {u}")
+    for i, f in enumerate(doc["fences"], 1):
+        print(f"  fence {i}: {f['side']}, angle {f['angle_deg']:.4f}° ({f['steepness_deg']:.4f}° to the belt), "
+              f"root at x = {f['position']:.6g} {u}, length {f['length']:.6g} {u}")
+    if "tail" in doc:
+        t = doc["tail"]
+        print(f"  tail on fence {t['fence']}: radius {t['radius']:.6g} {u}, sweep {t['sweep_deg']:.4f}°")
+    return 0

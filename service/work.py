@@ -152,6 +152,9 @@ def import_task(filename: str, data: bytes, options: dict[str, Any]) -> dict[str
                 load_part(doc)
             return out
         return list_parts(filename, data, **sheet_options)
+    from algrasp.io.fence_import import is_fence_layout
+
     doc = import_bytes(filename, data, **options)
-    load_part(doc)
+    if not is_fence_layout(doc):  # a fence layout DXF answers its layout
+        load_part(doc)
     return doc
