@@ -66,5 +66,7 @@ def test_validate_fences_is_the_belt_validation(square_file: Path, tmp_path: Pat
     (path,) = runs.glob("*.mcap")
     assert v["run_id"] and v["run_id"] in path.name
     with path.open("rb") as f:
-        topics = {c.topic for c in make_reader(f).get_summary().channels.values()}
+        summary = make_reader(f).get_summary()
+    assert summary is not None
+    topics = {c.topic for c in summary.channels.values()}
     assert {"/tf", "/scene", "/fences", "/fence_validation"} <= topics

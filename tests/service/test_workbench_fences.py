@@ -43,7 +43,7 @@ def _off(phi: float, finals: list[float], period: float) -> float:
 
 def test_design_shows_the_apis_layout_and_table(page: Any) -> None:  # noqa: F811
     doc = _design(page)
-    want = algrasp.fences(BRACKET, exact=True, fence_friction=[0.1, 0.3], min_margin_deg=1.0).to_dict()
+    want: dict[str, Any] = dict(algrasp.fences(BRACKET, exact=True, fence_friction=[0.1, 0.3], min_margin_deg=1.0).to_dict())
     assert [f["angle_deg"] for f in doc["fences"]] == pytest.approx([f["angle_deg"] for f in want["fences"]])
     rows = page.locator("#fence-table tbody tr")
     assert rows.count() == len(want["fences"]) == int(page.get_attribute("#fence-summary", "data-fences") or 0)
@@ -88,7 +88,7 @@ def test_downloaded_dxf_reimports_to_the_tables_fences(page: Any, tmp_path: Path
     path = tmp_path / "belt.dxf"
     dl.value.save_as(path)
     assert dl.value.suggested_filename == "bracket-fences.dxf"
-    got = import_file(path)
+    got = import_file(str(path))
     assert got["kind"] == "fence_layout"
     for mine, want in zip(got["fences"], doc["fences"], strict=True):
         assert mine["side"] == want["side"]

@@ -58,9 +58,9 @@ def _ezdxf_fences(path: Path) -> list[tuple[str, float, float, float]]:
 def test_layout_reimported_matches_the_document(name: str, tmp_path: Path) -> None:
     part, options = _parts()[name]
     layout = algrasp.fences(part, **options)
-    doc = layout.to_dict()
+    doc: dict[str, Any] = dict(layout.to_dict())
     path = write_dxf(layout, tmp_path / f"{name}.dxf")
-    got = import_file(path)
+    got = import_file(str(path))
     W = doc["belt_width"]
     assert got["kind"] == "fence_layout" and got["units"] == doc["units"]
     assert got["belt_width"] == pytest.approx(W, rel=LENGTH_TOL)
@@ -89,15 +89,15 @@ def test_rotated_and_moved_drawing_reads_the_same(tmp_path: Path) -> None:
     from ezdxf.math import Matrix44
 
     part, options = _parts()["rect"]
-    doc = algrasp.fences(part, **options).to_dict()
+    doc: dict[str, Any] = dict(algrasp.fences(part, **options).to_dict())
     path = write_dxf(algrasp.fences(part, **options), tmp_path / "rect.dxf")
     drawing = ezdxf.readfile(path)
     turn = math.radians(30.0)
     m = Matrix44.z_rotate(turn) @ Matrix44.translate(0.0, 0.0, 0.0)
     for e in drawing.modelspace().query("LINE ARC"):
-        e.transform(m)
+        e.transform(m)  # type: ignore[attr-defined]
     drawing.saveas(tmp_path / "turned.dxf")
-    got = import_file(tmp_path / "turned.dxf")
+    got = import_file(str(tmp_path / "turned.dxf"))
     W = doc["belt_width"]
     assert got["belt_width"] == pytest.approx(W, rel=SHOP_TOL)
     for mine, want in zip(got["fences"], doc["fences"]):
@@ -109,7 +109,7 @@ def test_rotated_and_moved_drawing_reads_the_same(tmp_path: Path) -> None:
 
 def test_cli_import_reports_the_layout_and_planners_refuse_it(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     part, options = _parts()["square-tail"]
-    doc = algrasp.fences(part, **options).to_dict()
+    doc: dict[str, Any] = dict(algrasp.fences(part, **options).to_dict())
     path = write_dxf(algrasp.fences(part, **options), tmp_path / "belt.dxf")
     out = tmp_path / "belt.json"
     assert main(["import", str(path), "-o", str(out)]) == 0
@@ -137,4 +137,4 @@ def test_a_fence_line_off_the_rails_is_named(tmp_path: Path) -> None:
     msp.add_line((60, 20), (90, 60), dxfattribs={"layer": "FENCES"})
     drawing.saveas(tmp_path / "bad.dxf")
     with pytest.raises(PartDocumentError, match="line 2 on layer FENCES touches neither rail"):
-        import_file(tmp_path / "bad.dxf")
+        import_file(str(tmp_path / "bad.dxf"))
