@@ -75,6 +75,10 @@ def _list_parts(args: argparse.Namespace) -> int:
     p = Path(args.file)
     if not p.is_file():
         raise PartDocumentError("FILE", f"no such file: {args.file}")
+    from algrasp.cli_fences import listed_layout
+
+    if listed_layout(p, args.json):  # a fence layout has no parts: its fences are listed
+        return 0
     out = list_parts(p.name, p.read_bytes(), **opts)
     if args.json:
         print(json.dumps(out, indent=2))

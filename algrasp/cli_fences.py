@@ -205,9 +205,14 @@ def print_imported_layout(doc: dict[str, Any], source: str, output: str | None) 
     from pathlib import Path
 
     Path(output).write_text(text + "\n", encoding="utf-8")
-    u = doc["units"]
-    n = len(doc["fences"])
-    print(f"{source} → {output}: fence layout, {n} fence{'s' if n > 1 else ''} on a belt {doc['belt_width']:.6g} {u} wide, "
+    print_layout_lines(doc, f"{source} → {output}")
+    return 0
+
+
+def print_layout_lines(doc: dict[str, Any], head: str) -> None:
+    """A re-read fence layout, a line per fence (``import -o``, ``import --list``)."""
+    u, n = doc["units"], len(doc["fences"])
+    print(f"{head}: fence layout, {n} fence{'s' if n > 1 else ''} on a belt {doc['belt_width']:.6g} {u} wide, "
           f"total length {doc['total_length']:.6g} {u}")
     for i, f in enumerate(doc["fences"], 1):
         print(f"  fence {i}: {f['side']}, angle {f['angle_deg']:.4f}° ({f['steepness_deg']:.4f}° to the belt), "
@@ -215,4 +220,18 @@ def print_imported_layout(doc: dict[str, Any], source: str, output: str | None) 
     if "tail" in doc:
         t = doc["tail"]
         print(f"  tail on fence {t['fence']}: radius {t['radius']:.6g} {u}, sweep {t['sweep_deg']:.4f}°")
-    return 0
+
+
+def listed_layout(path: Any, as_json: bool) -> bool:
+    """``algrasp import FILE --list`` of a fence layout DXF: its fences printed (True), else
+    False (``path`` a Path; not a fence layout: the sheet's parts are listed)."""
+    from algrasp.io.fence_import import fence_layout_of
+
+    layout = fence_layout_of(path.read_bytes(), path.stem) if path.suffix.lower() == ".dxf" else None
+    if layout is None:
+        return False
+    if as_json:
+        print(json.dumps(layout, indent=2))
+    else:
+        print_layout_lines(layout, str(path))
+    return True

@@ -117,6 +117,8 @@ def test_cli_import_reports_the_layout_and_planners_refuse_it(tmp_path: Path, ca
     n = len(doc["fences"])
     assert f"fence layout, {n} fence{'s' if n > 1 else ''} on a belt" in text and f"tail on fence {n}:" in text
     read = json.loads(out.read_text())
+    assert main(["import", str(path), "--list", "--json"]) == 0  # no parts on it: its fences
+    assert json.loads(capsys.readouterr().out)["fences"] == read["fences"]
     assert [f["side"] for f in read["fences"]] == [f["side"] for f in doc["fences"]]
     assert main(["plan", str(path)]) == 2
     assert f"is a fence layout ({n} fence{'s' if n > 1 else ''} on layer FENCES), not a part" in capsys.readouterr().err
