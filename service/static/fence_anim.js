@@ -60,7 +60,7 @@ function frames(doc, phases) {
   return out;
 }
 
-// The still picture: rails and fences (ids fence-line-1…), framed on the whole path.
+// The still picture: rails and fences (ids fence-line-1…) along the whole path.
 function belt(host, doc, box) {
   const W = doc.belt_width, pad = 2 * doc.cover_radius;
   const svg = el("svg", { class: "scene", role: "img", "aria-label": "the part carried along the belt through the fences",
@@ -74,6 +74,15 @@ function belt(host, doc, box) {
   });
   host.replaceChildren(svg);
   return g;
+}
+
+// The view follows the part: a window 1.6 belt widths (at least 16 covering radii) long
+// around it, within the whole path.
+function follow_(svg, doc, box, x) {
+  const W = doc.belt_width, pad = 2 * doc.cover_radius;
+  const span = Math.min(box.x1 - box.x0, Math.max(1.6 * W, 16 * doc.cover_radius));
+  const x0 = Math.min(Math.max(x - 0.5 * span, box.x0), box.x1 - span);
+  svg.setAttribute("viewBox", `${x0} ${-(W + pad)} ${span} ${W + 2 * pad}`);
 }
 
 function outlineAt(geometry, phi, at) {
@@ -100,6 +109,7 @@ export function playFences(state, phi0) {
   const step = () => {
     if (state.fenceAnimation !== token) return; // a new design or another play took over
     const f = seq[k];
+    follow_(layer.ownerSVGElement, doc, box, f.at[0]);
     part.setAttribute("points", outlineAt(g, middle(f.range), f.at));
     const spread = f.range[1] - f.range[0] > 1e-6;
     ghosts.forEach((e, j) => { e.setAttribute("points", spread ? outlineAt(g, f.range[j], f.at) : ""); });
