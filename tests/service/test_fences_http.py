@@ -96,6 +96,7 @@ def test_layout_dxf_imported_over_http_is_the_layout(server: Server) -> None:
         doc = c.post("/v1/fences", json={"part": RECT, "exact": True}).json()
         dxf = c.post("/v1/fences", json={"part": RECT, "exact": True, "drawing": "dxf"})
         r = c.post("/v1/imports", files={"file": ("belt.dxf", dxf.content, "application/dxf")})
+        listed = c.post("/v1/imports", files={"file": ("belt.dxf", dxf.content, "application/dxf")}, data={"list": "true"})
         spec = c.get("/openapi.json").json()
     assert r.status_code == 200, r.text
     got = r.json()
@@ -106,3 +107,4 @@ def test_layout_dxf_imported_over_http_is_the_layout(server: Server) -> None:
         for key in ("position", "length"):
             assert mine[key] == pytest.approx(want[key], abs=1e-9 * doc["belt_width"])
     assert "FenceLayoutOut" in spec["components"]["schemas"]
+    assert listed.status_code == 200 and listed.json()["fences"] == got["fences"]
