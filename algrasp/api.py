@@ -109,7 +109,9 @@ def import_drawing(path: str | Path, **options: Any) -> Drawing:
     Returns
     -------
     Drawing
-        Its part document and warnings.
+        Its part document and warnings; a fence layout DXF (``algrasp fences --dxf``) gives
+        its layout document instead (``kind`` "fence_layout", the fences' ``side``,
+        ``angle_deg``, ``position``, ``length`` in the file's unit), which no planner takes.
 
     Raises
     ------
@@ -160,7 +162,9 @@ def document(source: PartSource, **import_options: Any) -> dict[str, Any]:
     if isinstance(source, Mapping):
         return dict(source)
     if isinstance(source, Drawing):
-        return dict(source.document)
+        from algrasp.io.fence_import import refuse_layout
+
+        return refuse_layout(dict(source.document), "source")
     if isinstance(source, (str, Path)):
         from algrasp.io.parts import read_part_file
 

@@ -43,6 +43,12 @@ def cmd_import(args: argparse.Namespace) -> int:
     if args.list:
         return _list_parts(args)
     doc = import_file(args.file, **_import_options(args))
+    from algrasp.io.fence_import import is_fence_layout
+
+    if is_fence_layout(doc):
+        from algrasp.cli_fences import print_imported_layout
+
+        return print_imported_layout(doc, args.file, args.output)
     from algrasp.geometry.part import load_part
 
     load_part(doc)  # the imported document must be a valid part
@@ -69,6 +75,10 @@ def _list_parts(args: argparse.Namespace) -> int:
     p = Path(args.file)
     if not p.is_file():
         raise PartDocumentError("FILE", f"no such file: {args.file}")
+    from algrasp.cli_fences import listed_layout
+
+    if listed_layout(p, args.json):  # a fence layout has no parts: its fences are listed
+        return 0
     out = list_parts(p.name, p.read_bytes(), **opts)
     if args.json:
         print(json.dumps(out, indent=2))
@@ -272,10 +282,16 @@ def cmd_plan(args: argparse.Namespace) -> int:
 
 
 def cmd_validate(args: argparse.Namespace) -> int:
+    from algrasp.cli_fences import check_validate_flags, design_and_validate
     from algrasp.pipeline import plan_part
 
     if args.samples < 1 or args.samples > 10_000:
         raise ConfigError("--samples", f"must be in [1, 10000], got {args.samples}")
+    check_validate_flags(args)
+    if args.fences:  # the belt validation of ``algrasp fences --validate N``
+        return design_and_validate(args, args.samples, args.tolerance_deg)
+    args.min_margin_deg = 0.0 if args.min_margin_deg is None else args.min_margin_deg
+    args.tolerance_deg = 1.0 if args.tolerance_deg is None else args.tolerance_deg
     if not (0.0 < args.push_scale <= 10.0):
         raise ConfigError("--push-scale", f"must be in (0, 10], got {args.push_scale}")
     doc = read_document(args.part, args)
@@ -351,15 +367,18 @@ def build_parser() -> argparse.ArgumentParser:
                    help="which cells of the plan's physics ranges to simulate: the middle of every range (default), "
                         "every corner, uniform draws in the box, or one cell of explicit values, e.g. "
                         "support_friction=0.05,jaw_friction=0.2,part_mass_kg=0.005,com_offset=0.5,0")
-    p.add_argument("--tolerance-deg", type=float, default=1.0, help="agreement tolerance on the final orientation")
+    p.add_argument("--tolerance-deg", type=float, help="agreement tolerance on the final orientation (default 1°; "
+                   "with --fences 0.25° beyond the design's uncertainty)")
     p.add_argument("--workers", type=int, default=2, help="simulation worker processes")
     _optimise_options(p)
     p.add_argument("--push-scale", type=float, default=1.0,
                    help="multiply the optimised push distances (experiments: 0.5 shows the optimum is tight)")
     _record_options(p)
     p.add_argument("--json", action="store_true")
-    p.set_defaults(func=cmd_validate)
-    from algrasp.cli_fences import add_fences_command
+    from algrasp.cli_fences import add_fences_command, add_validate_fences_options
+
+    add_validate_fences_options(p)
+    p.set_defaults(func=cmd_validate, min_margin_deg=None)
 
     add_fences_command(sub)
     _registered_commands(sub)

@@ -20,20 +20,13 @@ def add_fences_command(sub: Any) -> None:
     p = sub.add_parser("fences", help="fewest conveyor fences that orient the part, laid out on a belt")
     p.add_argument("part", metavar="PART.json")
     _cad_options(p)
-    p.add_argument("--fence-friction", "--belt-friction", dest="fence_friction", type=span, metavar="V|LO,HI",
-                   help="part–fence friction μ_f (default 0.1,0.3: UHMW-PE guide rails on dry parts); a fence "
-                        "slides the part only if its angle to the belt is below 90° − atan μ_f")
-    p.add_argument("--belt-width", type=float, metavar="W", help="between the rails, part units (default: the least needed)")
+    fence_design_options(p)
     p.add_argument("--min-margin-deg", type=float, default=1.0, metavar="M",
                    help="every fence angle may be off by M degrees (default 1)")
     p.add_argument("--json", action="store_true", help="print the fence document as JSON")
     p.add_argument("--svg", metavar="OUT.svg", help="draw the belt and fences (dimensioned, part units)")
     p.add_argument("--dxf", metavar="OUT.dxf", help="the same drawing as DXF (layer FENCES: one line per fence)")
     p.add_argument("--drawing", metavar="OUT.dxf|OUT.svg", help="the drawing, as its suffix says")
-    p.add_argument("--tail", type=float, metavar="R", help="a curved tail of radius R (part units) on the last fence, "
-                   "tangent at its tip (Brokowski, Peshkin & Goldberg 1995)")
-    p.add_argument("--tail-sweep", type=float, metavar="DEG", help="with --tail: how far it turns towards the belt "
-                   "(default the last fence's angle to the belt: it ends parallel to the belt)")
     p.add_argument("--validate", type=int, metavar="N", help="simulate N seeded starts on the belt in Drake "
                    "(orientation and lateral position random; needs the sim extra)")
     p.add_argument("--seed", type=int, default=0, metavar="S", help="with --validate: the random starts' seed (default 0)")
@@ -44,27 +37,78 @@ def add_fences_command(sub: Any) -> None:
     p.set_defaults(func=cmd_fences)
 
 
+def fence_design_options(p: Any) -> None:
+    """The belt and fence flags ``fences`` and ``validate --fences`` share (not the margin:
+    ``validate`` has its own ``--min-margin-deg``)."""
+    p.add_argument("--fence-friction", "--belt-friction", dest="fence_friction", type=span, metavar="V|LO,HI",
+                   help="part–fence friction μ_f (default 0.1,0.3: UHMW-PE guide rails on dry parts); a fence "
+                        "slides the part only if its angle to the belt is below 90° − atan μ_f")
+    p.add_argument("--belt-width", type=float, metavar="W", help="between the rails, part units (default: the least needed)")
+    p.add_argument("--tail", type=float, metavar="R", help="a curved tail of radius R (part units) on the last fence, "
+                   "tangent at its tip (Brokowski, Peshkin & Goldberg 1995)")
+    p.add_argument("--tail-sweep", type=float, metavar="DEG", help="with --tail: how far it turns towards the belt "
+                   "(default the last fence's angle to the belt: it ends parallel to the belt)")
+
+
+def add_validate_fences_options(p: Any) -> None:
+    """``validate --fences``: the belt validation of ``fences --validate N`` (``--samples``,
+    ``--seed``, ``--min-margin-deg``, ``--tolerance-deg`` are ``validate``'s own)."""
+    g = p.add_argument_group("conveyor fences (with --fences: validate the part's fence design on the belt)")
+    g.add_argument("--fences", action="store_true", help="simulate the fence design (conventions §9) on a belt instead "
+                   "of the gripper plan: --samples seeded starts, orientation and lateral position random")
+    g.add_argument("--drawing", metavar="OUT.dxf|OUT.svg", help="with --fences: the layout's drawing, as its suffix says")
+    fence_design_options(g)
+
+
+GRIPPER_ONLY = {"action": "squeeze", "limits": False, "optimise": False, "gripper": None, "push_scale": 1.0,
+                "sim_physics": "nominal", "workers": 2}
+"""``validate`` flags of a gripper plan, and their defaults: refused with ``--fences``."""
+FENCES_ONLY = ("fence_friction", "belt_width", "tail", "tail_sweep", "drawing")
+"""``validate`` flags that need ``--fences``."""
+
+
+def check_validate_flags(args: argparse.Namespace) -> None:
+    """ConfigError naming the flag given to ``validate`` that the mode it runs does not use;
+    with ``--fences`` it fills the mode's defaults (margin 1°, no SVG/DXF flags)."""
+    from algrasp.errors import ConfigError
+
+    if not args.fences:
+        for name in FENCES_ONLY:
+            if getattr(args, name) is not None:
+                raise ConfigError(name, "needs --fences (it describes the belt and its fences)")
+        return
+    for name, default in GRIPPER_ONLY.items():
+        if getattr(args, name) != default:
+            raise ConfigError(name, "describes a gripper plan; it does not apply with --fences")
+    if args.min_margin_deg is None:
+        from algrasp.planning.fences import DEFAULT_MIN_MARGIN_DEG
+
+        args.min_margin_deg = DEFAULT_MIN_MARGIN_DEG
+    args.svg = args.dxf = None
+
+
 def cmd_fences(args: argparse.Namespace) -> int:
+    return design_and_validate(args, args.validate)
+
+
+def design_and_validate(args: argparse.Namespace, samples: int | None, tolerance_deg: float | None = None) -> int:
+    """Design (and with ``samples`` validate on the belt) the fences of ``args.part``,
+    print or ``--json`` them, write the drawings asked for: ``algrasp fences`` and
+    ``algrasp validate --fences`` (one path; ``tolerance_deg`` None: the API's 0.25°)."""
     from algrasp.api import fences
-    from algrasp.cli import model_from_args, read_document
+    from algrasp.cli import read_document
 
     doc = read_document(args.part, args)
-    model = model_from_args(args)
-    tail = None if args.tail is None else {"radius": args.tail, "sweep_deg": args.tail_sweep}
-    if tail is None and args.tail_sweep is not None:
-        from algrasp.errors import ConfigError
-
-        raise ConfigError("tail", "--tail-sweep needs --tail R")
-    options = {"fence_friction": args.fence_friction, "belt_width": args.belt_width,
-               "min_margin_deg": args.min_margin_deg, "exact": model.exact, "physics": model.physics, "tail": tail}
+    options = fence_options(args)
     layout = fences(doc, **options)
     written = _drawings(layout, args)
     validation = None
-    if args.validate is not None:
+    if samples is not None:
         from algrasp.api import validate_fences
 
-        validation = validate_fences(doc, samples=args.validate, seed=args.seed, record=not args.no_record,
-                                     record_dir=args.record_dir, **options)
+        extra = {} if tolerance_deg is None else {"tolerance_deg": tolerance_deg}
+        validation = validate_fences(doc, samples=samples, seed=args.seed, record=not args.no_record,
+                                     record_dir=args.record_dir, **extra, **options)
     if args.json:
         out = dict(layout.to_dict())
         if validation is not None:
@@ -77,6 +121,19 @@ def cmd_fences(args: argparse.Namespace) -> int:
     if validation is not None:
         print_validation(validation.to_dict())
     return 0
+
+
+def fence_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The keywords of ``algrasp.api.fences`` the flags give (the model too)."""
+    from algrasp.cli import model_from_args
+    from algrasp.errors import ConfigError
+
+    if args.tail is None and args.tail_sweep is not None:
+        raise ConfigError("tail", "--tail-sweep needs --tail R")
+    model = model_from_args(args)
+    tail = None if args.tail is None else {"radius": args.tail, "sweep_deg": args.tail_sweep}
+    return {"fence_friction": args.fence_friction, "belt_width": args.belt_width,
+            "min_margin_deg": args.min_margin_deg, "exact": model.exact, "physics": model.physics, "tail": tail}
 
 
 def print_validation(v: dict[str, Any]) -> None:
@@ -136,3 +193,45 @@ def print_layout(doc: dict[str, Any]) -> None:
     if tail:
         print(f"tail: radius {tail['radius']:.4g} {u}, sweep {tail['sweep_deg']:.4g}° on fence {n}; the part leaves it at "
               + ", ".join(f"{f:.4g}°" for f in tail["final_orientations_deg"]))
+
+
+def print_imported_layout(doc: dict[str, Any], source: str, output: str | None) -> int:
+    """``algrasp import layout.dxf``: the fence layout read back, as JSON (or to ``output``,
+    with a line per fence)."""
+    text = json.dumps(doc, indent=2)
+    if output is None:
+        print(text)
+        return 0
+    from pathlib import Path
+
+    Path(output).write_text(text + "\n", encoding="utf-8")
+    print_layout_lines(doc, f"{source} → {output}")
+    return 0
+
+
+def print_layout_lines(doc: dict[str, Any], head: str) -> None:
+    """A re-read fence layout, a line per fence (``import -o``, ``import --list``)."""
+    u, n = doc["units"], len(doc["fences"])
+    print(f"{head}: fence layout, {n} fence{'s' if n > 1 else ''} on a belt {doc['belt_width']:.6g} {u} wide, "
+          f"total length {doc['total_length']:.6g} {u}")
+    for i, f in enumerate(doc["fences"], 1):
+        print(f"  fence {i}: {f['side']}, angle {f['angle_deg']:.4f}° ({f['steepness_deg']:.4f}° to the belt), "
+              f"root at x = {f['position']:.6g} {u}, length {f['length']:.6g} {u}")
+    if "tail" in doc:
+        t = doc["tail"]
+        print(f"  tail on fence {t['fence']}: radius {t['radius']:.6g} {u}, sweep {t['sweep_deg']:.4f}°")
+
+
+def listed_layout(path: Any, as_json: bool) -> bool:
+    """``algrasp import FILE --list`` of a fence layout DXF: its fences printed (True), else
+    False (``path`` a Path; not a fence layout: the sheet's parts are listed)."""
+    from algrasp.io.fence_import import fence_layout_of
+
+    layout = fence_layout_of(path.read_bytes(), path.stem) if path.suffix.lower() == ".dxf" else None
+    if layout is None:
+        return False
+    if as_json:
+        print(json.dumps(layout, indent=2))
+    else:
+        print_layout_lines(layout, str(path))
+    return True

@@ -28,7 +28,9 @@ from algrasp.geometry.angles import to_deg, to_rad
 from algrasp.geometry.tolerances import ROUNDING
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.deadband import mean_radius
+from algrasp.planning.fence_motion import fence_motion
 from algrasp.planning.fences import DEFAULT_MIN_MARGIN_DEG, DEFAULT_RULES, FenceDesign, FenceRules, design_fences
+from algrasp.planning.motion import Motion
 from optimisation.push import PushModel, push_distances, push_model
 
 PUSH_TOLERANCE_DEG = 0.5
@@ -86,6 +88,9 @@ class FenceLayout:
     tail: Tail | None = None
     last_reach: float | None = None
     """The last fence's extent across the belt when a tail shortens it (else ``reach``)."""
+    motion: Motion | None = None
+    """The push's images and each fence's arcs after it (:mod:`algrasp.planning.fence_motion`):
+    the document's ``images`` and fences' ``image_deg``, what a page animates."""
 
     @property
     def steepness(self) -> tuple[float, ...]:
@@ -145,6 +150,9 @@ class FenceLayout:
                    "push_distance_bound": p}
                   for s, a, b, x, n, m, p in zip(d.sides, d.angles, self.steepness, self.positions, self.lengths,
                                                  d.margins, self.push_bounds)]
+        if self.motion is not None:
+            for f, arcs in zip(fences, self.motion.after):
+                f["image_deg"] = [[_deg(a), _deg(b)] for a, b in arcs]
         return {"units": self.units, "model": "exact" if d.exact else "robust", "belt_direction_deg": 0.0,
                 "belt_width": self.belt_width, "reach": self.reach, "cover_radius": self.cover_radius,
                 "fence_friction": list(d.rules.friction), "max_steepness_deg": _deg(d.rules.max_steepness),
@@ -156,7 +164,17 @@ class FenceLayout:
                     "tail": {"radius": self.tail.radius, "sweep_deg": _deg(self.tail.sweep),
                              "turn_deg": _deg(self.tail_turn()),
                              "final_orientations_deg": [_deg((f + self.tail_turn()) % (2 * np.pi))
-                                                        for f in d.final_orientations]}})}
+                                                        for f in d.final_orientations]}}),
+                **({} if self.motion is None else {"images": _images(self.motion)})}
+
+
+def _images(m: Motion) -> dict[str, object]:
+    """The push's images in degrees, as a plan document writes them: ``period_deg`` and
+    pieces ``[start, end, lower, upper]`` (None: θ itself)."""
+    def opt(x: float | None) -> float | None:
+        return None if x is None else _deg(x)
+
+    return {"period_deg": _deg(m.period), "pieces": [[_deg(a), _deg(b), opt(lo), opt(hi)] for a, b, lo, hi in m.images]}
 
 
 def _deg(rad: float) -> float:
@@ -239,5 +257,7 @@ def plan_fences(analysis: Analysis, rules: FenceRules = DEFAULT_RULES, min_margi
     def total(design: FenceDesign) -> float:
         return float(sum(layout(analysis, design, None, model).lengths))
 
+    from dataclasses import replace
+
     design = design_fences(analysis, rules, min_margin_deg, total)
-    return layout(analysis, design, belt_width, model)
+    return replace(layout(analysis, design, belt_width, model), motion=fence_motion(analysis, design))

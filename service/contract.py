@@ -83,6 +83,27 @@ class SheetOut(_Open):
     warnings: list[str]
 
 
+class ImportedFence(_Open):
+    """A fence read back from a layout drawing (the file's unit)."""
+
+    side: Literal["left", "right"]
+    angle_deg: float = Field(description="the wall's world direction, [0, 180)")
+    steepness_deg: float = Field(description="its angle to the belt direction")
+    position: float = Field(description="its root's position along the belt")
+    length: float
+
+
+class FenceLayoutOut(_Open):
+    """``POST /v1/imports`` of a fence layout DXF (``algrasp fences --dxf``): the layout
+    read back, not a part (:mod:`algrasp.io.fence_import`)."""
+
+    kind: Literal["fence_layout"]
+    units: str
+    belt_width: float
+    fences: list[ImportedFence]
+    total_length: float
+
+
 class RunOut(_Open):
     run_id: str
     created_at: float
@@ -280,10 +301,12 @@ def json_errors(spec: dict[str, Any]) -> dict[str, Any]:
     return spec
 
 
-IMPORTED: dict[int | str, dict[str, Any]] = {200: {"description": "the part document, or with list=true the sheet's parts",
+IMPORTED: dict[int | str, dict[str, Any]] = {200: {"description": "the part document, or with list=true the sheet's parts "
+                                                                  "(a fence layout DXF: its layout)",
                                                    "content": {"application/json": {"schema": {"anyOf": [
                                                        {"$ref": "#/components/schemas/PartDocument"},
-                                                       {"$ref": "#/components/schemas/SheetOut"}]}}}}}
+                                                       {"$ref": "#/components/schemas/SheetOut"},
+                                                       {"$ref": "#/components/schemas/FenceLayoutOut"}]}}}}}
 
 PART_REF = {"type": "object", "x-algrasp": "part-document"}
 """Placeholder schema of a part-document field; :func:`typed` replaces it by a reference
@@ -294,7 +317,7 @@ def components() -> dict[str, Any]:
     """Schemas the OpenAPI document needs beyond those FastAPI collects: the part document
     (with its segment types) and the sheet listing, as components."""
     out: dict[str, Any] = {}
-    for model in (PartDocument, SheetOut):
+    for model in (PartDocument, SheetOut, FenceLayoutOut):
         schema = model.model_json_schema(ref_template="#/components/schemas/{model}")
         out.update(schema.pop("$defs", {}))
         out[model.__name__] = schema

@@ -2,7 +2,7 @@
 compared with reviewed references so a broken picture fails a test.
 
 ``python -m service.screenshots`` renders each page (Part, Plan, Validation, Catalogue,
-Runs, Editor) on a service of its own and compares it with ``tests/service/screenshots/``;
+Runs, Editor, Fences) on a service of its own and compares it with ``tests/service/screenshots/``;
 ``--update`` writes the renders as the new references *and* as the README's pictures in
 ``docs/screenshots/`` (review the diff before committing them). What changes from run to
 run (run ids, times) is masked. A render differs from its reference when more than
@@ -107,8 +107,27 @@ def _editor(pg: Any) -> list[Any]:
     return []
 
 
+def _fences(pg: Any) -> list[Any]:
+    """The bracket's robust fence design: the API's drawing, the table, the part played
+    along the belt from 200°."""
+    pg.click("button[data-page=part]")
+    pg.select_option("#example", "bracket")
+    pg.wait_for_selector("#plot-d svg")
+    pg.click("button[data-page=fences]")
+    pg.click("#fence-btn")
+    pg.wait_for_selector("#fence-summary[data-fences]", timeout=120_000)
+    pg.wait_for_selector("#fence-final[data-final-range]", timeout=30_000)
+    pg.fill("#fence-start", "200")
+    pg.dispatch_event("#fence-start", "input")
+    pg.evaluate("document.getElementById('fence-final').removeAttribute('data-final-range')")
+    pg.click("#fence-play")
+    pg.wait_for_selector("#fence-final[data-final-range]", timeout=30_000)
+    return []
+
+
 PAGES: dict[str, Callable[[Any], list[Any]]] = {
     "part": _part, "plan": _plan, "validation": _validation, "catalogue": _catalogue, "runs": _runs, "editor": _editor,
+    "fences": _fences,
 }
 
 

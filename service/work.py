@@ -138,10 +138,13 @@ def figure_task(record_path: str) -> bytes:
 
 def import_task(filename: str, data: bytes, options: dict[str, Any]) -> dict[str, Any]:
     """``POST /v1/imports``: a CAD file's part document (checked to be a valid part), or
-    with ``list_parts`` the list of the parts on the sheet."""
+    with ``list_parts`` the list of the parts on the sheet; a fence layout DXF its layout."""
     from algrasp.geometry.part import load_part
     from algrasp.io.cad import import_bytes, list_parts, sheet_documents
+    from algrasp.io.fence_import import fence_layout_of
 
+    if filename.lower().endswith(".dxf") and (layout := fence_layout_of(data, filename[:-4])) is not None:
+        return layout  # a fence layout DXF answers its layout (listed or not: it has no parts)
     if options.pop("list_parts", False):
         options.pop("part", None)
         documents = options.pop("documents", 0)

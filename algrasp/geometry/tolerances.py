@@ -134,3 +134,6 @@ physics was 0.1°), so a claim below it could not be checked."""
 MAX_UNCERTAINTY_RAD = 0.08726646259971647  # 5°
 """A robust plan whose part may end more than this from its final orientation (radians)
 does not orient the part: it is refused with the limits under which a plan exists."""
+DRAWING_SNAP_REL = 1e-6
+"""Two points of a re-read drawing this close, relative to its extent, coincide (a fence's
+root on its rail, a tail on its fence's tip): CAD programs re-save coordinates rounded."""

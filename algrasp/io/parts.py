@@ -32,7 +32,9 @@ def read_part_file(path: str | Path, **import_options: Any) -> dict[str, Any]:
 
     p = Path(path)
     if is_cad(p.name):
-        return import_file(str(p), **import_options)
+        from algrasp.io.fence_import import refuse_layout
+
+        return refuse_layout(import_file(str(p), **import_options), "PART")
     if suffix_of(p.name) and file_type(p.name) is None:  # no suffix: read as a JSON document
         raise unsupported(p.name, "PART")
     if not p.is_file():

@@ -195,14 +195,15 @@ def held_range(push: Push, rules: FenceRules, angles: FloatArray, i: int, goal: 
           admissible_only: bool = True) -> tuple[FloatArray, FloatArray]:
     """For each design (rows of ``angles``, (K, N)), how far α_i may move up and down (the
     others as designed) with it still collapsing to ``goal`` and (``admissible_only``) α_i
-    admissible: two (K,) arrays in radians, from ``MARGIN_STEPS_RAD``. One vectorised pass."""
+    admissible and on its rail: two (K,) arrays in radians, from ``MARGIN_STEPS_RAD``. One vectorised pass."""
     K, N = angles.shape
     M = len(MARGIN_STEPS_RAD)
     trial = np.repeat(angles[:, None, :], 2 * M, axis=1)
     trial[:, :, i] += np.concatenate([MARGIN_STEPS_RAD, -MARGIN_STEPS_RAD])[None, :]
     ok = (collapse_width(push, trial.reshape(-1, N)) <= goal).reshape(K, 2, M)
-    if admissible_only:
-        ok &= rules.slacks(trial[:, :, i]).reshape(K, 2, M) > 0.0
+    if admissible_only:  # admissible, and on its own rail (frictionless fences: no gap at 90° to stop it)
+        moved = trial[:, :, i]
+        ok &= ((rules.slacks(moved) > 0.0) & ((moved < 0.5 * np.pi) == (angles[:, None, i] < 0.5 * np.pi))).reshape(K, 2, M)
     n = np.where(ok.all(axis=2), M, np.argmin(ok, axis=2))  # leading steps that hold
     held = np.where(n > 0, MARGIN_STEPS_RAD[np.maximum(n - 1, 0)], 0.0)
     return held[:, 0], held[:, 1]

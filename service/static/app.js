@@ -3,6 +3,7 @@
 import { api, hasKey, setKey } from "./api.js";
 import { listRuns, showRun } from "./runs.js";
 import { setupEditor } from "./editor.js";
+import { setupFences } from "./fences.js";
 import { cancelJob, lastJob, listJobs, showJob, startJob } from "./jobs.js";
 import { analyse, drawAnalysis, importFile, loadExamples, setTheta, showThumbnails, showWarnings } from "./part.js";
 import { clearPlan, enableDrag, ensureAnalysis, makePlan, markPlanStale, play, showPlan } from "./plan.js";
@@ -33,7 +34,7 @@ function action(label, fn) {
   };
 }
 
-const PAGES = ["part", "plan", "validation", "catalogue", "runs"];
+const PAGES = ["part", "plan", "validation", "fences", "catalogue", "runs"];
 
 function show(page) {
   if (!PAGES.includes(page)) page = "part";
@@ -166,6 +167,7 @@ function wire() {
   $("jobs-refresh").addEventListener("click", action("loading jobs", () => listJobs(state)));
   $("job-cancel").addEventListener("click", () => state.job && state.jobActions.onCancel(state.job));
   $("runs-refresh").addEventListener("click", action("loading runs", () => listRuns(state, selectRun)));
+  setupFences(state, action);
 }
 
 async function main() {

@@ -87,3 +87,24 @@ def test_tail_is_the_apis(server: Server) -> None:
     assert r.status_code == 200, r.text
     assert r.json()["tail"] == json.loads(json.dumps(algrasp.fences(RECT, exact=True, belt_width=300, tail=25.0).to_dict()["tail"]))
     assert dxf.status_code == 200 and "ARC" in dxf.text
+
+
+def test_layout_dxf_imported_over_http_is_the_layout(server: Server) -> None:
+    """The DXF ``POST /v1/fences`` draws, sent back to ``POST /v1/imports``: the fence
+    layout (sides, angles, positions, lengths of the document), not a part."""
+    with server.client() as c:
+        doc = c.post("/v1/fences", json={"part": RECT, "exact": True}).json()
+        dxf = c.post("/v1/fences", json={"part": RECT, "exact": True, "drawing": "dxf"})
+        r = c.post("/v1/imports", files={"file": ("belt.dxf", dxf.content, "application/dxf")})
+        listed = c.post("/v1/imports", files={"file": ("belt.dxf", dxf.content, "application/dxf")}, data={"list": "true"})
+        spec = c.get("/openapi.json").json()
+    assert r.status_code == 200, r.text
+    got = r.json()
+    assert got["kind"] == "fence_layout" and got["belt_width"] == pytest.approx(doc["belt_width"], rel=1e-9)
+    for mine, want in zip(got["fences"], doc["fences"], strict=True):
+        assert mine["side"] == want["side"]
+        assert mine["angle_deg"] == pytest.approx(want["angle_deg"], abs=1e-9)
+        for key in ("position", "length"):
+            assert mine[key] == pytest.approx(want[key], abs=1e-9 * doc["belt_width"])
+    assert "FenceLayoutOut" in spec["components"]["schemas"]
+    assert listed.status_code == 200 and listed.json()["fences"] == got["fences"]

@@ -85,7 +85,8 @@ def _library_faults(fn: Callable[..., T]) -> Callable[..., T]:
 def import_bytes(filename: str, data: bytes, layer: str | None = None, element_id: str | None = None,
                  pose: int | None = None, tolerance: float | None = None, units: str | None = None,
                  part: int | None = None) -> dict[str, Any]:
-    """The part document of a DXF/SVG/mesh file's bytes. ``layer`` (DXF), ``element_id``
+    """The part document of a DXF/SVG/mesh file's bytes (a fence layout DXF gives its layout
+    document, ``kind`` "fence_layout": :mod:`algrasp.io.fence_import`). ``layer`` (DXF), ``element_id``
     (SVG), ``pose`` (mesh) choose what to import; ``part`` chooses one of several parts on
     a sheet (:func:`list_parts` lists them); ``tolerance`` is the join and gap tolerance in
     drawing units (default: ends within 1e-6 of the drawing's size join, and gaps up to
@@ -103,6 +104,8 @@ def import_bytes(filename: str, data: bytes, layer: str | None = None, element_i
         if part not in (None, 0):
             raise ConfigError("part", "a mesh is one part (choose a resting pose with --pose)")
         return mesh_document(data, suffix[1:], name, pose, units or "mm")
+    if suffix == ".dxf" and (fences := _fence_layout(data, name)) is not None:
+        return fences  # a drawing of belt fences (algrasp fences --dxf): its layout, no part
     sheet, doc_units, k, source = _sheet(filename, data, layer, element_id, pose, tolerance, units)
     if part is None and len(sheet.parts) > 1:
         rows = sheet.summary(units or doc_units)["parts"]
@@ -119,6 +122,12 @@ def import_bytes(filename: str, data: bytes, layer: str | None = None, element_i
     if not 0 <= index < len(sheet.parts):
         raise ConfigError("part", f"no part {index}: the drawing holds {len(sheet.parts)} (0 to {len(sheet.parts) - 1})")
     return _part_document(sheet, index, name, units or doc_units, k, source)
+
+
+def _fence_layout(data: bytes, name: str) -> dict[str, Any] | None:
+    from algrasp.io.fence_import import fence_layout_of
+
+    return fence_layout_of(data, name)
 
 
 @_library_faults
