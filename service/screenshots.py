@@ -112,7 +112,7 @@ def _fences(pg: Any) -> list[Any]:
     along the belt from 200°."""
     pg.click("button[data-page=part]")
     pg.select_option("#example", "bracket")
-    pg.wait_for_selector("#plot-d svg")
+    pg.wait_for_selector("#plot-d canvas")
     pg.click("button[data-page=fences]")
     pg.click("#fence-btn")
     pg.wait_for_selector("#fence-summary[data-fences]", timeout=120_000)
