@@ -9,9 +9,8 @@ hint, read in any language.
   over half of it, or a frame-like layer name. Its cells holding text (or on its own
   layer, when the parts are on another) are the title block; other cells are parts cut
   along the border.
-- **Views**: in an annotated drawing (dimensions, a frame), loops aligned with another
-  (same width stacked, or same height side by side) that are not copies of it are views
-  of one part: the plan view (most holes, not hatched, largest) is kept.
+- **Views** of one part (plan, elevations, sections, pictorial) are recognised in
+  `algrasp.io.cad.views`.
 - **Engraving**: loops inside a part on a marking layer, filled by a hatch, or a row of
   small, different, non-circular loops (letters).
 """
@@ -40,11 +39,9 @@ FRAME_LAYER = re.compile(
     r"border|frame|title|rahmen|schriftfeld|cadre|cartouche|marco|cajet|cornice|cartiglio|moldura|kader|ramka|"
     r"рамк|штамп|枠|表題|图框|标题栏|도곽|표제", re.IGNORECASE)
 """Layer names of drawing frames and title blocks, in the same languages."""
-VIEW_ALIGN_REL = 5e-3
-"""Two loops whose extents agree to this share (along one axis) are aligned views."""
 COPY_AREA_REL = 1e-2
-"""Aligned loops whose areas agree to this share (and hole counts too) are copies of one
-part (a nesting row), not views of it."""
+"""Loops whose areas agree to this share (and hole counts too) are copies of one part (a
+nesting row), not views of it."""
 NEARLY_BOX = 0.975
 """Axis-aligned outlines filling this share of their box count as rectangles (frames)."""
 FILL_SHARE = 0.5
@@ -226,43 +223,6 @@ def _cutouts(lp: Loops, inside: list[int]) -> bool:
     for j in inside:
         shapes[_shape(lp.polys[j])] = shapes.get(_shape(lp.polys[j]), 0) + 1
     return sum(n for n in shapes.values() if n >= 3) >= 0.6 * len(inside)
-
-
-def views(lp: Loops, parts: list[int], holes: dict[int, int], marks: Marks, framed: bool) -> tuple[set[int], list[str]]:
-    """Loops that are other views (side, section) of a part drawn beside its plan view."""
-    if not marks.annotated or len(parts) < 2:  # views come with dimensions; a framed nesting sheet lines parts up too
-        return set(), []
-    from shapely.geometry import Point
-
-    hatched = {i for i in parts if any(lp.polys[i].covers(Point(p)) for p in marks.hatched)}
-    box = {i: lp.polys[i].bounds for i in parts}
-    out: set[int] = set()
-    said: list[str] = []
-    for members in groups(parts, lambda a, b: _aligned(box[a], box[b]) and not _copies(lp, a, b, holes)):
-        if len(members) < 2:
-            continue
-        plan = max(members, key=lambda i: (i not in hatched, holes[i], lp.polys[i].area))
-        for i in members:
-            # a side view shows no through holes (they are hidden lines); a loop with holes
-            # of its own beside the plan is another part (a front and a back plate)
-            if i != plan and (i in hatched or holes[i] == 0):
-                out.add(i)
-                kind = "section view: a hatched" if i in hatched else "side view: a"
-                said.append(f"{kind} view of the part drawn beside its plan view, set aside")
-    return out, said
-
-
-def _aligned(a: tuple[float, ...], b: tuple[float, ...]) -> bool:
-    for lo, hi in ((0, 2), (1, 3)):
-        span = max(a[hi] - a[lo], b[hi] - b[lo])
-        if abs(a[lo] - b[lo]) <= VIEW_ALIGN_REL * span and abs(a[hi] - b[hi]) <= VIEW_ALIGN_REL * span:
-            return True
-    return False
-
-
-def _copies(lp: Loops, a: int, b: int, holes: dict[int, int]) -> bool:
-    area_a, area_b = lp.polys[a].area, lp.polys[b].area
-    return holes[a] == holes[b] and abs(area_a - area_b) <= COPY_AREA_REL * max(area_a, area_b)
 
 
 def engraving(lp: Loops, part: int, marks: Marks) -> tuple[set[int], list[str]]:
