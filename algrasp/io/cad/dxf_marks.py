@@ -81,3 +81,38 @@ def even_odd(rings: list[np.ndarray]) -> list[Any]:
     if region is None or region.is_empty:
         return []
     return [g for g in getattr(region, "geoms", [region]) if g.geom_type == "Polygon" and not g.is_empty]
+
+
+SCALE_DIGITS = 9
+"""DIMLFAC values equal to this many digits are one drawing scale."""
+
+
+def drawing_scale(entities: Any) -> tuple[float, str | None]:
+    """The scale a drawing is drawn at, from its DIMENSIONs' linear factor (DIMLFAC, from
+    their style or its override): a part drawn at 2:1 is dimensioned with DIMLFAC 0.5, so
+    its dimensions read true lengths. The factor that turns drawn lengths into true ones
+    (1.0 when the dimensions say nothing, or disagree: views at several scales), and what
+    to say about it (None when 1.0). O(dimensions)."""
+    factors: dict[float, int] = {}
+    for e in entities:
+        if e.dxftype() != "DIMENSION":
+            continue
+        try:
+            f = float(e.override().get("dimlfac", 1.0))
+        except (ValueError, TypeError, AttributeError, LookupError):
+            continue
+        if math.isfinite(f) and f > 0:
+            factors[round(f, SCALE_DIGITS)] = factors.get(round(f, SCALE_DIGITS), 0) + 1
+    if len(factors) != 1 or 1.0 in factors:
+        if len(factors) > 1:
+            return 1.0, (f"the dimensions read the drawing at {len(factors)} scales (DIMLFAC "
+                         f"{', '.join(f'{f:g}' for f in sorted(factors))}): read as drawn")
+        return 1.0, None
+    (f, n), = factors.items()
+    return f, (f"the drawing is at {_ratio(f)}: its {n} dimension(s) read {f:g} × the drawn lengths (DIMLFAC): "
+               f"read at full size")
+
+
+def _ratio(f: float) -> str:
+    """``f`` as a drawing scale: 0.5 → "2:1", 2 → "1:2"."""
+    return f"{1 / f:g}:1" if f < 1 else f"1:{f:g}"

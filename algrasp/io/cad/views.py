@@ -15,9 +15,9 @@ edges, while views stand apart with empty space between them. In a drawing with 
   closes the orthographic triple (plan w × d, front w × h, side d × h: the front shares the
   plan's x-interval, the side the front's y-interval, and the side's width is the plan's
   depth) — two plates of one width stacked, each with holes, stay two parts;
-- the **plan** is the view showing the part's two largest extents (the largest box, not
-  hatched; then the most holes), and its faces join into one outline (the component's
-  outer boundary);
+- the **plan** is the view showing the part's largest face (the largest silhouette, not
+  hatched; then the most holes: an L-bracket lies on its long leg), and its faces join
+  into one outline (the component's outer boundary);
 - a hatched, thin (a section through a plate) or labelled view beside an unhatched plan
   with holes is a section view even where it is not placed in projection (a section drawn
   at another scale, broken off);
@@ -111,7 +111,7 @@ def find_views(lp: Loops, parts: list[int], holes: dict[int, int], marks: Marks)
     for group in groups(list(range(len(vs))), lambda a, b: _aligned(vs[a], vs[b]) and not _copies(vs[a], vs[b])):
         if len(group) < 2:
             continue
-        plan = max(group, key=lambda k: (not vs[k].hatched, vs[k].box_area, vs[k].holes))
+        plan = max(group, key=lambda k: (not vs[k].hatched, vs[k].area, vs[k].holes))
         for k in group:
             if k != plan and (why := _projection(vs, plan, k, group)):
                 aside[k] = why
@@ -126,7 +126,7 @@ def find_views(lp: Loops, parts: list[int], holes: dict[int, int], marks: Marks)
 
 def _report(vs: list[View], aside: dict[int, str], plans: set[int]) -> Views:
     out = {i for k in aside for i in vs[k].members}
-    said = [f"{why}: a view of the part drawn beside its plan view ({len(vs[k].members)} loop(s) at "
+    said = [f"{why}: a view of the part drawn beside its plan view ({len(vs[k].members)} loop(s) at drawing coordinates "
             f"{_where(vs[k])}), set aside" for k, why in sorted(aside.items())]
     joined = [vs[k].members for k in sorted(plans - set(aside)) if len(vs[k].members) > 1]
     return Views(out, said, joined)
