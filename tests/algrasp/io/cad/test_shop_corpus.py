@@ -25,8 +25,6 @@ KNOWN_MISSES: dict[str, str] = {
     # that makes one right fails here until it is taken off this list
     "batch-ae/cnlohr-mitx-laser-cut-case-case.svg": "8 parts, truth 7 (the red etch rectangle shares edges with cut "
                                                     "lines: a part; etch is told from cut by colour only)",
-    "batch-fl2/gerald-kong-ep1000-moodlamp-front.dxf": "19 holes, truth 29 (10 Celtic-knot cut-outs read as a line of "
-                                                       "engraved letters)",
     "batch-sz/t-oster-visicut-box-6x3x3.svg": "7 parts, truth 6 (a side panel drawn with open snap-clip slits does "
                                               "not close; its slots are listed as parts)",
 }

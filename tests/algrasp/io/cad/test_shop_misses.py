@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import io
 import math
+from pathlib import Path
 
 import ezdxf
 import pytest
@@ -251,3 +252,37 @@ def test_a_filled_unstroked_svg_icon_inside_a_panel_is_engraving() -> None:
     out = list_parts("icon.svg", svg.encode())
     (row,) = out["parts"]
     assert row["holes"] == 1 and any("filled by a hatch" in w for w in out["ignored"])
+
+
+def test_a_knot_fretwork_is_cut_outs_not_letters() -> None:
+    """The EP1000 moodlamp front: a Celtic knot of 27 cut-outs and 2 slots (29 holes,
+    counted on the rendering). Its 10 small pieces, of varied shapes standing close
+    together, were read as a line of engraved letters; the knot's larger bands weave
+    between them (48–69 % of a band's area within half a piece's height), which text
+    never has."""
+    path = Path(__file__).parents[3] / "data" / "shops" / "batch-fl2" / "gerald-kong-ep1000-moodlamp-front.dxf"
+    (row,) = list_parts(path.name, path.read_bytes())["parts"]
+    assert row["holes"] == 29
+
+
+def test_letters_beside_a_hole_stay_engraving_but_woven_pieces_do_not() -> None:
+    """Five different small loops in a row inside a plate are letters; the same row with a
+    larger band wrapped around them (half its area within half a letter height of them) is
+    fretwork: seven holes."""
+    def plate(band: bool) -> bytes:
+        d = ezdxf.new(units=4)
+        m = d.modelspace()
+        m.add_lwpolyline([(0, 0), (200, 0), (200, 120), (0, 120)], close=True)
+        shapes = [[(0, 0), (4, 0), (4, 6), (0, 6)], [(0, 0), (5, 0), (2.5, 6)], [(0, 0), (5, 0), (5, 2), (2, 2), (2, 6),
+                                                                                  (0, 6)],
+                  [(0, 0), (3, 0), (3, 6), (0, 6)], [(0, 0), (5, 0), (5, 6), (3, 6), (3, 2), (0, 2)]]
+        for k, pts in enumerate(shapes):
+            m.add_lwpolyline([(60 + 8 * k + x, 60 + y) for x, y in pts], close=True)
+        if band:
+            m.add_lwpolyline([(50, 56), (110, 56), (110, 69), (50, 69), (50, 67), (108, 67), (108, 58), (50, 58)],
+                             close=True)
+        m.add_circle((170, 30), 8)
+        return _bytes(d)
+
+    assert list_parts("text.dxf", plate(band=False))["parts"][0]["holes"] == 1
+    assert list_parts("knot.dxf", plate(band=True))["parts"][0]["holes"] == 7
