@@ -157,15 +157,21 @@ def frames(lp: Loops, marks: Marks, size: float) -> tuple[set[int], list[str]]:
         other_layers = any(lp.layer(j) != lp.layer(main) and not ENGRAVING_LAYER.search(lp.layer(j) or "")
                            for j in inside)
         titled = any(_texts_in(lp.polys[j], marks) for j in faces[1:])  # a title block: all its cells are
-        for j in faces[1:]:
-            if titled or (other_layers and lp.layer(j) == lp.layer(main)):
-                out.add(j)
-                said.append(f"title block: a cell of the frame on layer {lp.layer(j)!r}")
-        for j in lp.order:  # title-block boxes drawn on their own, on the frame's layer
-            if other_layers and lp.parent.get(j) == main and lp.layer(j) == lp.layer(main) and j not in out:
-                out.add(j)
-                said.append(f"title block: a loop on the frame's layer {lp.layer(j)!r}")
+        cells = [j for j in faces[1:] if titled or (other_layers and lp.layer(j) == lp.layer(main))]
+        # title-block boxes drawn on their own, on the frame's layer
+        boxes = [j for j in lp.order if other_layers and lp.parent.get(j) == main and lp.layer(j) == lp.layer(main)
+                 and j not in cells]
+        out |= set(cells) | set(boxes)
+        said += _per_layer(lp, cells, "cell(s) of the frame") + _per_layer(lp, boxes, "loop(s) on the frame's layer")
     return out, said
+
+
+def _per_layer(lp: Loops, loops: list[int], what: str) -> list[str]:
+    """One line per layer: "title block: N <what> on layer L"."""
+    count: dict[str | None, int] = {}
+    for j in loops:
+        count[lp.layer(j)] = count.get(lp.layer(j), 0) + 1
+    return [f"title block: {n} {what} on layer {name!r}" for name, n in count.items()]
 
 
 def tables(lp: Loops, marks: Marks, size: float) -> tuple[set[int], list[str]]:

@@ -80,7 +80,6 @@ def find_parts(pieces: Sequence[Piece], size: float, tolerance: float | None = N
     if not order:
         raise PartDocumentError("drawing", "no closed contour with an area")
     parent = {i: _parent(i, order, polys) for i in order}
-    warnings += _overlaps(order, parent, polys)
     lp = Loops(loops, polys, parent, arr.component, arr.outer, order, arr.neighbours)
     framed, said = frames(lp, marks, size)
     ignored += said
@@ -109,6 +108,8 @@ def _nest(lp: Loops, order: list[int], marks: Marks, ignored: list[str], warning
     notched, said = notches(lp, parts, holes)
     ignored += said
     parts = [i for i in parts if i not in loose | notched]
+    kept = set(parts) | {j for i in parts for j in holes[i]}  # what was set aside crosses nothing cut
+    warnings += _overlaps(sorted(kept, key=lambda i: -lp.polys[i].area), lp.parent, lp.polys)
     return Sheet([(_strip(lp.loops[i]), [_strip(lp.loops[j]) for j in holes[i]]) for i in parts], ignored, warnings,
                  [lp.layer(i) for i in parts])
 
