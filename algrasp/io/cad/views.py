@@ -25,8 +25,8 @@ edges, while views stand apart with empty space between them. In a drawing with 
   run mostly off the axes (an isometric or dimetric view), or one labelled pictorial, is a
   pictorial view.
 
-Each rule is O(v²) in the views v (components holding top-level loops), after O(n) to
-group n loops.
+Each rule is O(v²) in the views v (components holding top-level loops, at most
+MAX_VIEWS), after O(n) to group n loops.
 """
 
 from __future__ import annotations
@@ -34,6 +34,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
+from itertools import permutations
 
 from algrasp.io.cad.clutter import COPY_AREA_REL, Loops, Marks, groups
 
@@ -46,6 +47,9 @@ SKEW_SHARE = 0.5
 pictorial (isometric edges run at 30° and 150°)."""
 SKEW_DEG = 5.0
 """Edges within this angle of an axis run along it."""
+MAX_VIEWS = 50
+"""A drawing with more separate components than this among its parts is a nesting sheet:
+no views are looked for (keeps the rules' O(v²) bounded)."""
 LABEL_REACH = 0.5
 """A view label names the nearest view within this many times that view's larger side."""
 SECTION_LABEL = re.compile(
@@ -103,7 +107,10 @@ def find_views(lp: Loops, parts: list[int], holes: dict[int, int], marks: Marks)
     each part loop's hole count."""
     if not marks.annotated:  # views come with dimensions; a nesting sheet lines parts up too
         return NO_VIEWS
-    vs = _views(lp, [i for i in parts if lp.parent[i] is None], holes, marks)
+    tops = [i for i in parts if lp.parent[i] is None]
+    if len({lp.component[i] for i in tops}) > MAX_VIEWS:  # a nesting sheet, not views of a part
+        return NO_VIEWS
+    vs = _views(lp, tops, holes, marks)
     if len(vs) < 2:
         return NO_VIEWS
     aside: dict[int, str] = {}
@@ -119,7 +126,7 @@ def find_views(lp: Loops, parts: list[int], holes: dict[int, int], marks: Marks)
     for k, v in enumerate(vs):
         if k not in aside and (why := _section(vs, k)):
             aside[k] = why
-            plans |= {j for j in range(len(vs)) if j != k and _plan_like(vs[j], v)}
+            plans.add(max((j for j in range(len(vs)) if j != k and _plan_like(vs[j], v)), key=lambda j: vs[j].area))
     _pictorial(vs, aside, plans)
     return _report(vs, aside, plans)
 
@@ -224,8 +231,7 @@ def _projection(vs: list[View], plan: int, k: int, group: list[int]) -> str | No
         return f"view labelled {v.label!r}"
     if v.holes == 0:
         return "side view (no holes of its own: they are hidden lines)"
-    if any(_triple(vs, a, b, c) for a in group for b in group for c in group
-           if len({a, b, c}) == 3 and k in (a, b, c) and plan in (a, b, c)):
+    if any(_triple(vs, *order) for c in group if c not in (plan, k) for order in permutations((plan, k, c))):
         return "projected view (plan, front and side views agree on the part's width, depth and height)"
     return None
 

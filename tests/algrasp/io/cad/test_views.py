@@ -150,3 +150,38 @@ def test_faces_of_a_plan_view_join_into_one_outline_with_exact_curves() -> None:
     assert len(doc["holes"]) == 1
     xs = [p for s in doc["boundary"] if s["type"] == "line" for p in (s["start"][0], s["end"][0])]
     assert min(xs) == pytest.approx(0.0) and max(xs) == pytest.approx(60.0)
+
+
+def test_a_section_labelled_beside_the_plan_is_set_aside_unhatched() -> None:
+    """A section drawn without a hatch, placed away from the plan (not in projection),
+    labelled "SECTION A-A" under it: a view, not a second part."""
+    d = ezdxf.new(units=4, setup=True)
+    m = d.modelspace()
+    _box(m, 0, 100, 60, 140)
+    m.add_circle((30, 120), 8)
+    _box(m, 120, 10, 180, 16)
+    m.add_line((140, 10), (140, 16))
+    m.add_text("SECTION A-A", dxfattribs={"height": 3}).set_placement((135, 4))
+    m.add_linear_dim(base=(0, 150), p1=(0, 140), p2=(60, 140)).render()
+    out = list_parts("section.dxf", _bytes(d))
+    assert [(r["holes"], r["bbox"]) for r in out["parts"]] == [(1, pytest.approx([0, 100, 60, 140]))]
+    assert len(_said(out, "section or detail view labelled 'SECTION A-A'")) == 1
+
+
+def test_dimlfac_of_a_unit_change_is_not_a_drawing_scale() -> None:
+    """ezdxf's own dimension styles carry DIMLFAC 100 (drawn in m, dimensioned in cm): the
+    part is read as drawn, and that is said; DIMLFAC 0.5 (a 2:1 drawing) halves it."""
+    def plate(dimlfac: float | None) -> bytes:
+        d = ezdxf.new(units=4, setup=True)
+        m = d.modelspace()
+        _box(m, 0, 0, 60, 40)
+        dim = m.add_linear_dim(base=(0, -10), p1=(0, 0), p2=(60, 0), dimstyle="Standard",
+                               override={} if dimlfac is None else {"dimlfac": dimlfac})
+        dim.render()
+        return _bytes(d)
+
+    as_drawn = list_parts("m.dxf", plate(100.0))
+    assert as_drawn["parts"][0]["bbox"] == pytest.approx([0, 0, 60, 40])
+    assert any("unit change" in w for w in as_drawn["warnings"])
+    assert list_parts("2to1.dxf", plate(0.5))["parts"][0]["bbox"] == pytest.approx([0, 0, 30, 20])
+    assert list_parts("1to1.dxf", plate(None))["parts"][0]["bbox"] == pytest.approx([0, 0, 60, 40])
