@@ -151,13 +151,8 @@ def _split_at_ends(segs: list[Segment], ends: np.ndarray, allowance: np.ndarray,
     pts = shapely.points(ends)
     hits = tree.query(pts, predicate="dwithin", distance=allowance + SAMPLE_SLACK_REL * size)
     cuts: dict[int, list[tuple[float, int]]] = {}
-    for e, j in zip(hits[0].tolist(), hits[1].tolist()):
-        if e // 2 == j or is_closed_curve(segs[e // 2]):  # a circle's "ends" are only where its parameter starts
-            continue
-        t, dist = project(segs[j], ends[e])
-        a, b = point_at(segs[j], False), point_at(segs[j], True)
-        near_end = min(np.linalg.norm(ends[e] - a), np.linalg.norm(ends[e] - b)) <= max(tight, allowance[e])
-        if dist <= allowance[e] and not near_end:
+    for e, j, t, dist in _on_interiors(segs, ends, allowance, tight, hits[0], hits[1]):
+        if dist <= allowance[e]:
             cuts.setdefault(j, []).append((t, e))
     n = sum(len(v) for v in cuts.values())
     crossings = _crossings(segs, lines, tree, _attached(segs, cuts), tight, uf, cuts)
@@ -168,6 +163,26 @@ def _split_at_ends(segs: list[Segment], ends: np.ndarray, allowance: np.ndarray,
     if crossings:
         notes.append(f"{crossings} crossing(s) of cut lines attached at both ends (a cut grid): split there")
     return edges, notes
+
+
+def _on_interiors(segs: list[Segment], ends: np.ndarray, allowance: np.ndarray, tight: float, end_of: np.ndarray,
+                  seg_of: np.ndarray) -> list[tuple[int, int, float, float]]:
+    """(end, entity, parameter, distance) for each end-entity pair found near each other,
+    but for an end of the entity itself, of a closed curve (a circle's "ends" are only
+    where its parameter starts) or at the entity's own ends (a joint, the common case).
+    Lines are projected at once (numpy; ``ends`` holds each entity's start and end at 2i,
+    2i + 1), other curves one by one. O(pairs)."""
+    keep = (end_of // 2 != seg_of) & ~np.array([is_closed_curve(segs[i]) for i in range(len(segs))], bool)[end_of // 2]
+    e, j = end_of[keep], seg_of[keep]
+    q, a, b = ends[e], ends[2 * j], ends[2 * j + 1]
+    joint = np.minimum(np.linalg.norm(q - a, axis=1), np.linalg.norm(q - b, axis=1)) <= np.maximum(tight, allowance[e])
+    e, j, q, a, b = e[~joint], j[~joint], q[~joint], a[~joint], b[~joint]
+    line = np.array([segs[k]["type"] == "line" for k in j.tolist()], bool)
+    v = b - a
+    t = np.clip(np.einsum("ij,ij->i", q - a, v) / np.maximum(np.einsum("ij,ij->i", v, v), np.finfo(float).tiny), 0, 1)
+    dist = np.linalg.norm(a + t[:, None] * v - q, axis=1)
+    out = [(int(e[k]), int(j[k]), float(t[k]), float(dist[k])) for k in np.flatnonzero(line)]
+    return out + [(int(e[k]), int(j[k]), *project(segs[int(j[k])], q[k])) for k in np.flatnonzero(~line)]
 
 
 def _attached(segs: list[Segment], cuts: dict[int, list[tuple[float, int]]]) -> list[int]:

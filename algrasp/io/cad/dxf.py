@@ -24,7 +24,7 @@ from algrasp.geometry.limits import DEFAULT_LIMITS
 from algrasp.geometry.tolerances import ROUNDING
 from algrasp.io.cad.chain import Piece, Segment, check_bounded
 from algrasp.io.cad.clutter import Marks
-from algrasp.io.cad.dxf_marks import hatch_points, measured_points, text_marks
+from algrasp.io.cad.dxf_marks import drawing_scale, hatch_points, measured_points, text_marks
 from algrasp.io.cad.nurbs import nurbs_to_beziers
 
 SKIPPED = {"TEXT", "MTEXT", "DIMENSION", "ARC_DIMENSION", "LEADER", "MLEADER", "MULTILEADER", "ATTRIB", "ATTDEF",
@@ -356,7 +356,10 @@ def dxf_pieces(doc: Any, layer: str | None) -> tuple[list[Piece], str, float]:
         raise PartDocumentError("layer" if layer else "dxf",
                                 f"{where} has no outline geometry (layers: {', '.join(layers) or 'none'})")
     units, k = dxf_units(doc)
-    return pieces, units, k
+    scale, said = drawing_scale(msp)
+    if said and hasattr(doc, "algrasp_warnings"):
+        doc.algrasp_warnings.append(said)
+    return pieces, units, k * scale
 
 
 def _hidden_layers(doc: Any) -> set[str]:

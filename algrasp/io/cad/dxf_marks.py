@@ -81,3 +81,47 @@ def even_odd(rings: list[np.ndarray]) -> list[Any]:
     if region is None or region.is_empty:
         return []
     return [g for g in getattr(region, "geoms", [region]) if g.geom_type == "Polygon" and not g.is_empty]
+
+
+SCALE_DIGITS = 9
+"""DIMLFAC values equal to this many digits are one drawing scale."""
+DRAWING_SCALES = (0.5, 0.2, 0.1, 0.05, 0.02, 2.0, 5.0, 20.0, 50.0)
+"""DIMLFAC values read as the drawing's scale (ISO 5455: 2:1, 5:1, 10:1, 20:1, 50:1 and
+1:2, 1:5, 1:20, 1:50). Others are taken for a unit change between the drawing and its
+dimensions (10, 100, 1000: m or cm drawn, smaller units dimensioned; 25.4: inches
+dimensioned in mm, as ezdxf's own styles do) and not applied."""
+
+
+def drawing_scale(entities: Any) -> tuple[float, str | None]:
+    """The scale a drawing is drawn at, from its DIMENSIONs' linear factor (DIMLFAC, from
+    their style or its override): a part drawn at 2:1 is dimensioned with DIMLFAC 0.5, so
+    its dimensions read true lengths. The factor that turns drawn lengths into true ones
+    (1.0 when the dimensions say nothing, disagree — views at several scales — or change
+    units rather than scale: DRAWING_SCALES), and what to say about it (None when all
+    read 1:1). O(dimensions)."""
+    factors: dict[float, int] = {}
+    for e in entities:
+        if e.dxftype() != "DIMENSION":
+            continue
+        try:
+            f = float(e.override().get("dimlfac", 1.0))
+        except (ValueError, TypeError, AttributeError, LookupError):
+            continue
+        if math.isfinite(f) and f > 0:
+            factors[round(f, SCALE_DIGITS)] = factors.get(round(f, SCALE_DIGITS), 0) + 1
+    if len(factors) != 1 or 1.0 in factors:
+        if len(factors) > 1:
+            return 1.0, (f"the dimensions read the drawing at {len(factors)} scales (DIMLFAC "
+                         f"{', '.join(f'{f:g}' for f in sorted(factors))}): read as drawn")
+        return 1.0, None
+    (f, n), = factors.items()
+    if not any(abs(f - s) <= 1e-6 * s for s in DRAWING_SCALES):
+        return 1.0, (f"the dimensions read {f:g} × the drawn lengths (DIMLFAC), a unit change rather than a "
+                     "drawing scale: read as drawn (in the header's unit)")
+    return f, (f"the drawing is at {_ratio(f)}: its {n} dimension(s) read {f:g} × the drawn lengths (DIMLFAC): "
+               f"read at full size")
+
+
+def _ratio(f: float) -> str:
+    """``f`` as a drawing scale: 0.5 → "2:1", 2 → "1:2"."""
+    return f"{1 / f:g}:1" if f < 1 else f"1:{f:g}"

@@ -23,8 +23,9 @@ from algrasp.geometry.tolerances import ROUNDING, TINY
 from algrasp.io.cad.arrange import arrange
 from algrasp.io.cad.centre_marks import drop_centre_marks
 from algrasp.io.cad.chain import Piece, Segment, _polygon, point_at, ring
-from algrasp.io.cad.clutter import NO_MARKS, Loops, Marks, engraving, frames, tables, views
+from algrasp.io.cad.clutter import NO_MARKS, Loops, Marks, engraving, frames, tables
 from algrasp.io.cad.features import counterbore, letter, loose_marks, notches, pocket, slug_drill
+from algrasp.io.cad.views import find_views
 
 
 @dataclass
@@ -79,7 +80,6 @@ def find_parts(pieces: Sequence[Piece], size: float, tolerance: float | None = N
     if not order:
         raise PartDocumentError("drawing", "no closed contour with an area")
     parent = {i: _parent(i, order, polys) for i in order}
-    warnings += _overlaps(order, parent, polys)
     lp = Loops(loops, polys, parent, arr.component, arr.outer, order, arr.neighbours)
     framed, said = frames(lp, marks, size)
     ignored += said
@@ -89,25 +89,60 @@ def find_parts(pieces: Sequence[Piece], size: float, tolerance: float | None = N
         if parent[i] in framed:
             parent[i] = None
     order = [i for i in order if i not in framed]
-    return _nest(lp, order, marks, ignored, warnings, bool(framed))
+    return _nest(lp, order, marks, ignored, warnings)
 
 
-def _nest(lp: Loops, order: list[int], marks: Marks, ignored: list[str], warnings: list[str], framed: bool) -> Sheet:
+def _nest(lp: Loops, order: list[int], marks: Marks, ignored: list[str], warnings: list[str]) -> Sheet:
     """Parts at even depth, their holes the loops directly inside; engraving (and all it
     holds) is neither; other views of a part, loose marks and notches are set aside."""
     lp.order = order
     parts, dropped = _by_depth(lp, order, marks, ignored)
     holes = {i: [j for j in lp.children(i) if j not in dropped] for i in parts}
-    others, said = views(lp, parts, {i: len(h) for i, h in holes.items()}, marks, framed)
-    ignored += said
-    parts = [i for i in parts if i not in others]
+    found = find_views(lp, parts, {i: len(h) for i, h in holes.items()}, marks)
+    ignored += found.said
+    parts = [i for i in parts if i not in found.aside]
+    for members in found.joined:
+        parts = _join(lp, parts, holes, members, warnings)
     loose, said = loose_marks(lp, parts, marks)
     ignored += said
     notched, said = notches(lp, parts, holes)
     ignored += said
     parts = [i for i in parts if i not in loose | notched]
+    kept = set(parts) | {j for i in parts for j in holes[i]}  # what was set aside crosses nothing cut
+    warnings += _overlaps(sorted(kept, key=lambda i: -lp.polys[i].area), lp.parent, lp.polys)
     return Sheet([(_strip(lp.loops[i]), [_strip(lp.loops[j]) for j in holes[i]]) for i in parts], ignored, warnings,
                  [lp.layer(i) for i in parts])
+
+
+def _join(lp: Loops, parts: list[int], holes: dict[int, list[int]], members: tuple[int, ...],
+          warnings: list[str]) -> list[int]:
+    """``parts`` with the faces ``members`` of one view (one arrangement component, split
+    by visible edges) replaced by their outline, the component's outer boundary, which
+    takes their holes; unchanged when that boundary does not bound their union."""
+    c = lp.component[members[0]]
+    outline = lp.outer.get(c)
+    if outline is None:
+        return parts
+    poly = _polygon(outline)
+    union = sum(lp.polys[i].area for i in members)
+    if not poly.is_valid or abs(poly.area - union) > VIEW_JOIN_REL * union:
+        return parts
+    k = len(lp.loops)
+    lp.loops.append(outline)
+    lp.polys.append(poly)
+    lp.component.append(c)
+    lp.parent[k] = None
+    holes[k] = [j for i in members for j in holes[i]]
+    for j in holes[k]:
+        lp.parent[j] = k
+    warnings.append(f"plan view: {len(members)} faces split by visible edges joined into one outline")
+    first = min(parts.index(i) for i in members)
+    rest = [i for i in parts if i not in members]
+    return rest[:first] + [k] + rest[first:]
+
+
+VIEW_JOIN_REL = 1e-6
+"""A view's outline bounds the union of its faces when their areas agree to this share."""
 
 
 def _by_depth(lp: Loops, order: list[int], marks: Marks, ignored: list[str]) -> tuple[list[int], set[int]]:

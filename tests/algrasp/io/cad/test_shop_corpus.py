@@ -25,14 +25,8 @@ KNOWN_MISSES: dict[str, str] = {
     # that makes one right fails here until it is taken off this list
     "batch-ae/cnlohr-mitx-laser-cut-case-case.svg": "8 parts, truth 7 (the red etch rectangle shares edges with cut "
                                                     "lines: a part; etch is told from cut by colour only)",
-    "batch-fl2/gerald-kong-ep1000-moodlamp-front.dxf": "19 holes, truth 29 (10 Celtic-knot cut-outs read as a line of "
-                                                       "engraved letters)",
-    "batch-fl2/irnas-goodenoughcnc-torch-mount-drawing.dxf": "16 parts, truth 1 (four views of a machined clamp; "
-                                                             "tangent edges split the views into faces)",
     "batch-sz/t-oster-visicut-box-6x3x3.svg": "7 parts, truth 6 (a side panel drawn with open snap-clip slits does "
                                               "not close; its slots are listed as parts)",
-    "batch-sz/vorondesign-voron-2-build-plate-300-drawing.dxf": "2 parts, truth 1 (a counterbore pocket of section "
-                                                                "A-A, closed by a stretch of the section's open edge)",
 }
 
 
@@ -60,9 +54,7 @@ CLASSES = {  # the failure classes of issue 32, by the truth's feature tags
 }
 
 
-CLASS_MISSES = {"several views": "both real multi-view drawings (a Voron plate whose section view leaves a "
-                                  "counterbore pocket as a loop, a SolidWorks A3 sheet of a machined clamp) still "
-                                  "list extra loops"}
+CLASS_MISSES: dict[str, str] = {}
 
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=[pytest.mark.xfail(reason=CLASS_MISSES[n], strict=True)]
