@@ -353,7 +353,7 @@ def plan(source: PartSource, *, action: Action | str = "squeeze", min_margin_deg
 def fences(source: PartSource, *, fence_friction: float | list[float] | tuple[float, float] | None = None,
            belt_width: float | None = None, min_margin_deg: float = 1.0, exact: bool | None = None,
            physics: PhysicsSource = None, tail: float | Mapping[str, Any] | None = None,
-           exit_steepness_deg: float | None = None) -> FenceLayout:
+           exit_steepness_deg: float | None = None, exit_turns: bool = True) -> FenceLayout:
     """The fewest conveyor fences that bring the part from any orientation to one (up to
     its push function's symmetry), laid out on a belt moving along +x (conventions §9).
 
@@ -379,6 +379,10 @@ def fences(source: PartSource, *, fence_friction: float | list[float] | tuple[fl
         last fence's rail from its tip (or its tail's end) that takes the part back onto
         its edge after the tip has turned it; the claimed final orientations
         (``to_dict()["final_orientations_deg"]``) are past its end, ±β_e/2 wider.
+    exit_turns : bool, default True
+        Model the turn towards the belt (by up to the fence's angle to it) that a part
+        takes as it comes off each fence's tip; False plans in Berretty et al.'s model,
+        where it keeps its orientation between fences (Drake shows it does not).
 
     Returns
     -------
@@ -404,7 +408,9 @@ def fences(source: PartSource, *, fence_friction: float | list[float] | tuple[fl
     width = None if belt_width is None else _number(belt_width, "belt_width")
     analysis = analyse(source, exact=exact, physics=physics)
     beta_e = None if exit_steepness_deg is None else _number(exit_steepness_deg, "exit_steepness_deg")
-    out = plan_fences(analysis, rules, _number(min_margin_deg, "min_margin_deg"), width, beta_e)
+    if not isinstance(exit_turns, bool):
+        raise ConfigError("exit_turns", f"expected true or false, got {exit_turns!r}")
+    out = plan_fences(analysis, rules, _number(min_margin_deg, "min_margin_deg"), width, beta_e, exit_turns)
     return out if tail is None else _with_tail(out, tail)
 
 

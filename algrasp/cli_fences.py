@@ -37,6 +37,9 @@ def add_fences_command(sub: Any) -> None:
     p.add_argument("--exit-steepness", type=float, metavar="DEG", dest="exit_steepness_deg",
                    help="the exit guide's angle to the belt (default 2, at most 10): the claim past it is ±DEG/2 wider, "
                         "the guide cot(DEG) times its push bound long")
+    p.add_argument("--no-exit-turns", dest="exit_turns", action="store_false",
+                   help="plan in Berretty et al.'s model: a part keeps its orientation between fences (by default "
+                        "it may turn towards the belt by up to a fence's angle to it as it comes off the tip)")
     p.add_argument("--validate", type=int, metavar="N", help="simulate N seeded starts on the belt in Drake "
                    "(orientation and lateral position random; needs the sim extra)")
     p.add_argument("--seed", type=int, default=0, metavar="S", help="with --validate: the random starts' seed (default 0)")
@@ -60,7 +63,7 @@ def cmd_fences(args: argparse.Namespace) -> int:
         raise ConfigError("tail", "--tail-sweep needs --tail R")
     options = {"fence_friction": args.fence_friction, "belt_width": args.belt_width,
                "min_margin_deg": args.min_margin_deg, "exact": model.exact, "physics": model.physics, "tail": tail,
-               "exit_steepness_deg": args.exit_steepness_deg}
+               "exit_steepness_deg": args.exit_steepness_deg, "exit_turns": args.exit_turns}
     layout = fences(doc, **options)
     written = _drawings(layout, args)
     validation = None

@@ -277,16 +277,18 @@ def with_tail(out: FenceLayout, radius: float, sweep_deg: float | None = None) -
 
 
 def plan_fences(analysis: Analysis, rules: FenceRules = DEFAULT_RULES, min_margin_deg: float = DEFAULT_MIN_MARGIN_DEG,
-                belt_width: float | None = None, exit_steepness_deg: float | None = None) -> FenceLayout:
+                belt_width: float | None = None, exit_steepness_deg: float | None = None,
+                exit_turns: bool = True) -> FenceLayout:
     """The fence design of :func:`~algrasp.planning.fences.design_fences`, ties broken by
     the total fence length of its layout, laid out on the belt with its exit guide at
-    ``exit_steepness_deg`` (default 2°; the guide is not part of the tie-break).
+    ``exit_steepness_deg`` (default 2°; the guide is not part of the tie-break); with
+    ``exit_turns`` False in Berretty et al.'s model (no turn over the fences' tips).
 
     Raises ConfigError (``exit_steepness_deg``) unless 0 < β_e ≤ 10°."""
     from dataclasses import replace
 
     beta_e = exit_steepness(exit_steepness_deg)
-    rules = replace(rules, exit_steepness=beta_e)
+    rules = replace(rules, exit_steepness=beta_e, exit_turns=bool(exit_turns))
     model = push_model(analysis, mean_radius(analysis.part))
 
     def total(design: FenceDesign) -> float:

@@ -170,6 +170,8 @@ class FencesBody(ModelOptions):
     tail: TailOptions | None = Field(None, description="a curved tail on the last fence")
     exit_steepness_deg: float | None = Field(None, gt=0.0, le=10.0, description="the exit guide's angle to the belt "
                                              "(default 2°): the claim past it is ±β_e/2 wider")
+    exit_turns: bool = Field(True, description="model the turn a part takes over each fence's tip (false: Berretty "
+                             "et al.'s model, the part keeps its orientation between fences)")
     validate_: FenceValidateOptions | None = Field(None, alias="validate", description="simulate the design on a belt "
                                                    "in Drake (the document's validation)")
 
@@ -184,7 +186,7 @@ class FencesBody(ModelOptions):
         return {"fence_friction": self.fence_friction, "belt_width": self.belt_width,
                 "min_margin_deg": self.min_margin_deg, "exact": model["exact"], "physics": model["physics"],
                 "tail": None if self.tail is None else self.tail.model_dump(),
-                "exit_steepness_deg": self.exit_steepness_deg}
+                "exit_steepness_deg": self.exit_steepness_deg, "exit_turns": self.exit_turns}
 
 
 class JobOptions(ModelOptions):

@@ -85,7 +85,10 @@ def exit_guide(analysis: Analysis, design: FenceDesign, steepness: float) -> Exi
     push = push_of(analysis)
     a_n, side = design.angles[-1], design.sides[-1]
     alpha = float(guide_angle(a_n, steepness))
-    lo, hi = push.image(np.array([design.inputs[-1][0]]), np.array([design.inputs[-1][1]]))
+    if len(design.angles) == 1:  # from every start: the first fence's image of the circle
+        lo, hi = np.array([push.circle[0]]), np.array([push.circle[1]])
+    else:
+        lo, hi = push.image(np.array([design.inputs[-1][0]]), np.array([design.inputs[-1][1]]))
     lo, hi = exit_turn(lo + a_n - alpha, hi + a_n - alpha, a_n)
     glo, ghi = push.image(lo, hi)
     goal = EXACT_GOAL_RAD if push.exact else 2.0 * MAX_UNCERTAINTY_RAD

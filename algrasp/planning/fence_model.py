@@ -98,6 +98,9 @@ class FenceRules:
     min_steepness: float = MIN_STEEPNESS_RAD
     exit_steepness: float | None = EXIT_STEEPNESS_RAD
     """β_e of the exit guide the design must also collapse through (None: no guide)."""
+    exit_turns: bool = True
+    """Model the turn a part takes over each fence's tip (:func:`exit_turn`); False is
+    Berretty et al.'s model, in which the part keeps its orientation between fences."""
 
     @property
     def max_steepness(self) -> float:
@@ -177,11 +180,11 @@ class FenceDesign:
 
     def run(self, push: Push, phi: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Hull of the world orientations on the last fence from each φ (radians): every
-        fence's push, and between fences the exit turn of :func:`exit_turn`."""
+        fence's push, and between fences the way off its tip of :func:`leave`."""
         lo = hi = np.asarray(phi, dtype=float)
         for i, a in enumerate(self.angles):
             if i > 0:
-                lo, hi = exit_turn(lo, hi, self.angles[i - 1])
+                lo, hi = leave(lo, hi, self.angles[i - 1], self.rules.exit_turns)
             lo, hi = push.image(lo - a, hi - a)
             lo, hi = lo + a, hi + a
         return lo, hi
@@ -208,15 +211,26 @@ def guide_angle(alpha: FloatArray | float, steepness: float) -> FloatArray:
     return np.where(a < 0.5 * np.pi, steepness, np.pi - steepness)
 
 
-def collapse_width(push: Push, angles: FloatArray, exit_steepness: float | None = None) -> FloatArray:
+def leave(lo: FloatArray, hi: FloatArray, alpha: FloatArray | float, turns: bool) -> tuple[FloatArray, FloatArray]:
+    """The arcs [lo, hi] (any frame, radians) the part may be in when it has left the fence
+    at α over its tip: :func:`exit_turn` with ``turns`` (the default model), unchanged
+    without (Berretty et al.'s model, in which a part keeps its orientation between fences)."""
+    if not turns:
+        return np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    return exit_turn(lo, hi, alpha)
+
+
+def collapse_width(push: Push, angles: FloatArray, exit_steepness: float | None = None,
+                   turns: bool = True) -> FloatArray:
     """Width of the final arc of each design (rows of ``angles``, (m, N), radians), from
-    every start: the first fence leaves the part in ``push.circle``, each fence's exit
-    widens the arc by its steepness (:func:`exit_turn`). With ``exit_steepness`` the wider
-    of the arc on the last fence and the arc the exit guide pushes the part back into."""
+    every start: the first fence leaves the part in ``push.circle``, and it leaves each
+    fence over its tip (:func:`leave`, with ``turns``). With ``exit_steepness`` the wider
+    of the arc on the last fence and the arc the exit guide pushes the part back into
+    (the last fence's tip turns it by at most β_N first); without, the arc on the last fence."""
     lo = np.full(angles.shape[0], push.circle[0])
     hi = np.full(angles.shape[0], push.circle[1])
     for i in range(1, angles.shape[1]):
-        lo, hi = exit_turn(lo, hi, angles[:, i - 1])
+        lo, hi = leave(lo, hi, angles[:, i - 1], turns)
         shift = angles[:, i - 1] - angles[:, i]
         lo, hi = push.image(lo + shift, hi + shift)
     if exit_steepness is None:
@@ -237,7 +251,7 @@ def held_range(push: Push, rules: FenceRules, angles: FloatArray, i: int, goal: 
     M = len(MARGIN_STEPS_RAD)
     trial = np.repeat(angles[:, None, :], 2 * M, axis=1)
     trial[:, :, i] += np.concatenate([MARGIN_STEPS_RAD, -MARGIN_STEPS_RAD])[None, :]
-    ok = (collapse_width(push, trial.reshape(-1, N), rules.exit_steepness) <= goal).reshape(K, 2, M)
+    ok = (collapse_width(push, trial.reshape(-1, N), rules.exit_steepness, rules.exit_turns) <= goal).reshape(K, 2, M)
     if admissible_only:
         ok &= rules.slacks(trial[:, :, i]).reshape(K, 2, M) > 0.0
     n = np.where(ok.all(axis=2), M, np.argmin(ok, axis=2))  # leading steps that hold

@@ -17,7 +17,7 @@ the winner is turned as a whole for the shortest layout. Pure: no I/O; angles in
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -34,8 +34,8 @@ from algrasp.planning.fence_model import (
     Push,
     centred,
     collapse_width,
-    exit_turn,
     fence_rules,
+    leave,
     margins,
     on_belt,
     push_of,
@@ -87,7 +87,7 @@ def _next_level(push: Push, rules: FenceRules, level: _Level) -> _Level:
         idx = np.nonzero(level.side == s)[0]
         grid = rules.grid(1 - s)
         shift = level.alpha[idx, None] - grid[None, :]
-        lo0, hi0 = exit_turn(level.lo[idx], level.hi[idx], level.alpha[idx])
+        lo0, hi0 = leave(level.lo[idx], level.hi[idx], level.alpha[idx], rules.exit_turns)
         lo, hi = push.image(lo0[:, None] + shift, hi0[:, None] + shift)
         cols = np.broadcast_to(grid[None, :], lo.shape)
         parts.append((lo.ravel(), hi.ravel(), cols.ravel(), np.full(lo.size, 1 - s), np.repeat(idx, len(grid))))
@@ -181,7 +181,7 @@ def _candidates(analysis: Analysis, push: Push, rules: FenceRules, levels: list[
             continue
         A = centred(push, rules, np.array([_chain(levels, k) for k in pick]), goal)
         m = margins(push, rules, A, goal)
-        held = collapse_width(push, A, rules.exit_steepness) <= goal
+        held = collapse_width(push, A, rules.exit_steepness, rules.exit_turns) <= goal
         keep = np.nonzero((m.min(axis=1) >= margin - ROUNDING) & held)[0]
         designs = [d for d in (_design(analysis, push, rules, A[k].tolist(), m[k].tolist()) for k in keep)
                    if d.final_uncertainty <= MAX_UNCERTAINTY_RAD]
@@ -219,7 +219,7 @@ def turned(analysis: Analysis, push: Push, rules: FenceRules, design: FenceDesig
     sides_ok = np.all(np.less(A, 0.5 * np.pi) == right[None, :], axis=1)
     sides_ok &= np.all(rules.slacks(A) > 0.0, axis=1)
     A = A[sides_ok]
-    ok = collapse_width(push, A, rules.exit_steepness) <= goal
+    ok = collapse_width(push, A, rules.exit_steepness, rules.exit_turns) <= goal
     A = A[ok]
     if len(A) == 0:
         return design
@@ -242,7 +242,7 @@ def _design(analysis: Analysis, push: Push, rules: FenceRules, angles: list[floa
     inputs = [(0.0, 2.0 * np.pi)]
     lo, hi = np.array([push.circle[0]]), np.array([push.circle[1]])
     for a0, a1 in zip(angles[:-1], angles[1:]):
-        lo, hi = exit_turn(lo, hi, a0)
+        lo, hi = leave(lo, hi, a0, rules.exit_turns)
         lo, hi = lo + a0 - a1, hi + a0 - a1
         inputs.append((float(lo[0]), float(hi[0])))
         lo, hi = push.image(lo, hi)
@@ -259,6 +259,12 @@ def _design(analysis: Analysis, push: Push, rules: FenceRules, angles: list[floa
 
 def _refusal(analysis: Analysis, push: Push, rules: FenceRules, margin: float) -> NotOrientableError:
     """Why no design exists, and the largest fence friction under which one would."""
+    if rules.exit_turns and _search(analysis, push, replace(rules, exit_turns=False), margin, None) is not None:
+        return NotOrientableError("no_fence_design", f"no sequence of at most {MAX_FENCES} alternating fences orients the "
+                                  "part once the turn it takes over each fence's tip is modelled (up to the fence's "
+                                  "angle to the belt); in Berretty et al.'s model, where it keeps its orientation "
+                                  "between fences, a design exists (exit_turns false, --no-exit-turns), which Drake "
+                                  "does not bear out", {"fence_friction_max": None, "berretty_design": True})
     mu = friction_limit(analysis, push, rules, margin)
     base = (f"no sequence of at most {MAX_FENCES} alternating fences with steepness in "
             f"[{to_deg(rules.min_steepness):g}°, {to_deg(rules.max_steepness):.3g}°) (fence friction ≤ "
@@ -275,7 +281,7 @@ def _refusal(analysis: Analysis, push: Push, rules: FenceRules, margin: float) -
 def friction_limit(analysis: Analysis, push: Push, rules: FenceRules, margin: float) -> float | None:
     """The largest μ_f,hi (bisection, ``LIMIT_PROBES`` steps) with a design; None: none even at 0."""
     def exists(mu: float) -> bool:
-        return _search(analysis, push, FenceRules((0.0, mu), rules.min_steepness, rules.exit_steepness), margin,
+        return _search(analysis, push, FenceRules((0.0, mu), rules.min_steepness, rules.exit_steepness, rules.exit_turns), margin,
                        None) is not None
 
     if not exists(0.0):
