@@ -91,7 +91,7 @@ def print_validation(v: dict[str, Any]) -> None:
     tail = " past the exit guide"
     finals = ", ".join(f"{f:.4g}°" for f in v["final_orientations_deg"])
     print(f"Drake on the belt: {v['belt_speed_m_s']:.3g} m/s, support friction {v['support_friction']:.3g}, "
-          f"fence friction {v['fence_friction']:.3g}; seed {v['seed']}; agreement within the design's "
+          f"fence friction {v['fence_friction']:.3g}; seed {v['seed']}; agreement within the claim's "
           f"±{v['final_uncertainty_deg']:.3g}° + {v['tolerance_deg']:g}° of {finals}"
           f"{tail} (mod {v['symmetry_period_deg']:.4g}°)")
     for k, s in enumerate(v["samples"], 1):

@@ -8,7 +8,7 @@ document's claimed uncertainty + 0.25° of a claimed final orientation (modulo t
 symmetry). Prints one row per part: fences, samples, agreement, worst error, the claim,
 belt speed, support and fence friction. Parts run in ``--workers`` processes.
 
-    python benchmarks/bench_belt.py --samples 12 --workers 2 > belt.txt
+    python benchmarks/bench_belt.py --samples 10 --workers 2 > belt.txt
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import argparse
 import json
 import math
 import sys
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Any
 
@@ -87,20 +87,21 @@ def main() -> None:
     ap.add_argument("--workers", type=int, default=2)
     args = ap.parse_args()
     items = parts()
-    with ProcessPoolExecutor(args.workers) as pool:
-        rows = list(pool.map(run, items, [args.samples] * len(items), [args.seed] * len(items)))
     print("| part | model | fences | samples | agreement | worst error | claim ± | exit guide | on last fence "
           "| belt speed | support μ | fence μ | wall |")
-    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
-    for r in rows:
-        if "error" in r:
-            print(f"| {r['part']} | refused: {r['error'][:80]} |||||||||||")
-            continue
-        print(f"| {r['part']} | {r['model']} | {r['fences']} | {r['samples']} | {r['agree']}/{r['samples']} "
-              f"({r['agree'] / r['samples']:.0%}) | {r['worst_deg']:.2f}° | {r['claim_deg']:.2f}° + 0.25° "
-              f"| {r['exit_deg']:g}° | {r['on_last_fence']:.0%} | {r['belt_m_s']:.3g} m/s | {r['support']:.3g} "
-              f"| {r['fence']:.3g} | {r['wall_s']:.0f} s |")
-    print(json.dumps(rows), file=sys.stderr)
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|", flush=True)
+    with ProcessPoolExecutor(args.workers) as pool:  # a row as each part finishes
+        futures = [pool.submit(run, item, args.samples, args.seed) for item in items]
+        for f in as_completed(futures):
+            r = f.result()
+            print(json.dumps(r), file=sys.stderr, flush=True)
+            if "error" in r:
+                print(f"| {r['part']} | refused: {r['error'][:80]} |||||||||||", flush=True)
+                continue
+            print(f"| {r['part']} | {r['model']} | {r['fences']} | {r['samples']} | {r['agree']}/{r['samples']} "
+                  f"({r['agree'] / r['samples']:.0%}) | {r['worst_deg']:.2f}° | {r['claim_deg']:.2f}° + 0.25° "
+                  f"| {r['exit_deg']:g}° | {r['on_last_fence']:.0%} | {r['belt_m_s']:.3g} m/s | {r['support']:.3g} "
+                  f"| {r['fence']:.3g} | {r['wall_s']:.0f} s |", flush=True)
 
 
 if __name__ == "__main__":
