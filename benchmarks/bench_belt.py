@@ -68,7 +68,7 @@ def run(item: tuple[dict[str, Any], dict[str, Any]], samples: int, seed: int) ->
     doc, options = item
     try:
         v = api.validate_fences(doc, samples=samples, seed=seed, **options).to_dict()
-        layout = api.fences(doc, **options).to_dict()
+        layout: dict[str, Any] = dict(api.fences(doc, **options).to_dict())
     except AlgraspError as exc:
         return {"part": doc.get("name"), "error": str(exc)}
     errs = [s["error_deg"] for s in v["samples"]]

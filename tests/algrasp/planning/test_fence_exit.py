@@ -19,6 +19,8 @@ from algrasp.planning.fences import FenceDesign, design_fences
 from tests.algrasp import brute
 from tests.algrasp.planning.test_fences import BERRETTY, RECT, SQUARE, STARTS, _exact_part, _poly
 
+RECT_MM: list[list[float]] = [[float(x) for x in v] for v in RECT]
+SQUARE_MM: list[list[float]] = [[float(x) for x in v] for v in SQUARE]
 HEXAGON = [[round(4 * math.cos(k * math.pi / 3), 9), round(4 * math.sin(k * math.pi / 3), 9)] for k in range(6)]
 
 
@@ -60,7 +62,7 @@ def test_exit_turn_widens_towards_the_belt_by_the_steepness() -> None:
     assert lo[0] == pytest.approx(0.1) and np.degrees(hi[0]) == pytest.approx(np.degrees(0.2) + 30.0)
 
 
-@pytest.mark.parametrize("vertices", [SQUARE, RECT, HEXAGON], ids=["square", "rectangle", "hexagon"])
+@pytest.mark.parametrize("vertices", [SQUARE_MM, RECT_MM, HEXAGON], ids=["square", "rectangle", "hexagon"])
 def test_exit_model_designs_hold_past_the_guide_by_brute_force(vertices: list[list[float]]) -> None:
     """Every sampled exit turn: on the last fence at the design's finals, and past the exit
     guide within the claimed ± (half the guide's steepness, exact model)."""
@@ -94,6 +96,6 @@ def test_berretty_designs_do_not_survive_the_tip_turn() -> None:
     (the part keeps its orientation between fences) misses its claim by far when the part
     turns over the first fence's tip by part of its steepness, as Drake shows it does; the
     exit model's design does not."""
-    analysis = analyse_document(_poly(RECT), EXACT)
-    assert _berretty_breaks(design_fences(analysis, BERRETTY), RECT)
-    assert not _berretty_breaks(design_fences(analysis), RECT)
+    analysis = analyse_document(_poly(RECT_MM), EXACT)
+    assert _berretty_breaks(design_fences(analysis, BERRETTY), RECT_MM)
+    assert not _berretty_breaks(design_fences(analysis), RECT_MM)
