@@ -68,3 +68,13 @@ def test_square_on_a_belt(tmp_path: Path) -> None:
     with path.open("rb") as f:
         topics = {c.topic for c in make_reader(f).get_summary().channels.values()}
     assert {"/tf", "/scene", "/fences", "/fence_validation", "/request", "/run"} <= topics
+    # The scene has the exit guide as a red box of the document's length, along its angle.
+    from foxglove_schemas_protobuf.SceneUpdate_pb2 import SceneUpdate
+
+    with path.open("rb") as f:
+        _, _, message = next(iter(make_reader(f).iter_messages(topics=["/scene"])))
+    cubes = [c for e in SceneUpdate.FromString(message.data).entities for c in e.cubes]
+    guide = [c for c in cubes if c.size.x == pytest.approx(doc["exit"]["length"] * 1e-3)]
+    assert len(guide) == 1 and guide[0].color.r > 0.5 > guide[0].color.g
+    assert 2 * math.degrees(math.atan2(guide[0].pose.orientation.z, guide[0].pose.orientation.w)) \
+        == pytest.approx(doc["exit"]["angle_deg"])
