@@ -13,9 +13,10 @@ fences that stand still, as a camera over a real feeder would see it.
 Each sample starts at a seeded random orientation, its centre of mass 2a upstream of the
 first fence's root (a the covering radius) and a seeded random distance from the first
 fence's rail between the part's own extent and 2a (where the layout lets parts enter); it
-ends when the part's centre is 2a past the last fence's tip. It agrees when its final
-orientation is within the design's final uncertainty plus ``tolerance_deg`` of a claimed
-final orientation, modulo the design's symmetry period T.
+ends when the part's centre is 2a past the layout's end (the exit guide's, a wall like the
+fences). It agrees when its final orientation is within the document's claimed
+uncertainty plus ``tolerance_deg`` of a claimed final orientation (past the exit guide,
+:meth:`FenceLayout.claim`), modulo the design's symmetry period T.
 """
 
 from __future__ import annotations
