@@ -13,7 +13,10 @@ so with every fence reaching h = W − 2a − c (c = a/2, the clearance beside a
 
 and the first fence (parts enter along its side, within 2a of it) needs W ≥ 6a + c +
 s_1 cos β_1. Fence i's root is at ``position`` along the belt, its tip h·cot β_i further;
-the next root is 2a past that tip. Lengths in the part's unit.
+the next root is 2a past that tip. The last fence is followed by its exit guide
+(:mod:`algrasp.planning.fence_exit`): s_e cot β_e long from its tip at β_e, rising
+s_e cos β_e across the belt, by which the last fence is shortened and the belt widened.
+Lengths in the part's unit.
 """
 
 from __future__ import annotations
