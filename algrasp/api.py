@@ -399,7 +399,9 @@ def fences(source: PartSource, *, fence_friction: float | list[float] | tuple[fl
     --------
     >>> out = fences({"name": "r", "boundary": [[0, 0], [4, 0], [4, 2], [0, 2]]}, exact=True)
     >>> len(out.to_dict()["fences"]), [f["side"] for f in out.to_dict()["fences"]]
-    (2, ['left', 'right'])
+    (2, ['right', 'left'])
+    >>> out.to_dict()["exit"]["steepness_deg"], out.to_dict()["final_uncertainty_deg"]  # past the exit guide
+    (2.0, 1.0)
     """
     from algrasp.planning.fences import fence_rules
     from optimisation.fence_layout import plan_fences
