@@ -34,7 +34,7 @@ def add_fences_command(sub: Any) -> None:
                    "tangent at its tip (Brokowski, Peshkin & Goldberg 1995)")
     p.add_argument("--tail-sweep", type=float, metavar="DEG", help="with --tail: how far it turns towards the belt "
                    "(default the last fence's angle to the belt less the exit guide's: it ends tangent to the guide)")
-    p.add_argument("--exit-steepness", type=float, metavar="DEG", dest="exit_steepness_deg",
+    p.add_argument("--exit-steepness-deg", type=float, metavar="DEG", dest="exit_steepness_deg",
                    help="the exit guide's angle to the belt (default 2, at most 10): the claim past it is ±DEG/2 wider, "
                         "the guide cot(DEG) times its push bound long")
     p.add_argument("--no-exit-turns", dest="exit_turns", action="store_false",

@@ -82,6 +82,8 @@ def test_dxf_is_read_by_algrasps_importer(rect_file: Path, tmp_path: Path) -> No
     (["--belt-friction", "-1"], "--fence-friction"),
     (["--belt-width", "1"], "--belt-width"),
     (["--min-margin-deg", "60"], "--min-margin-deg"),
+    (["--exit-steepness-deg", "0"], "--exit-steepness-deg"),
+    (["--exit-steepness-deg", "12"], "--exit-steepness-deg"),
 ])
 def test_bad_options_name_the_flag(rect_file: Path, argv: list[str], flag: str, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["fences", str(rect_file), "--exact", *argv]) == 2
