@@ -356,7 +356,8 @@ def plan(source: PartSource, *, action: Action | str = "squeeze", min_margin_deg
 
 def fences(source: PartSource, *, fence_friction: float | list[float] | tuple[float, float] | None = None,
            belt_width: float | None = None, min_margin_deg: float = 1.0, exact: bool | None = None,
-           physics: PhysicsSource = None, tail: float | Mapping[str, Any] | None = None) -> FenceLayout:
+           physics: PhysicsSource = None, tail: float | Mapping[str, Any] | None = None,
+           exit_steepness_deg: float | None = None, exit_turns: bool = True) -> FenceLayout:
     """The fewest conveyor fences that bring the part from any orientation to one (up to
     its push function's symmetry), laid out on a belt moving along +x (conventions §9).
 
@@ -376,8 +377,16 @@ def fences(source: PartSource, *, fence_friction: float | list[float] | tuple[fl
     tail : float or {"radius", "sweep_deg"}, optional
         A curved tail on the last fence: an arc of that radius (part units) tangent to it
         at its tip, turning towards the belt by ``sweep_deg`` (default the fence's angle
-        to the belt: it ends parallel to the belt); ``to_dict()["tail"]`` gives the
-        orientations the part leaves the tail in.
+        less the exit guide's: it ends tangent to the guide).
+    exit_steepness_deg : float, optional
+        The exit guide's angle to the belt (default 2°, at most 10°): a straight wall on the
+        last fence's rail from its tip (or its tail's end) that takes the part back onto
+        its edge after the tip has turned it; the claimed final orientations
+        (``to_dict()["final_orientations_deg"]``) are past its end, ±β_e/2 wider.
+    exit_turns : bool, default True
+        Model the turn towards the belt (by up to the fence's angle to it) that a part
+        takes as it comes off each fence's tip; False plans in Berretty et al.'s model,
+        where it keeps its orientation between fences (Drake shows it does not).
 
     Returns
     -------
@@ -394,7 +403,9 @@ def fences(source: PartSource, *, fence_friction: float | list[float] | tuple[fl
     --------
     >>> out = fences({"name": "r", "boundary": [[0, 0], [4, 0], [4, 2], [0, 2]]}, exact=True)
     >>> len(out.to_dict()["fences"]), [f["side"] for f in out.to_dict()["fences"]]
-    (2, ['left', 'right'])
+    (2, ['right', 'left'])
+    >>> out.to_dict()["exit"]["steepness_deg"], out.to_dict()["final_uncertainty_deg"]  # past the exit guide
+    (2.0, 1.0)
     """
     from algrasp.planning.fences import fence_rules
     from optimisation.fence_layout import plan_fences
@@ -402,7 +413,10 @@ def fences(source: PartSource, *, fence_friction: float | list[float] | tuple[fl
     rules = fence_rules(_friction(fence_friction))
     width = None if belt_width is None else _number(belt_width, "belt_width")
     analysis = analyse(source, exact=exact, physics=physics)
-    out = plan_fences(analysis, rules, _number(min_margin_deg, "min_margin_deg"), width)
+    beta_e = None if exit_steepness_deg is None else _number(exit_steepness_deg, "exit_steepness_deg")
+    if not isinstance(exit_turns, bool):
+        raise ConfigError("exit_turns", f"expected true or false, got {exit_turns!r}")
+    out = plan_fences(analysis, rules, _number(min_margin_deg, "min_margin_deg"), width, beta_e, exit_turns)
     return out if tail is None else _with_tail(out, tail)
 
 
@@ -439,8 +453,7 @@ def validate_fences(source: PartSource, *, samples: int = 3, seed: int = 0, reco
     tolerance_deg : float, default 0.25
         A sample agrees within the design's final uncertainty plus this (degrees).
     **options
-        The keywords of :func:`fences` (``tail`` too: then the claim is where the part
-        leaves the tail).
+        The keywords of :func:`fences` (the claim is where the part leaves the exit guide).
 
     Returns
     -------

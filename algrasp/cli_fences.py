@@ -47,7 +47,13 @@ def fence_design_options(p: Any) -> None:
     p.add_argument("--tail", type=float, metavar="R", help="a curved tail of radius R (part units) on the last fence, "
                    "tangent at its tip (Brokowski, Peshkin & Goldberg 1995)")
     p.add_argument("--tail-sweep", type=float, metavar="DEG", help="with --tail: how far it turns towards the belt "
-                   "(default the last fence's angle to the belt: it ends parallel to the belt)")
+                   "(default the last fence's angle to the belt less the exit guide's: it ends tangent to the guide)")
+    p.add_argument("--exit-steepness-deg", type=float, metavar="DEG", dest="exit_steepness_deg",
+                   help="the exit guide's angle to the belt (default 2, at most 10): the claim past it is ±DEG/2 wider, "
+                        "the guide cot(DEG) times its push bound long")
+    p.add_argument("--no-exit-turns", dest="exit_turns", action="store_false",
+                   help="plan in Berretty et al.'s model: a part keeps its orientation between fences (by default "
+                        "it may turn towards the belt by up to a fence's angle to it as it comes off the tip)")
 
 
 def add_validate_fences_options(p: Any) -> None:
@@ -63,7 +69,7 @@ def add_validate_fences_options(p: Any) -> None:
 GRIPPER_ONLY = {"action": "squeeze", "limits": False, "optimise": False, "gripper": None, "push_scale": 1.0,
                 "sim_physics": "nominal", "workers": 2}
 """``validate`` flags of a gripper plan, and their defaults: refused with ``--fences``."""
-FENCES_ONLY = ("fence_friction", "belt_width", "tail", "tail_sweep", "drawing")
+FENCES_ONLY = ("fence_friction", "belt_width", "tail", "tail_sweep", "drawing", "exit_steepness_deg")
 """``validate`` flags that need ``--fences``."""
 
 
@@ -76,6 +82,8 @@ def check_validate_flags(args: argparse.Namespace) -> None:
         for name in FENCES_ONLY:
             if getattr(args, name) is not None:
                 raise ConfigError(name, "needs --fences (it describes the belt and its fences)")
+        if not args.exit_turns:
+            raise ConfigError("exit_turns", "needs --fences (it describes the belt and its fences)")
         return
     for name, default in GRIPPER_ONLY.items():
         if getattr(args, name) != default:
@@ -133,15 +141,16 @@ def fence_options(args: argparse.Namespace) -> dict[str, Any]:
     model = model_from_args(args)
     tail = None if args.tail is None else {"radius": args.tail, "sweep_deg": args.tail_sweep}
     return {"fence_friction": args.fence_friction, "belt_width": args.belt_width,
-            "min_margin_deg": args.min_margin_deg, "exact": model.exact, "physics": model.physics, "tail": tail}
+            "min_margin_deg": args.min_margin_deg, "exact": model.exact, "physics": model.physics, "tail": tail,
+            "exit_steepness_deg": args.exit_steepness_deg, "exit_turns": args.exit_turns}
 
 
 def print_validation(v: dict[str, Any]) -> None:
     """A belt validation, a line per sample and the agreement."""
-    tail = " after the tail" if v["tail"] else ""
+    tail = " past the exit guide"
     finals = ", ".join(f"{f:.4g}°" for f in v["final_orientations_deg"])
     print(f"Drake on the belt: {v['belt_speed_m_s']:.3g} m/s, support friction {v['support_friction']:.3g}, "
-          f"fence friction {v['fence_friction']:.3g}; seed {v['seed']}; agreement within the design's "
+          f"fence friction {v['fence_friction']:.3g}; seed {v['seed']}; agreement within the claim's "
           f"±{v['final_uncertainty_deg']:.3g}° + {v['tolerance_deg']:g}° of {finals}"
           f"{tail} (mod {v['symmetry_period_deg']:.4g}°)")
     for k, s in enumerate(v["samples"], 1):
@@ -187,12 +196,19 @@ def print_layout(doc: dict[str, Any]) -> None:
         table.add_row(str(i), f["side"], f"{f['angle_deg']:.2f}", f"{f['steepness_deg']:.2f}", f"±{f['margin_deg']:.2f}",
                       f"{f['position']:.4g}", f"{f['length']:.4g}", f"{f['push_distance_bound']:.4g}")
     Console().print(table)
-    print(f"final orientation{'s' if len(doc['final_orientations_deg']) > 1 else ''}: {finals} "
-          f"± {doc['final_uncertainty_deg']:.3g}°")
-    tail = doc.get("tail")
+    last = ", ".join(f"{f:.4g}°" for f in doc["last_fence_orientations_deg"])
+    print(f"on the last fence: {last} ± {doc['last_fence_uncertainty_deg']:.3g}°")
+    tail, ex = doc.get("tail"), doc.get("exit")
     if tail:
-        print(f"tail: radius {tail['radius']:.4g} {u}, sweep {tail['sweep_deg']:.4g}° on fence {n}; the part leaves it at "
-              + ", ".join(f"{f:.4g}°" for f in tail["final_orientations_deg"]))
+        print(f"tail: radius {tail['radius']:.4g} {u}, sweep {tail['sweep_deg']:.4g}° on fence {n}")
+    if ex:
+        print(f"exit guide: {ex['side']} rail, {ex['steepness_deg']:.3g}° to the belt (angle {ex['angle_deg']:.2f}°), "
+              f"length {ex['length']:.4g} {u} from ({ex['start'][0]:.4g}, {ex['start'][1]:.4g}), push bound "
+              f"{ex['push_distance_bound']:.4g} {u}")
+    else:
+        print("no exit guide collapses the arc the last fence's tip leaves: the claim is widened by its steepness")
+    print(f"final orientation{'s' if len(doc['final_orientations_deg']) > 1 else ''} past the layout: {finals} "
+          f"± {doc['final_uncertainty_deg']:.3g}°")
 
 
 def print_imported_layout(doc: dict[str, Any], source: str, output: str | None) -> int:

@@ -13,13 +13,16 @@ so with every fence reaching h = W − 2a − c (c = a/2, the clearance beside a
 
 and the first fence (parts enter along its side, within 2a of it) needs W ≥ 6a + c +
 s_1 cos β_1. Fence i's root is at ``position`` along the belt, its tip h·cot β_i further;
-the next root is 2a past that tip. Lengths in the part's unit.
+the next root is 2a past that tip. The last fence is followed by its exit guide
+(:mod:`algrasp.planning.fence_exit`): s_e cot β_e long from its tip at β_e, rising
+s_e cos β_e across the belt, by which the last fence is shortened and the belt widened.
+Lengths in the part's unit.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -28,6 +31,7 @@ from algrasp.geometry.angles import to_deg, to_rad
 from algrasp.geometry.tolerances import ROUNDING
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.deadband import mean_radius
+from algrasp.planning.fence_exit import ExitGuide, exit_guide, exit_steepness
 from algrasp.planning.fence_motion import fence_motion
 from algrasp.planning.fences import DEFAULT_MIN_MARGIN_DEG, DEFAULT_RULES, FenceDesign, FenceRules, design_fences
 from algrasp.planning.motion import Motion
@@ -87,7 +91,14 @@ class FenceLayout:
     units: str
     tail: Tail | None = None
     last_reach: float | None = None
-    """The last fence's extent across the belt when a tail shortens it (else ``reach``)."""
+    """The last fence's extent across the belt when an exit guide or a tail shortens it
+    (else ``reach``)."""
+    exit: ExitGuide | None = None
+    """The exit guide on the last fence's rail (None: its push would not collapse the arc)."""
+    exit_length: float = 0.0
+    """The guide's length along its wall (part units): its push bound times cot β_e."""
+    exit_push_bound: float = 0.0
+    """s_e: Peshkin's push distance over the arc the part arrives at the guide in."""
     motion: Motion | None = None
     """The push's images and each fence's arcs after it (:mod:`algrasp.planning.fence_motion`):
     the document's ``images`` and fences' ``image_deg``, what a page animates."""
@@ -142,6 +153,26 @@ class FenceLayout:
         ts = np.linspace(hi, lo, n + 1) if self.tail_turn() < 0 else np.linspace(lo, hi, n + 1)
         return [(cx + R * math.cos(t), cy + R * math.sin(t)) for t in ts]
 
+    def exit_points(self) -> list[tuple[float, float]]:
+        """The exit guide's start (the tail's end, else the last fence's tip) and end."""
+        if self.exit is None:
+            return []
+        pts = self.tail_points()
+        x0, y0 = pts[-1] if pts else self.tip(len(self.lengths) - 1)
+        b, n = self.exit.steepness, self.exit_length
+        return [(x0, y0), (x0 + n * math.cos(b), y0 + (n if self.exit.side == 0 else -n) * math.sin(b))]
+
+    def claim(self) -> tuple[tuple[float, ...], float]:
+        """The final orientations (world, radians) and their half-width downstream of the
+        layout: the exit guide's; without one, the last fence's widened by its exit turn."""
+        if self.exit is not None:
+            return self.exit.final_orientations, self.exit.final_uncertainty
+        d = self.design
+        b = self.steepness[-1]
+        turn = -0.5 * b if d.sides[-1] == 0 else 0.5 * b
+        return (tuple(sorted(float(np.mod(f + turn, 2 * np.pi)) for f in d.final_orientations)),
+                d.final_uncertainty + 0.5 * b)
+
     def to_dict(self) -> dict[str, object]:
         """The fence document (degrees; lengths in ``units``): ``FenceDocument``."""
         d = self.design
@@ -158,13 +189,18 @@ class FenceLayout:
                 "fence_friction": list(d.rules.friction), "max_steepness_deg": _deg(d.rules.max_steepness),
                 "min_steepness_deg": _deg(d.rules.min_steepness), "fences": fences,
                 "total_length": float(sum(self.lengths)), "symmetry_period_deg": _deg(d.symmetry),
-                "final_orientations_deg": [_deg(f) for f in d.final_orientations],
-                "final_uncertainty_deg": _deg(d.final_uncertainty),
+                "final_orientations_deg": [_deg(f) for f in self.claim()[0]],
+                "final_uncertainty_deg": _deg(self.claim()[1]),
+                "last_fence_orientations_deg": [_deg(f) for f in d.final_orientations],
+                "last_fence_uncertainty_deg": _deg(d.final_uncertainty),
+                "exit": None if self.exit is None else {
+                    "side": "right" if self.exit.side == 0 else "left", "angle_deg": _deg(self.exit.angle),
+                    "steepness_deg": _deg(self.exit.steepness), "length": self.exit_length,
+                    "start": list(self.exit_points()[0]), "end": list(self.exit_points()[1]),
+                    "push_distance_bound": self.exit_push_bound},
                 **({} if self.tail is None else {
                     "tail": {"radius": self.tail.radius, "sweep_deg": _deg(self.tail.sweep),
-                             "turn_deg": _deg(self.tail_turn()),
-                             "final_orientations_deg": [_deg((f + self.tail_turn()) % (2 * np.pi))
-                                                        for f in d.final_orientations]}}),
+                             "turn_deg": _deg(self.tail_turn())}}),
                 **({} if self.motion is None else {"images": _images(self.motion)})}
 
 
@@ -189,16 +225,25 @@ def _bounds(model: PushModel, analysis: Analysis, design: FenceDesign) -> list[f
 
 
 def layout(analysis: Analysis, design: FenceDesign, belt_width: float | None = None,
-           model: PushModel | None = None) -> FenceLayout:
-    """Lengths, positions and belt width of ``design`` (see module docs); ``belt_width``
-    (part units) must be at least the least width, which is the default.
+           model: PushModel | None = None, exit_steepness_rad: float | None = None) -> FenceLayout:
+    """Lengths, positions and belt width of ``design`` (see module docs) with its exit
+    guide at steepness ``exit_steepness_rad`` (None: without a guide, as the search's
+    tie-break measures designs); ``belt_width`` (part units) must be at least the least
+    width, which is the default. The guide's push bound s_e gives its length s_e cot β_e
+    and its rise s_e cos β_e across the belt, by which the last fence is shortened (the
+    part must still pass between the guide's end and the far rail).
 
     Raises ConfigError (``belt_width``) when the given belt is too narrow."""
     model = model or push_model(analysis, mean_radius(analysis.part))
     a = model.cover_radius
     s = _bounds(model, analysis, design)
     beta = [x if x < 0.5 * np.pi else np.pi - x for x in design.angles]
+    guide = None if exit_steepness_rad is None else exit_guide(analysis, design, exit_steepness_rad)
+    s_e = 0.0 if guide is None else push_distances(model, analysis, [guide.input], to_rad(PUSH_TOLERANCE_DEG),
+                                                   to_rad(UNSTABLE_BAND_DEG))[0].bound
+    rise = s_e * math.cos(guide.steepness) if guide is not None else 0.0
     need = [s[0] * math.cos(beta[0]) - CLEARANCE * a] + [si * math.cos(b) for si, b in zip(s[1:], beta[1:])]
+    need[-1] += rise
     least = (6.0 + 2.0 * CLEARANCE) * a + max(need)
     if belt_width is not None and not (np.isfinite(belt_width) and belt_width >= least):
         raise ConfigError("belt_width", f"this design needs a belt at least {least:.4g} {analysis.part.units} wide, "
@@ -208,8 +253,10 @@ def layout(analysis: Analysis, design: FenceDesign, belt_width: float | None = N
     positions = [0.0]
     for b in beta[:-1]:
         positions.append(positions[-1] + h / math.tan(b) + SPACING * a)
-    lengths = tuple(h / math.sin(b) for b in beta)
-    return FenceLayout(design, W, h, tuple(s), lengths, tuple(positions), a, analysis.part.units)
+    lengths = tuple(h / math.sin(b) for b in beta[:-1]) + ((h - rise) / math.sin(beta[-1]),)
+    return FenceLayout(design, W, h, tuple(s), lengths, tuple(positions), a, analysis.part.units,
+                       last_reach=h - rise if guide is not None else None, exit=guide,
+                       exit_length=0.0 if guide is None else s_e / math.tan(guide.steepness), exit_push_bound=s_e)
 
 
 def with_tail(out: FenceLayout, radius: float, sweep_deg: float | None = None) -> FenceLayout:
@@ -221,15 +268,15 @@ def with_tail(out: FenceLayout, radius: float, sweep_deg: float | None = None) -
 
     Raises ConfigError (``tail``) unless 0 < radius, 0 < sweep ≤ β and the shortened
     fence still lets the part finish its turn (a wider belt gives it room)."""
-    from dataclasses import replace
 
     beta = out.steepness[-1]
-    sweep = beta if sweep_deg is None else to_rad(float(sweep_deg))
+    top = beta - (out.exit.steepness if out.exit is not None else 0.0)  # the tail ends tangent to the guide
+    sweep = top if sweep_deg is None else to_rad(float(sweep_deg))
     if not (math.isfinite(radius) and radius > 0.0):
         raise ConfigError("tail", f"expected a radius > 0, got {radius!r}")
-    if not (math.isfinite(sweep) and 0.0 < sweep <= beta + ROUNDING):
-        raise ConfigError("tail", f"expected 0 < sweep_deg ≤ {to_deg(beta):.4g} (the last fence's angle to the belt: "
-                          f"a larger sweep turns the tail back against the belt), got {sweep_deg!r}")
+    if not (math.isfinite(sweep) and 0.0 < sweep <= top + ROUNDING):
+        raise ConfigError("tail", f"expected 0 < sweep_deg ≤ {to_deg(top):.4g} (the last fence's angle to the belt less "
+                          f"the exit guide's: a larger sweep turns the tail back against the guide), got {sweep_deg!r}")
     # The straight part is shortened so that the tail rises no further across the belt
     # than the fence's tip did plus c: by Δ = R(1 − cos sweep) − c across the belt. The
     # last fence must still let the part finish its turn: W − Δ ≥ 6a + 2c + s_N cos β_N
@@ -238,26 +285,33 @@ def with_tail(out: FenceLayout, radius: float, sweep_deg: float | None = None) -
     c = CLEARANCE * a
     delta = max(radius * (1.0 - math.cos(sweep)) - c, 0.0)
     need = out.push_bounds[-1] * math.cos(beta) - (c if len(out.lengths) == 1 else 0.0)
-    slack = out.belt_width - ((6.0 + 2.0 * CLEARANCE) * a + need)
+    h_now = out.reach if out.last_reach is None else out.last_reach
+    slack = h_now - ((4.0 + CLEARANCE) * a + need)
     if delta > slack + ROUNDING:
         raise ConfigError("tail", f"a tail of radius {radius:g} {out.units} shortens the last fence by {delta:.4g} {out.units} "
                           f"across the belt, more than the {max(slack, 0.0):.4g} {out.units} it can spare: use a smaller "
                           f"radius or sweep, or a belt {delta - slack:.4g} {out.units} wider (belt_width)")
-    h = out.reach - delta
+    h = h_now - delta
     lengths = out.lengths[:-1] + (h / math.sin(beta),)
     return replace(out, tail=Tail(float(radius), float(sweep)), last_reach=h, lengths=lengths)
 
 
 def plan_fences(analysis: Analysis, rules: FenceRules = DEFAULT_RULES, min_margin_deg: float = DEFAULT_MIN_MARGIN_DEG,
-                belt_width: float | None = None) -> FenceLayout:
+                belt_width: float | None = None, exit_steepness_deg: float | None = None,
+                exit_turns: bool = True) -> FenceLayout:
     """The fence design of :func:`~algrasp.planning.fences.design_fences`, ties broken by
-    the total fence length of its layout, laid out on the belt."""
+    the total fence length of its layout, laid out on the belt with its exit guide at
+    ``exit_steepness_deg`` (default 2°; the guide is not part of the tie-break); with
+    ``exit_turns`` False in Berretty et al.'s model (no turn over the fences' tips).
+
+    Raises ConfigError (``exit_steepness_deg``) unless 0 < β_e ≤ 10°."""
+
+    beta_e = exit_steepness(exit_steepness_deg)
+    rules = replace(rules, exit_steepness=beta_e, exit_turns=bool(exit_turns))
     model = push_model(analysis, mean_radius(analysis.part))
 
     def total(design: FenceDesign) -> float:
         return float(sum(layout(analysis, design, None, model).lengths))
 
-    from dataclasses import replace
-
     design = design_fences(analysis, rules, min_margin_deg, total)
-    return replace(layout(analysis, design, belt_width, model), motion=fence_motion(analysis, design))
+    return replace(layout(analysis, design, belt_width, model, beta_e), motion=fence_motion(analysis, design))

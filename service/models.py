@@ -146,7 +146,7 @@ class TailOptions(_Strict):
 
     radius: float = Field(gt=0.0, le=1e9, description="of the arc, part units")
     sweep_deg: float | None = Field(None, gt=0.0, lt=90.0, description="its turn towards the belt (default the last "
-                                    "fence's angle to the belt: it ends parallel to the belt)")
+                                    "fence's angle to the belt less the exit guide's: it ends tangent to the guide)")
 
 
 class FenceValidateOptions(_Strict):
@@ -168,6 +168,10 @@ class FencesBody(ModelOptions):
     drawing: Literal["svg", "dxf"] | None = Field(None, description="answer the drawing of the belt and fences "
                                                    "(image/svg+xml or application/dxf, part units) instead of the document")
     tail: TailOptions | None = Field(None, description="a curved tail on the last fence")
+    exit_steepness_deg: float | None = Field(None, gt=0.0, le=10.0, description="the exit guide's angle to the belt "
+                                             "(default 2°): the claim past it is ±β_e/2 wider")
+    exit_turns: bool = Field(True, description="model the turn a part takes over each fence's tip (false: Berretty "
+                             "et al.'s model, the part keeps its orientation between fences)")
     validate_: FenceValidateOptions | None = Field(None, alias="validate", description="simulate the design on a belt "
                                                    "in Drake (the document's validation)")
 
@@ -181,7 +185,8 @@ class FencesBody(ModelOptions):
         model = self.model_options(cell)
         return {"fence_friction": self.fence_friction, "belt_width": self.belt_width,
                 "min_margin_deg": self.min_margin_deg, "exact": model["exact"], "physics": model["physics"],
-                "tail": None if self.tail is None else self.tail.model_dump()}
+                "tail": None if self.tail is None else self.tail.model_dump(),
+                "exit_steepness_deg": self.exit_steepness_deg, "exit_turns": self.exit_turns}
 
 
 class JobOptions(ModelOptions):

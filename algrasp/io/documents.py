@@ -187,6 +187,19 @@ class Fence(Open):
     push_distance_bound: float | None = Field(None, description="Peshkin's push distance along its normal (part units)")
 
 
+class ExitGuideDoc(Open):
+    """The exit guide: a straight wall from the last fence's tip (or its tail's end) at a
+    small steepness, on the same rail (conventions §9)."""
+
+    side: Literal["left", "right"]
+    angle_deg: float
+    steepness_deg: float = Field(gt=0, description="β_e: its angle to the belt; the claim is ±β_e/2 wider")
+    length: float = Field(gt=0, description="along the wall (part units): push_distance_bound · cot β_e")
+    start: list[float] = Field(min_length=2, max_length=2, description="(x, y) where it leaves the fence (part units)")
+    end: list[float] = Field(min_length=2, max_length=2, description="(x, y) of its downstream end")
+    push_distance_bound: float
+
+
 class FenceDocument(Open):
     """``algrasp fences --json`` and ``POST /v1/fences``: a fence design laid out on a belt
     moving along world +x (lengths in ``units``)."""
@@ -198,8 +211,12 @@ class FenceDocument(Open):
     fences: list[Fence] = Field(min_length=1)
     total_length: float
     symmetry_period_deg: float
-    final_orientations_deg: list[float] = Field(description="world orientations the part leaves in, [0, 360)")
+    final_orientations_deg: list[float] = Field(description="world orientations the part leaves the layout in (past "
+                                                "the exit guide), [0, 360)")
     final_uncertainty_deg: float
+    last_fence_orientations_deg: list[float] | None = Field(None, description="its orientations on the last fence")
+    last_fence_uncertainty_deg: float | None = None
+    exit: ExitGuideDoc | None = Field(None, description="the exit guide on the last fence's rail (null: none holds)")
 
 
 class FenceValidationSample(Open):

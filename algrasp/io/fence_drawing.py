@@ -5,8 +5,9 @@ Belt frame: x along the belt's motion, y across it (y = 0 the right rail looking
 downstream, y = W the left). Each fence is one line from its root on its rail to its tip;
 dimensions give the belt width, every fence's root position and length, and its angle
 to the belt. DXF layers: ``BELT`` (rails), ``FENCES`` (one LINE per fence, what a shop
-cuts, and the last fence's curved tail as one ARC tangent to it at its tip), ``DIMENSIONS``
-and ``TEXT``; ``$INSUNITS`` is the part's unit where DXF has one.
+cuts, and the last fence's curved tail as one ARC tangent to it at its tip), ``EXIT`` (the
+exit guide: one LINE from the last fence's tip, or its tail's end, at its small angle to
+the belt), ``DIMENSIONS`` and ``TEXT``; ``$INSUNITS`` is the part's unit where DXF has one.
 """
 
 from __future__ import annotations
@@ -26,7 +27,8 @@ INSUNITS = {"in": 1, "ft": 2, "mm": 4, "cm": 5, "m": 6, "um": 13}
 
 def _extent(layout: FenceLayout) -> tuple[float, float]:
     """x range of the drawing: the first root to the last tip, plus a part's width each side."""
-    last = max([layout.tip(len(layout.lengths) - 1)[0]] + [x for x, _ in layout.tail_points()])
+    last = max([layout.tip(len(layout.lengths) - 1)[0]] + [x for x, _ in layout.tail_points()]
+               + [x for x, _ in layout.exit_points()])
     pad = 4.0 * layout.cover_radius
     return -pad, max(last, max(layout.positions)) + pad
 
@@ -57,7 +59,7 @@ def _dxf_document(layout: FenceLayout) -> Any:
 
     doc = ezdxf.new("R2010", setup=True)
     doc.header["$INSUNITS"] = INSUNITS.get(layout.units, 0)
-    for name, color in (("BELT", 8), ("FENCES", 1), ("DIMENSIONS", 3), ("TEXT", 7)):
+    for name, color in (("BELT", 8), ("FENCES", 1), ("EXIT", 6), ("DIMENSIONS", 3), ("TEXT", 7)):
         doc.layers.add(name, color=color)
     msp = doc.modelspace()
     x0, x1 = _extent(layout)
@@ -78,12 +80,28 @@ def _dxf_document(layout: FenceLayout) -> Any:
                      dxfattribs={"layer": "TEXT"}).set_placement((end[0], end[1] + (text_h if end[1] < W / 2 else -2 * text_h)))
         msp.add_radius_dim(center=(cx, cy), radius=R, angle=to_deg(0.5 * (lo + hi)), dxfattribs={"layer": "DIMENSIONS"},
                            override={"dimtxt": text_h, "dimasz": text_h}).render()
+    _dxf_exit(msp, layout, text_h)
     dim = msp.add_linear_dim(base=(x0 + text_h, W / 2), p1=(x0, 0.0), p2=(x0, W), angle=90,
                              dxfattribs={"layer": "DIMENSIONS"}, override={"dimtxt": text_h, "dimasz": text_h})
     dim.render()
     msp.add_text(f"belt width {W:.4g} {layout.units}; belt moves +x", height=text_h,
                  dxfattribs={"layer": "TEXT"}).set_placement((x0, -3.0 * text_h))
     return doc
+
+
+def _dxf_exit(msp: Any, layout: FenceLayout, h: float) -> None:
+    """The exit guide: a LINE on layer EXIT, its aligned length and an angle note."""
+    pts = layout.exit_points()
+    if not pts or layout.exit is None:
+        return
+    a, b = pts
+    msp.add_line(a, b, dxfattribs={"layer": "EXIT"})
+    off = -2.0 * h if layout.exit.side == 0 else 2.0 * h
+    msp.add_aligned_dim(p1=a, p2=b, distance=off, dxfattribs={"layer": "DIMENSIONS"},
+                        override={"dimtxt": h, "dimasz": h}).render()
+    note = (f"exit guide: {to_deg(layout.exit.steepness):.2f}° to belt (α {to_deg(layout.exit.angle):.2f}°), "
+            f"L {layout.exit_length:.4g} {layout.units}")
+    msp.add_text(note, height=h, dxfattribs={"layer": "TEXT"}).set_placement((a[0], a[1] + (-3.0 * h if off < 0 else 3.0 * h)))
 
 
 def _dimension_fence(msp: Any, layout: FenceLayout, i: int, a: tuple[float, float], b: tuple[float, float], h: float) -> None:
@@ -131,6 +149,12 @@ def svg_text(layout: FenceLayout) -> str:
         out.append(f'<path class="tail" d="M {pts[0][0]:.6g} {pts[0][1]:.6g} A {R:.6g} {R:.6g} 0 0 {sweep_flag} '
                    f'{pts[-1][0]:.6g} {pts[-1][1]:.6g}" fill="none" stroke="#c00" stroke-width="{h / 3:.4g}"/>')
         out.append(_svg_label(pts[-1][0], pts[-1][1] + 2.0 * h, f"tail R {R:.4g} {u}, {to_deg(layout.tail.sweep):.2f}°"))
+    if layout.exit is not None:
+        (ax, ay), (bx, by) = layout.exit_points()
+        out.append(f'<line class="exit" x1="{ax:.6g}" y1="{ay:.6g}" x2="{bx:.6g}" y2="{by:.6g}" '
+                   f'stroke="#c0c" stroke-width="{h / 3:.4g}"/>')
+        out.append(_svg_label(0.5 * (ax + bx), 0.5 * (ay + by) + (2.0 if layout.exit.side == 0 else -3.0) * h,
+                              f"exit guide: L {layout.exit_length:.4g} {u}, {to_deg(layout.exit.steepness):.2f}°"))
     out.append(_svg_label(x0, -6.0 * h, f"belt moves +x; lengths in {u}"))
     out.append("</g></svg>")
     return "\n".join(out) + "\n"

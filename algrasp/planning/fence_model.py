@@ -24,6 +24,8 @@ from algrasp.geometry.tolerances import ROUNDING, SYMMETRY_TOL_RAD
 from algrasp.planning.analysis import Analysis, robust_analysis
 from algrasp.planning.transfer import TransferFunction
 
+EXIT_STEEPNESS_RAD = to_rad(2.0)
+"""β_e: the exit guide's default angle to the belt (:mod:`algrasp.planning.fence_exit`)."""
 DEFAULT_FENCE_FRICTION = (0.1, 0.3)
 """μ_f: UHMW-PE guide rail (the usual fence facing) on dry metal or plastic parts:
 handbook 0.1–0.2, up to 0.3 worn or dusty (conventions §9)."""
@@ -94,6 +96,11 @@ class FenceRules:
 
     friction: tuple[float, float] = DEFAULT_FENCE_FRICTION
     min_steepness: float = MIN_STEEPNESS_RAD
+    exit_steepness: float | None = EXIT_STEEPNESS_RAD
+    """β_e of the exit guide the design must also collapse through (None: no guide)."""
+    exit_turns: bool = True
+    """Model the turn a part takes over each fence's tip (:func:`exit_turn`); False is
+    Berretty et al.'s model, in which the part keeps its orientation between fences."""
 
     @property
     def max_steepness(self) -> float:
@@ -172,23 +179,67 @@ class FenceDesign:
     exact: bool
 
     def run(self, push: Push, phi: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """Hull of the world orientations after every fence from each φ (radians)."""
+        """Hull of the world orientations on the last fence from each φ (radians): every
+        fence's push, and between fences the way off its tip of :func:`leave`."""
         lo = hi = np.asarray(phi, dtype=float)
-        for a in self.angles:
+        for i, a in enumerate(self.angles):
+            if i > 0:
+                lo, hi = leave(lo, hi, self.angles[i - 1], self.rules.exit_turns)
             lo, hi = push.image(lo - a, hi - a)
             lo, hi = lo + a, hi + a
         return lo, hi
 
 
-def collapse_width(push: Push, angles: FloatArray) -> FloatArray:
+def exit_turn(lo: FloatArray | float, hi: FloatArray | float,
+              alpha: FloatArray | float) -> tuple[FloatArray, FloatArray]:
+    """The arcs [lo, hi] (orientations, radians; any frame) widened by the turn a part may
+    take as it leaves a fence at world angle α over its tip: towards the belt direction,
+    by at most the fence's steepness β (clockwise, lo − β, on the right rail α = β;
+    counter-clockwise, hi + β, on the left α = π − β). The belt's drag presses the part
+    against the tip only while its contact normal has a component against the belt; that
+    normal turns with the part (and with the contact moving round a convex part) from
+    steepness β to 0, so the part turns by some t ∈ [0, β] (conventions §9). O(n)."""
+    a = np.asarray(alpha, dtype=float)
+    right = a < 0.5 * np.pi
+    lo_, hi_ = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    return np.where(right, lo_ - a, lo_), np.where(right, hi_, hi_ + (np.pi - a))
+
+
+def guide_angle(alpha: FloatArray | float, steepness: float) -> FloatArray:
+    """α_e of the exit guide on the rail of a last fence at α: β_e right, π − β_e left."""
+    a = np.asarray(alpha, dtype=float)
+    return np.where(a < 0.5 * np.pi, steepness, np.pi - steepness)
+
+
+def leave(lo: FloatArray, hi: FloatArray, alpha: FloatArray | float, turns: bool) -> tuple[FloatArray, FloatArray]:
+    """The arcs [lo, hi] (any frame, radians) the part may be in when it has left the fence
+    at α over its tip: :func:`exit_turn` with ``turns`` (the default model), unchanged
+    without (Berretty et al.'s model, in which a part keeps its orientation between fences)."""
+    if not turns:
+        return np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    return exit_turn(lo, hi, alpha)
+
+
+def collapse_width(push: Push, angles: FloatArray, exit_steepness: float | None = None,
+                   turns: bool = True) -> FloatArray:
     """Width of the final arc of each design (rows of ``angles``, (m, N), radians), from
-    every start: the first fence leaves the part in ``push.circle``."""
+    every start: the first fence leaves the part in ``push.circle``, and it leaves each
+    fence over its tip (:func:`leave`, with ``turns``). With ``exit_steepness`` the wider
+    of the arc on the last fence and the arc the exit guide pushes the part back into
+    (the last fence's tip turns it by at most β_N first); without, the arc on the last fence."""
     lo = np.full(angles.shape[0], push.circle[0])
     hi = np.full(angles.shape[0], push.circle[1])
     for i in range(1, angles.shape[1]):
+        lo, hi = leave(lo, hi, angles[:, i - 1], turns)
         shift = angles[:, i - 1] - angles[:, i]
         lo, hi = push.image(lo + shift, hi + shift)
-    return np.asarray(hi - lo)
+    if exit_steepness is None:
+        return np.asarray(hi - lo)
+    last = angles[:, -1]
+    glo, ghi = exit_turn(lo, hi, last)
+    shift = last - guide_angle(last, exit_steepness)
+    glo, ghi = push.image(glo + shift, ghi + shift)
+    return np.asarray(np.maximum(hi - lo, ghi - glo))
 
 
 def held_range(push: Push, rules: FenceRules, angles: FloatArray, i: int, goal: float,
@@ -200,7 +251,7 @@ def held_range(push: Push, rules: FenceRules, angles: FloatArray, i: int, goal: 
     M = len(MARGIN_STEPS_RAD)
     trial = np.repeat(angles[:, None, :], 2 * M, axis=1)
     trial[:, :, i] += np.concatenate([MARGIN_STEPS_RAD, -MARGIN_STEPS_RAD])[None, :]
-    ok = (collapse_width(push, trial.reshape(-1, N)) <= goal).reshape(K, 2, M)
+    ok = (collapse_width(push, trial.reshape(-1, N), rules.exit_steepness, rules.exit_turns) <= goal).reshape(K, 2, M)
     if admissible_only:  # admissible, and on its own rail (frictionless fences: no gap at 90° to stop it)
         moved = trial[:, :, i]
         ok &= ((rules.slacks(moved) > 0.0) & ((moved < 0.5 * np.pi) == (angles[:, None, i] < 0.5 * np.pi))).reshape(K, 2, M)

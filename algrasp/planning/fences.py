@@ -33,8 +33,9 @@ from algrasp.planning.fence_model import (
     FenceRules,
     Push,
     centred,
+    collapse_width,
     fence_rules,
-    held_range,
+    leave,
     margins,
     on_belt,
     push_of,
@@ -86,7 +87,8 @@ def _next_level(push: Push, rules: FenceRules, level: _Level) -> _Level:
         idx = np.nonzero(level.side == s)[0]
         grid = rules.grid(1 - s)
         shift = level.alpha[idx, None] - grid[None, :]
-        lo, hi = push.image(level.lo[idx, None] + shift, level.hi[idx, None] + shift)
+        lo0, hi0 = leave(level.lo[idx], level.hi[idx], level.alpha[idx], rules.exit_turns)
+        lo, hi = push.image(lo0[:, None] + shift, hi0[:, None] + shift)
         cols = np.broadcast_to(grid[None, :], lo.shape)
         parts.append((lo.ravel(), hi.ravel(), cols.ravel(), np.full(lo.size, 1 - s), np.repeat(idx, len(grid))))
     lo, hi, alpha, side, parent = (np.concatenate(x) for x in zip(*parts))
@@ -159,7 +161,7 @@ def _search(analysis: Analysis, push: Push, rules: FenceRules, margin: float,
         hits = np.nonzero(last.hi - last.lo <= goal)[0]
         designs = _candidates(analysis, push, rules, levels, hits, goal, margin)
         if designs:
-            return turned(push, rules, _best(designs, length), goal, margin, length)
+            return turned(analysis, push, rules, _best(designs, length), goal, margin, length)
         if len(last.lo) == 0 or len(levels) == MAX_FENCES:
             return None
         levels.append(_next_level(push, rules, last))
@@ -179,7 +181,8 @@ def _candidates(analysis: Analysis, push: Push, rules: FenceRules, levels: list[
             continue
         A = centred(push, rules, np.array([_chain(levels, k) for k in pick]), goal)
         m = margins(push, rules, A, goal)
-        keep = np.nonzero(m.min(axis=1) >= margin - ROUNDING)[0]
+        held = collapse_width(push, A, rules.exit_steepness, rules.exit_turns) <= goal
+        keep = np.nonzero((m.min(axis=1) >= margin - ROUNDING) & held)[0]
         designs = [d for d in (_design(analysis, push, rules, A[k].tolist(), m[k].tolist()) for k in keep)
                    if d.final_uncertainty <= MAX_UNCERTAINTY_RAD]
         if designs:
@@ -201,25 +204,33 @@ TURNS_RAD = to_rad(np.arange(-60.0, 60.01, 0.25))
 """Whole-design turns γ tried for the shortest layout."""
 
 
-def turned(push: Push, rules: FenceRules, design: FenceDesign, goal: float, margin: float,
+def turned(analysis: Analysis, push: Push, rules: FenceRules, design: FenceDesign, goal: float, margin: float,
            length: LengthOf | None) -> FenceDesign:
     """The design turned as a whole by the γ of ``TURNS_RAD`` giving the least ``length``
-    (then the widest margins): every α_i + γ makes the same relative turns, so the part
-    collapses from every start as before and only the final orientations turn by γ; every
-    angle must stay admissible on its rail with its margin ≥ ``margin``."""
+    (then the widest margins): every α_i + γ makes the same relative turns, but the exit
+    turns between fences follow the steepness, so each turned design is checked again: it
+    must collapse, and every angle must stay admissible on its rail with its margin ≥
+    ``margin``. Vectorised over the K turns: O(K · N · M) pushes of arcs."""
     if length is None:
         return design
-    held = [held_range(push, rules, np.array([design.angles]), i, goal, admissible_only=False)
-            for i in range(len(design.angles))]
+    base = np.array(design.angles)
+    A = base[None, :] + TURNS_RAD[:, None]
+    right = np.array(design.sides) == 0
+    sides_ok = np.all(np.less(A, 0.5 * np.pi) == right[None, :], axis=1)
+    sides_ok &= np.all(rules.slacks(A) > 0.0, axis=1)
+    A = A[sides_ok]
+    ok = collapse_width(push, A, rules.exit_steepness, rules.exit_turns) <= goal
+    A = A[ok]
+    if len(A) == 0:
+        return design
+    m = margins(push, rules, A, goal)
     best, best_key = design, (round(length(design), 6), -min(design.margins))
-    for g in TURNS_RAD.tolist():
-        angles = [a + g for a in design.angles]
-        ms = [min(float(up[0]), float(down[0]), rules.slack(a)) for (up, down), a in zip(held, angles)]
-        if min(ms) < margin - ROUNDING or min(ms) <= 0.0 or any((a < 0.5 * np.pi) != (s == 0)
-                                                                  for a, s in zip(angles, design.sides)):
+    for angles, ms in zip(A.tolist(), m.tolist()):
+        if min(ms) < margin - ROUNDING or min(ms) <= 0.0:
             continue
-        finals = tuple(sorted(float(np.mod(f + g, 2 * np.pi)) for f in design.final_orientations))
-        cand = replace(design, angles=tuple(angles), margins=tuple(ms), final_orientations=finals)
+        cand = _design(analysis, push, rules, angles, ms)
+        if cand.final_uncertainty > MAX_UNCERTAINTY_RAD:
+            continue
         key = (round(length(cand), 6), -min(ms))
         if key < best_key:
             best, best_key = cand, key
@@ -231,6 +242,7 @@ def _design(analysis: Analysis, push: Push, rules: FenceRules, angles: list[floa
     inputs = [(0.0, 2.0 * np.pi)]
     lo, hi = np.array([push.circle[0]]), np.array([push.circle[1]])
     for a0, a1 in zip(angles[:-1], angles[1:]):
+        lo, hi = leave(lo, hi, a0, rules.exit_turns)
         lo, hi = lo + a0 - a1, hi + a0 - a1
         inputs.append((float(lo[0]), float(hi[0])))
         lo, hi = push.image(lo, hi)
@@ -247,6 +259,12 @@ def _design(analysis: Analysis, push: Push, rules: FenceRules, angles: list[floa
 
 def _refusal(analysis: Analysis, push: Push, rules: FenceRules, margin: float) -> NotOrientableError:
     """Why no design exists, and the largest fence friction under which one would."""
+    if rules.exit_turns and _search(analysis, push, replace(rules, exit_turns=False), margin, None) is not None:
+        return NotOrientableError("no_fence_design", f"no sequence of at most {MAX_FENCES} alternating fences orients the "
+                                  "part once the turn it takes over each fence's tip is modelled (up to the fence's "
+                                  "angle to the belt); in Berretty et al.'s model, where it keeps its orientation "
+                                  "between fences, a design exists (exit_turns false, --no-exit-turns), which Drake "
+                                  "does not bear out", {"fence_friction_max": None, "berretty_design": True})
     mu = friction_limit(analysis, push, rules, margin)
     base = (f"no sequence of at most {MAX_FENCES} alternating fences with steepness in "
             f"[{to_deg(rules.min_steepness):g}°, {to_deg(rules.max_steepness):.3g}°) (fence friction ≤ "
@@ -263,7 +281,8 @@ def _refusal(analysis: Analysis, push: Push, rules: FenceRules, margin: float) -
 def friction_limit(analysis: Analysis, push: Push, rules: FenceRules, margin: float) -> float | None:
     """The largest μ_f,hi (bisection, ``LIMIT_PROBES`` steps) with a design; None: none even at 0."""
     def exists(mu: float) -> bool:
-        return _search(analysis, push, FenceRules((0.0, mu), rules.min_steepness), margin, None) is not None
+        return _search(analysis, push, FenceRules((0.0, mu), rules.min_steepness, rules.exit_steepness, rules.exit_turns), margin,
+                       None) is not None
 
     if not exists(0.0):
         return None

@@ -13,9 +13,10 @@ fences that stand still, as a camera over a real feeder would see it.
 Each sample starts at a seeded random orientation, its centre of mass 2a upstream of the
 first fence's root (a the covering radius) and a seeded random distance from the first
 fence's rail between the part's own extent and 2a (where the layout lets parts enter); it
-ends when the part's centre is 2a past the last fence's tip. It agrees when its final
-orientation is within the design's final uncertainty plus ``tolerance_deg`` of a claimed
-final orientation, modulo the design's symmetry period T.
+ends when the part's centre is 2a past the layout's end (the exit guide's, a wall like the
+fences). It agrees when its final orientation is within the document's claimed
+uncertainty plus ``tolerance_deg`` of a claimed final orientation (past the exit guide,
+:meth:`FenceLayout.claim`), modulo the design's symmetry period T.
 """
 
 from __future__ import annotations
@@ -81,12 +82,17 @@ def walls_m(layout: FenceLayout, scale: float, pad: float) -> list[Wall]:
         for k, (p, q) in enumerate(zip(pts[:-1], pts[1:])):
             d = (q[0] - p[0], q[1] - p[1])
             out.append(Wall((p[0] * scale, p[1] * scale), math.atan2(d[1], d[0]), math.hypot(*d) * scale, f"tail_{k}"))
+    if layout.exit is not None:  # from its start on the right rail, from its end on the left (part on its left)
+        (x0, y0), (x1, y1) = layout.exit_points()
+        x, y = (x0, y0) if layout.exit.side == 0 else (x1, y1)
+        out.append(Wall((x * scale, y * scale), layout.exit.angle, layout.exit_length * scale, "exit_guide"))
     return out
 
 
 def layout_end(layout: FenceLayout) -> float:
-    """The largest x of the fences and the tail (part units)."""
+    """The largest x of the fences, the tail and the exit guide (part units)."""
     xs = [layout.tip(i)[0] for i in range(len(layout.lengths))] + [x for x, _ in layout.tail_points()]
+    xs += [x for x, _ in layout.exit_points()]
     return max(xs)
 
 
@@ -327,9 +333,11 @@ def validate_fences(part: Part, layout: FenceLayout, physics: Physics, samples: 
     u = rng.uniform(0.0, 1.0, samples)
     d = layout.design
     design_finals = [round(float(to_deg(f)), 9) for f in d.final_orientations]
-    finals = [round(float(to_deg(f + layout.tail_turn())) % 360.0, 9) for f in d.final_orientations]
+    claimed, claimed_unc = layout.claim()
+    finals = [round(float(to_deg(f)) % 360.0, 9) for f in claimed]
     T = float(to_deg(d.symmetry))
-    allowed = float(to_deg(d.final_uncertainty)) + tolerance_deg
+    allowed = float(to_deg(claimed_unc)) + tolerance_deg
+    allowed_on_fence = float(to_deg(d.final_uncertainty)) + tolerance_deg
     out: list[BeltSample] = []
     trajs: list[list[tuple[float, float, float, float]]] = []
     t0 = time.perf_counter()
@@ -349,9 +357,10 @@ def validate_fences(part: Part, layout: FenceLayout, physics: Physics, samples: 
     wall = time.perf_counter() - t0
     model = {"reach_m": sim.geom.reach_m, "chord_error_m": sim.geom.chord_error_m, "wall_thickness_m": sim.wall_thickness_m,
              **{k: [float(x) for x in val] if isinstance(val, tuple) else float(val) for k, val in asdict(cfg).items()}}
-    on = sum(s.on_last_fence_error_deg is not None and s.on_last_fence_error_deg <= allowed for s in out) / len(out)
+    on = sum(s.on_last_fence_error_deg is not None and s.on_last_fence_error_deg <= allowed_on_fence
+             for s in out) / len(out)
     return BeltValidation(tuple(out), sum(s.agrees for s in out) / len(out), on, tolerance_deg, tuple(finals),
-                          float(to_deg(d.final_uncertainty)), T, v, cfg.support_friction, cfg.jaw_friction, seed, wall,
+                          float(to_deg(claimed_unc)), T, v, cfg.support_friction, cfg.jaw_friction, seed, wall,
                           model, tuple(trajs), tail=layout.tail is not None, walls=tuple(sim.walls),
                           outline_m=sim.geom.outline_m)
 

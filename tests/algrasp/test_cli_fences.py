@@ -30,10 +30,13 @@ def test_json_is_the_typed_fence_document(rect_file: Path, capsys: pytest.Captur
     FenceDocument.model_validate(doc)
     fences = doc["fences"]
     assert len(fences) == 2 and {f["side"] for f in fences} == {"left", "right"}
-    assert doc["units"] == "mm" and doc["final_orientations_deg"] and doc["final_uncertainty_deg"] == 0.0
-    for f in fences:  # the side follows the angle, lengths reach h across the belt
+    assert doc["units"] == "mm" and doc["final_orientations_deg"] and doc["last_fence_uncertainty_deg"] == 0.0
+    assert doc["final_uncertainty_deg"] == pytest.approx(0.5 * doc["exit"]["steepness_deg"])  # the guide's end turn
+    rise = doc["exit"]["push_distance_bound"] * math.cos(math.radians(doc["exit"]["steepness_deg"]))
+    for i, f in enumerate(fences):  # the side follows the angle, lengths reach h (the last h less the guide's rise)
         assert (f["angle_deg"] < 90) == (f["side"] == "right")
-        assert f["length"] * math.sin(math.radians(f["steepness_deg"])) == pytest.approx(doc["reach"])
+        reach = doc["reach"] - (rise if i == len(fences) - 1 else 0.0)
+        assert f["length"] * math.sin(math.radians(f["steepness_deg"])) == pytest.approx(reach)
     assert fences[0]["position"] == 0.0 and fences[1]["position"] > 0.0
     assert doc["reach"] < doc["belt_width"]
 
@@ -78,6 +81,8 @@ def test_dxf_is_read_by_algrasps_importer(rect_file: Path, tmp_path: Path) -> No
     (["--belt-friction", "-1"], "--fence-friction"),
     (["--belt-width", "1"], "--belt-width"),
     (["--min-margin-deg", "60"], "--min-margin-deg"),
+    (["--exit-steepness-deg", "0"], "--exit-steepness-deg"),
+    (["--exit-steepness-deg", "12"], "--exit-steepness-deg"),
 ])
 def test_bad_options_name_the_flag(rect_file: Path, argv: list[str], flag: str, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["fences", str(rect_file), "--exact", *argv]) == 2

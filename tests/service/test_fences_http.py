@@ -38,6 +38,8 @@ def test_fences_answer_the_document(server: Server) -> None:
     ({"validate": {"samples": 0}}, "samples"),
     ({"tail": {"radius": -1}}, "radius"),
     ({"tail": {"radius": 10, "sweep_deg": 80}}, "tail"),
+    ({"exit_steepness_deg": 12}, "exit_steepness_deg"),
+    ({"exit_turns": "maybe"}, "exit_turns"),
 ])
 def test_bad_input_is_422_naming_the_field(server: Server, body: dict[str, Any], field: str) -> None:
     with server.client() as c:

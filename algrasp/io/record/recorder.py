@@ -252,7 +252,8 @@ class RunRecorder:
 
 
 def _belt_scene(outline_m: FloatArray, walls: list[Any], thick: float, ns: int) -> Any:
-    """The part's hull outline (frame ``part``) and every wall as a box (frame ``world``)."""
+    """The part's hull outline (frame ``part``) and every wall as a box (frame ``world``): fences, tail
+    chords and the exit guide red, rails grey."""
     from foxglove_schemas_protobuf.Color_pb2 import Color
     from foxglove_schemas_protobuf.CubePrimitive_pb2 import CubePrimitive
     from foxglove_schemas_protobuf.LinePrimitive_pb2 import LinePrimitive
@@ -273,7 +274,7 @@ def _belt_scene(outline_m: FloatArray, walls: list[Any], thick: float, ns: int) 
         c, s = math.cos(w.alpha), math.sin(w.alpha)
         centre = Vector3(x=w.start[0] + 0.5 * w.length * c + 0.5 * thick * s,
                          y=w.start[1] + 0.5 * w.length * s - 0.5 * thick * c, z=0.0)
-        fence = w.name.startswith(("fence", "tail"))
+        fence = w.name.startswith(("fence", "tail", "exit"))  # the exit guide is cut as a fence is
         cubes.append(CubePrimitive(pose=Pose(position=centre, orientation=_quat_z(w.alpha)),
                                    size=Vector3(x=w.length, y=thick, z=thick),
                                    color=Color(r=0.8, g=0.1, b=0.1, a=0.9) if fence else Color(r=0.6, g=0.6, b=0.6, a=0.8)))

@@ -25,7 +25,8 @@ def test_dxf_tail_is_an_arc_tangent_to_the_last_fence(tmp_path: Path, part: dict
     doc = layout.to_dict()
     last = doc["fences"][-1]
     assert doc["tail"]["radius"] == 25.0
-    assert doc["tail"]["sweep_deg"] == pytest.approx(sweep if sweep is not None else last["steepness_deg"])
+    default = last["steepness_deg"] - doc["exit"]["steepness_deg"]  # ends tangent to the exit guide
+    assert doc["tail"]["sweep_deg"] == pytest.approx(sweep if sweep is not None else default)
     msp = ezdxf.readfile(write_dxf(layout, tmp_path / "belt.dxf")).modelspace()
     (arc,) = msp.query('ARC[layer=="FENCES"]')
     lines = list(msp.query('LINE[layer=="FENCES"]'))
@@ -51,6 +52,31 @@ def test_dxf_tail_is_an_arc_tangent_to_the_last_fence(tmp_path: Path, part: dict
     turn = doc["tail"]["turn_deg"]
     assert turn == pytest.approx(-doc["tail"]["sweep_deg"] if last["side"] == "right" else doc["tail"]["sweep_deg"])
     assert 'class="tail"' in svg_text(layout)
+    (guide,) = msp.query('LINE[layer=="EXIT"]')  # the exit guide leaves from the tail's end
+    assert math.dist(guide.dxf.start.vec2, layout.tail_points()[-1]) < 1e-6
+
+
+@pytest.mark.parametrize("part", [RECT, SQUARE])
+def test_dxf_exit_guide_leaves_the_last_tip_at_its_angle_and_lets_the_part_pass(tmp_path: Path, part: dict) -> None:
+    """Re-read by ezdxf: one LINE on layer EXIT from the last fence's tip, at β_e to the
+    belt towards the far rail, of the document's length; between its end and the far
+    rail there is room for the part (2a + c, c = a/2)."""
+    import ezdxf
+
+    layout = algrasp.fences(part)
+    doc = layout.to_dict()
+    ex, last = doc["exit"], doc["fences"][-1]
+    assert ex["side"] == last["side"] and ex["steepness_deg"] == pytest.approx(2.0)
+    msp = ezdxf.readfile(write_dxf(layout, tmp_path / "belt.dxf")).modelspace()
+    (guide,) = msp.query('LINE[layer=="EXIT"]')
+    (sx, sy), (gx, gy) = guide.dxf.start.vec2, guide.dxf.end.vec2
+    assert math.dist((sx, sy), layout.tip(len(doc["fences"]) - 1)) < 1e-6
+    assert math.dist((sx, sy), (gx, gy)) == pytest.approx(ex["length"])
+    rise = gy - sy if last["side"] == "right" else sy - gy
+    assert math.degrees(math.atan2(rise, gx - sx)) == pytest.approx(2.0)
+    room = doc["belt_width"] - gy if last["side"] == "right" else gy
+    assert room >= 2.5 * doc["cover_radius"] - 1e-9
+    assert 'class="exit"' in svg_text(layout)
 
 
 def test_bad_tails_are_refused() -> None:

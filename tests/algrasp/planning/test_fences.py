@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -27,6 +28,9 @@ SQUARE = [[0, 0], [4, 0], [4, 4], [0, 4]]
 RECT = [[0, 0], [4, 0], [4, 2], [0, 2]]
 TRIANGLE = [[0, 0], [5, 0], [1, 3]]
 STARTS = np.linspace(0.0, 2 * np.pi, 3600, endpoint=False) + 1e-4  # off any unstable equilibrium
+BERRETTY = FenceRules(exit_steepness=None, exit_turns=False)
+"""Berretty et al.'s model: the part keeps its orientation between fences, no exit guide
+(the exit model is held to the brute force in ``test_fence_exit.py``)."""
 
 
 def _poly(vertices: list[list[float]], name: str = "p") -> dict[str, object]:
@@ -78,7 +82,7 @@ def _admissible(design: FenceDesign, rules: FenceRules) -> None:
 
 def test_square_needs_one_fence() -> None:
     """By hand: a square (T = 90°) pushed by any wall comes to rest with a side flat on it."""
-    design = design_fences(analyse_document(_poly(SQUARE), EXACT))
+    design = design_fences(analyse_document(_poly(SQUARE), EXACT), BERRETTY)
     assert len(design.angles) == 1
     assert math.degrees(design.symmetry) == pytest.approx(90.0)
     finals = _simulate(_exact_part(SQUARE), design.angles)
@@ -91,7 +95,7 @@ def test_rectangle_needs_two_fences_in_the_derived_window() -> None:
     with [90° − δ, 180° − δ] inside a long-side basin, δ ∈ (−63.43°, −26.57°) mod 180°,
     collapses it. Alternation: right → left δ ∈ (33.4°, 160°] leaves δ ∈ (116.57°, 153.43°);
     left → right δ ∈ [−160°, −33.4°) leaves δ ∈ (−63.43°, −33.4°)."""
-    rules = FenceRules()
+    rules = BERRETTY
     design = design_fences(analyse_document(_poly(RECT), EXACT), rules)
     assert len(design.angles) == 2
     _admissible(design, rules)
@@ -130,7 +134,7 @@ def test_designs_hold_from_3600_starts_by_brute_force(name: str) -> None:
     orientations; every angle is admissible; margins are at least the asked 1°."""
     doc, model = _cases()[name]
     analysis = analyse_document(doc, EXACT)
-    rules = FenceRules()
+    rules = BERRETTY
     design = design_fences(analysis, rules)
     _admissible(design, rules)
     assert min(design.margins) >= math.radians(1.0) - 1e-12
@@ -146,7 +150,7 @@ def test_robust_designs_hold_by_brute_force_and_margins(name: str) -> None:
     last gripper angle of a plan does)."""
     doc, model = _cases()[name]
     analysis = analyse_document(doc, Model(physics=DEFAULT_PHYSICS))
-    design = design_fences(analysis)
+    design = design_fences(analysis, BERRETTY)
     _admissible(design, design.rules)
     part = model(analysis.part.center_of_mass)  # type: ignore[operator]
     tol = math.degrees(design.final_uncertainty) + 0.01
@@ -193,7 +197,7 @@ def test_fence_counts_equal_an_independent_brute_force_search(vertices: list[lis
     """Berretty et al.'s model on small polygons: the planner's count (no margin asked)
     equals exhaustive search over 1° angle grids with the brute-force push."""
     analysis = analyse_document(_poly(vertices), EXACT)
-    design = design_fences(analysis, min_margin_deg=0.0)
+    design = design_fences(analysis, BERRETTY, min_margin_deg=0.0)
     expected = _brute_fewest(_exact_part(vertices), design.symmetry)
     assert expected == len(design.angles)
 
@@ -202,7 +206,7 @@ def test_disk_is_refused_with_its_reason() -> None:
     disk = {"name": "disk", "boundary": [{"type": "arc", "center": [0, 0], "radius": 5, "start_deg": 0, "end_deg": 360}]}
     for model in (EXACT, IDEAL):
         with pytest.raises(NotOrientableError) as e:
-            design_fences(analyse_document(disk, model))
+            design_fences(analyse_document(disk, model), BERRETTY)
         assert e.value.reason in ("no_step", "dead_band")
 
 
@@ -212,13 +216,13 @@ def test_refusal_names_the_friction_under_which_a_design_exists() -> None:
     friction limit, and a design exists there."""
     analysis = analyse_document(_fig11_doc(22.0), EXACT)
     with pytest.raises(NotOrientableError) as e:
-        design_fences(analysis)
+        design_fences(analysis, BERRETTY)
     assert e.value.reason == "no_fence_design"
     assert e.value.limits is not None
     mu = e.value.limits["fence_friction_max"]
     assert isinstance(mu, float) and 0.0 < mu < 0.3
     assert f"{mu:.3g}" in e.value.message
-    design = design_fences(analysis, fence_rules([0.0, mu]))
+    design = design_fences(analysis, replace(fence_rules([0.0, mu]), exit_steepness=None, exit_turns=False))
     _admissible(design, design.rules)
 
 
@@ -229,8 +233,8 @@ def test_rotating_the_drawing_changes_no_fence_count(beta: float) -> None:
     final orientation: the count is the same."""
     c, s_ = math.cos(math.radians(beta)), math.sin(math.radians(beta))
     turned = [[c * x - s_ * y, s_ * x + c * y] for x, y in TRIANGLE]
-    n0 = len(design_fences(analyse_document(_poly(TRIANGLE), EXACT)).angles)
-    assert len(design_fences(analyse_document(_poly(turned), EXACT)).angles) == n0
+    n0 = len(design_fences(analyse_document(_poly(TRIANGLE), EXACT), BERRETTY).angles)
+    assert len(design_fences(analyse_document(_poly(turned), EXACT), BERRETTY).angles) == n0
 
 
 @pytest.mark.parametrize("friction", [[0.5, 0.2], [-0.1, 0.2], [0.0, 10.0], [], [0.1, 0.2, 0.3], [float("nan")]])
@@ -269,7 +273,7 @@ def test_random_polygons_designs_hold_by_brute_force(points: list[tuple[int, int
     x, y = np.array(vertices).T
     assume(0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)) > 20.0)  # not a sliver
     try:
-        design = design_fences(analyse_document(_poly(vertices), EXACT))
+        design = design_fences(analyse_document(_poly(vertices), EXACT), BERRETTY)
     except NotOrientableError as e:
         assert e.reason in ("no_step", "no_fence_design")
         return

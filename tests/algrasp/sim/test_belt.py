@@ -1,6 +1,7 @@
 """Drake on a belt (conventions §9): one small real case, the square's two-fence design
-from two seeded starts, with the agreement computed here from the simulated poses, not
-taken from the validator's verdict."""
+with its exit guide from two seeded starts, with the agreement computed here from the
+simulated poses, not taken from the validator's verdict: past the guide the part is within
+the document's claim, on the last fence within the design's."""
 
 from __future__ import annotations
 
@@ -29,6 +30,11 @@ def test_square_on_a_belt(tmp_path: Path) -> None:
     v = algrasp.validate_fences(SQUARE, samples=2, seed=3, record=True, record_dir=tmp_path)
     finals, T = doc["final_orientations_deg"], doc["symmetry_period_deg"]
     allowed = doc["final_uncertainty_deg"] + 0.25
+    on_fence, allowed_on = doc["last_fence_orientations_deg"], doc["last_fence_uncertainty_deg"] + 0.25
+    guide_end = np.array(doc["exit"]["end"]) * 1e-3
+    (wall,) = [w for w in v.walls if w.name == "exit_guide"]  # the simulated guide is the document's
+    assert math.degrees(wall.alpha) == pytest.approx(doc["exit"]["angle_deg"])
+    assert wall.length == pytest.approx(doc["exit"]["length"] * 1e-3)
     s = 1e-3  # mm → m
     k = len(doc["fences"]) - 1
     root, tip = np.array(layout.root(k)) * s, np.array(layout.tip(k)) * s
@@ -39,9 +45,10 @@ def test_square_on_a_belt(tmp_path: Path) -> None:
         poses = np.array(traj)  # (t, x, y, φ) in SI units
         # The final pose, read from the trajectory: past the layout, and the verdict is ours.
         t, x, y, phi = poses[-1]
-        assert x >= tip[0] + a
+        assert x >= guide_end[0] + a
         mine = _off(math.degrees(phi), finals, T)
         assert sample.agrees == (mine <= allowed) and sample.error_deg == pytest.approx(mine, abs=1e-9)
+        assert mine <= allowed  # the claim holds after the part has left every fence and the guide
         # Over the second half of the last fence (its centre within a of the wall, a short
         # of its tip: the turn is over, the part not yet coming off) it is at the design's
         # final orientation.
@@ -50,7 +57,7 @@ def test_square_on_a_belt(tmp_path: Path) -> None:
         L = np.linalg.norm(tip - root)
         on = (u > L / 2) & (u < L - a) & (w > 0) & (w < a)
         assert on.sum() >= 5
-        assert max(_off(math.degrees(p), finals, T) for p in poses[on, 3]) <= allowed
+        assert max(_off(math.degrees(p), on_fence, T) for p in poses[on, 3]) <= allowed_on
     # One MCAP record: the part's pose on /tf, the walls in /scene, the documents.
     from mcap.reader import make_reader
 
@@ -61,3 +68,13 @@ def test_square_on_a_belt(tmp_path: Path) -> None:
     with path.open("rb") as f:
         topics = {c.topic for c in make_reader(f).get_summary().channels.values()}
     assert {"/tf", "/scene", "/fences", "/fence_validation", "/request", "/run"} <= topics
+    # The scene has the exit guide as a red box of the document's length, along its angle.
+    from foxglove_schemas_protobuf.SceneUpdate_pb2 import SceneUpdate
+
+    with path.open("rb") as f:
+        _, _, message = next(iter(make_reader(f).iter_messages(topics=["/scene"])))
+    cubes = [c for e in SceneUpdate.FromString(message.data).entities for c in e.cubes]
+    guide = [c for c in cubes if c.size.x == pytest.approx(doc["exit"]["length"] * 1e-3)]
+    assert len(guide) == 1 and guide[0].color.r > 0.5 > guide[0].color.g
+    assert 2 * math.degrees(math.atan2(guide[0].pose.orientation.z, guide[0].pose.orientation.w)) \
+        == pytest.approx(doc["exit"]["angle_deg"])
