@@ -3,7 +3,7 @@ writes, or a shop's re-save of it, read back as a fence layout, not mistaken for
 
 A DXF is a fence layout when its layer ``BELT`` holds two parallel LINEs (the rails) and
 its layer ``FENCES`` LINEs (one per fence, from its root on a rail to its tip) and at most
-one ARC (the last fence's curved tail). The belt frame is the rails': x along them (the
+one ARC (the last fence's curved tail); layer ``EXIT`` may hold the exit guide's LINE. The belt frame is the rails': x along them (the
 direction the drawing gives them, as the writer draws them: the belt's motion), y across
 from the lower rail (the right one looking downstream) to the other; positions along the
 belt are x of the fences' roots, measured from where the belt frame's y axis crosses the
@@ -57,7 +57,8 @@ def fence_layout_of(data: bytes, name: str) -> dict[str, Any] | None:
     rails = [_ends(e) for e in msp.query("LINE") if e.dxf.layer.upper() == "BELT"]
     walls = [_ends(e) for e in msp.query("LINE") if e.dxf.layer.upper() == "FENCES"]
     arcs = [e for e in msp.query("ARC") if e.dxf.layer.upper() == "FENCES"]
-    if len(rails) != 2 or not walls or len(arcs) > 1:
+    guides = [_ends(e) for e in msp.query("LINE") if e.dxf.layer.upper() == "EXIT"]
+    if len(rails) != 2 or not walls or len(arcs) > 1 or len(guides) > 1:
         return None
     frame = _belt_frame(rails)
     width = frame.width
@@ -69,7 +70,18 @@ def fence_layout_of(data: bytes, name: str) -> dict[str, Any] | None:
                            "source": {"format": "dxf", "layer": "FENCES"}}
     if arcs:
         out["tail"] = _tail(frame, arcs[0], fences)
+    if guides:
+        out["exit"] = _exit(frame, guides[0])
     return out
+
+
+def _exit(frame: _Frame, guide: tuple[Point, Point]) -> dict[str, Any]:
+    """The exit guide (layer EXIT): from its upstream end, its angle and steepness to the
+    belt (degrees), length and ends in the belt frame."""
+    start, end = sorted((frame.to_belt(e) for e in guide), key=lambda p: p[0])
+    angle = math.degrees(math.atan2(end[1] - start[1], end[0] - start[0])) % 180.0
+    return {"angle_deg": angle, "steepness_deg": min(angle, 180.0 - angle),
+            "length": math.hypot(end[0] - start[0], end[1] - start[1]), "start": list(start), "end": list(end)}
 
 
 def _ends(e: Any) -> tuple[Point, Point]:

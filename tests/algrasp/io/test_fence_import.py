@@ -27,13 +27,15 @@ SHOP_TOL = 1e-6
 
 
 def _parts() -> dict[str, tuple[dict[str, Any], dict[str, Any]]]:
-    """Part documents and the fence options they are designed with."""
+    """Part documents and the fence options they are designed with (the triangle and the
+    bracket in Berretty et al.'s model: with the tips' turns modelled they have no design)."""
     return {
         "rect": ({"name": "rect", "units": "mm", "boundary": [[0, 0], [40, 0], [40, 20], [0, 20]]}, {"exact": True}),
-        "triangle": ({"name": "tri", "units": "in", "boundary": [[0, 0], [5, 0], [1, 3]]}, {"exact": True}),
-        "bracket": (json.loads((EXAMPLES / "bracket.json").read_text()), {}),
+        "triangle": ({"name": "tri", "units": "in", "boundary": [[0, 0], [5, 0], [1, 3]]},
+                     {"exact": True, "exit_turns": False}),
+        "bracket": (json.loads((EXAMPLES / "bracket.json").read_text()), {"exit_turns": False}),
         "square-tail": ({"name": "sq", "units": "mm", "boundary": [[0, 0], [30, 0], [30, 30], [0, 30]]},
-                        {"tail": {"radius": 20.0}, "belt_width": 200.0}),
+                        {"tail": {"radius": 20.0}, "belt_width": 300.0}),
     }
 
 
@@ -79,6 +81,14 @@ def test_layout_reimported_matches_the_document(name: str, tmp_path: Path) -> No
         assert got["tail"]["fence"] == len(doc["fences"])
     else:
         assert "tail" not in got
+    if doc.get("exit"):  # the guide from the last fence's tip (or tail) at its angle, as designed
+        ex, want_ex = got["exit"], doc["exit"]
+        assert ex["angle_deg"] == pytest.approx(want_ex["angle_deg"], abs=ANGLE_TOL_DEG)
+        assert ex["length"] == pytest.approx(want_ex["length"], abs=LENGTH_TOL * W)
+        for key in ("start", "end"):
+            assert ex[key] == pytest.approx(want_ex[key], abs=LENGTH_TOL * W)
+    else:
+        assert "exit" not in got
 
 
 def test_rotated_and_moved_drawing_reads_the_same(tmp_path: Path) -> None:

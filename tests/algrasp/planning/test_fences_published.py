@@ -18,6 +18,7 @@ planner's)."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -48,7 +49,8 @@ def test_every_polygon_has_a_frictionless_fence_design(vertices: list[list[float
         analysis = analyse_document(_poly(vertices), EXACT)
     except PartDocumentError:  # a self-intersecting draw is no polygonal part
         pytest.skip("not a simple polygon")
-    rules = fence_rules([0.0, 0.0])
+    # the paper's model: a part keeps its orientation between fences (no turn over a tip)
+    rules = replace(fence_rules([0.0, 0.0]), exit_steepness=None, exit_turns=False)
     design = design_fences(analysis, rules, min_margin_deg=0.0)
     _admissible(design, rules)
     assert _worst_miss_deg(_simulate(_exact_part(vertices), design.angles), design) < 0.01
