@@ -12,7 +12,7 @@ import time
 import uuid
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 from sqlalchemy import (
     JSON,
@@ -20,6 +20,7 @@ from sqlalchemy import (
     ForeignKey,
     Integer,
     String,
+    Table,
     UniqueConstraint,
     bindparam,
     create_engine,
@@ -319,7 +320,7 @@ class Store:
 _NO_SYNC = {"synchronize_session": False}
 """For ORM updates in a session that has loaded no row they touch: nothing to synchronise
 (the default evaluates the criteria in Python for every update)."""
-_PARTS, _RUNS = PartRow.__table__, RunRow.__table__
+_PARTS, _RUNS = cast(Table, PartRow.__table__), cast(Table, RunRow.__table__)
 _ONE_PART = (_PARTS.c.job_id == bindparam("b_job")) & (_PARTS.c.idx == bindparam("b_idx"))
 _FINISH = update(_PARTS).where(_ONE_PART, _PARTS.c.status == "pending").values(
     status=bindparam("b_status"), result=bindparam("b_result", type_=_PARTS.c.result.type),
