@@ -1,8 +1,9 @@
 """The default (robust) model at speed, issue 34: the figures of its "What it must show".
 
 Warm medians of this process's CPU time (the machine is shared: wall time also counts
-the other jobs on its cores; part-feeder's single-threaded times are wall ≈ CPU), one process: analysis + squeeze plan + push-grasp plan (a refusal is timed
-all the same: it is the answer, and under the default ranges it carries its limit search) for a triangle and random
+the other jobs on its cores; part-feeder's single-threaded times are wall ≈ CPU), one
+process: analysis + squeeze plan + push-grasp plan (a refusal is timed all the same: it
+is the answer) for a triangle and random
 5–10-gons; a 1,000-vertex polygon (analysis + squeeze plan); a 50-cubic part against its
 exact-model time; the Fig. 11 part at z = 1°. part-feeder (BerkeleyAutomation, the same
 polygons) is not installable offline; its times are the ones measured side by side in the
