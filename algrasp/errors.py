@@ -8,6 +8,8 @@ error document (``{"type": kind, "message": ..., **fields}``) the service answer
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 
 class AlgraspError(Exception):
     """Base class of every error algrasp raises on purpose.
@@ -140,7 +142,13 @@ class NotOrientableError(AlgraspError):
         ``uncertain``, ``verification_failed``, ``no_fence_design`` (conveyor fences).
     limits : dict or None
         The physics limits under which a plan exists (``algrasp.planning.limits``), if searched;
-        for fences ``fence_friction_max``, the friction under which a design exists.
+        for fences ``fence_friction_max``, the friction under which a design exists. A
+        planner may leave the search pending (``search``: a function giving the message
+        with the limits, and the limits): it runs when ``limits``, ``message``, ``str``,
+        ``to_dict`` or pickling first needs it, so a caller that only catches the refusal
+        does not pay for it.
+    search : callable or None
+        The pending search, ``() -> (message, limits)``; None once run (or when none).
     http_status, exit_code : int
         422 and 2.
 
@@ -154,10 +162,46 @@ class NotOrientableError(AlgraspError):
     kind = "not_orientable"
     public_fields = ("reason", "limits")
 
-    def __init__(self, reason: str, message: str, limits: dict[str, object] | None = None) -> None:
+    def __init__(self, reason: str, message: str, limits: dict[str, object] | None = None,
+                 search: Callable[[], tuple[str, dict[str, object]]] | None = None) -> None:
+        self._search = search
         super().__init__(message)
         self.reason = reason
-        self.limits = limits
+        self._limits = limits
+
+    @property
+    def message(self) -> str:
+        """What went wrong; with a pending limit search, the sentence naming the limits
+        (the search runs on first access of ``message``, ``limits``, ``str`` or ``to_dict``)."""
+        self._settle()
+        return self._message
+
+    @message.setter
+    def message(self, value: str) -> None:
+        self._message = value
+
+    @property
+    def limits(self) -> dict[str, object] | None:
+        """The physics limits (searched on first access when the search was left pending)."""
+        self._settle()
+        return self._limits
+
+    @property
+    def limits_pending(self) -> bool:
+        """Whether the limit search has not run yet (reading ``limits`` runs it)."""
+        return self._search is not None
+
+    def _settle(self) -> None:
+        search, self._search = self._search, None
+        if search is not None:
+            self._message, self._limits = search()
+
+    def __str__(self) -> str:
+        return self.message
+
+    def __reduce__(self) -> tuple[object, ...]:
+        self._settle()  # the search holds the analysis and planner: run it before crossing a process
+        return super().__reduce__()
 
 
 class ConfigError(AlgraspError):

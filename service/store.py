@@ -12,9 +12,25 @@ import time
 import uuid
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
-from sqlalchemy import JSON, Float, ForeignKey, Integer, String, UniqueConstraint, create_engine, delete, event, func, select, update
+from sqlalchemy import (
+    JSON,
+    Float,
+    ForeignKey,
+    Integer,
+    String,
+    Table,
+    UniqueConstraint,
+    bindparam,
+    create_engine,
+    delete,
+    event,
+    func,
+    insert,
+    select,
+    update,
+)
 from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column, sessionmaker
 
 UNFINISHED = ("queued", "running")
@@ -202,7 +218,7 @@ class Store:
         with self._session.begin() as s:
             free = (PartRow.claimed_by.is_(None)) | (PartRow.claimed_by == holder) | (PartRow.claimed_until < now)
             s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx.in_(idxs), PartRow.status == "pending", free)
-                      .values(claimed_by=holder, claimed_until=now + lease_s))
+                      .values(claimed_by=holder, claimed_until=now + lease_s), execution_options=_NO_SYNC)
             return sorted(int(i) for i in s.scalars(select(PartRow.idx).where(
                 PartRow.job_id == job_id, PartRow.idx.in_(idxs), PartRow.status == "pending", PartRow.claimed_by == holder)))
 
@@ -231,9 +247,9 @@ class Store:
             have = dict(s.execute(select(PartRow.idx, PartRow.run_id)
                                   .where(PartRow.job_id == job_id, PartRow.idx.in_(idxs))).all())
             out = {i: have.get(i) or make() for i in idxs}
-            for i in idxs:
-                if not have.get(i):
-                    s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx == i).values(run_id=out[i]))
+            fresh = [{"b_job": job_id, "b_idx": i, "b_run": out[i]} for i in idxs if not have.get(i)]
+            if fresh:
+                s.execute(_SET_RUN_ID, fresh)
             return out
 
     def finish_parts(self, job_id: str, outcomes: list[Outcome], tried: Sequence[int] = ()) -> None:
@@ -246,11 +262,11 @@ class Store:
         with self._session.begin() as s:
             _count(s, job_id, list(tried))
             owner = s.scalar(select(JobRow.owner).where(JobRow.id == job_id))
-            for o in outcomes:
-                if o.run is not None:
-                    s.merge(_run_row(job_id, {**o.run, "owner": owner}))
-                s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx == o.idx, PartRow.status == "pending")
-                          .values(status=o.status, result=o.result, error=o.error, run_id=o.run_id, finished_at=now))
+            _put_runs(s, [{"job_id": job_id, "created_at": time.time(), **o.run, "owner": owner}
+                          for o in outcomes if o.run is not None])
+            if outcomes:
+                s.execute(_FINISH, [{"b_job": job_id, "b_idx": o.idx, "b_status": o.status, "b_result": o.result,
+                                     "b_error": o.error, "b_run": o.run_id, "b_at": now} for o in outcomes])
 
     def cancel_pending(self, job_id: str) -> int:
         with self._session.begin() as s:
@@ -301,9 +317,38 @@ class Store:
                      "result": r.result, "error": r.error} for r in rows]
 
 
+_NO_SYNC = {"synchronize_session": False}
+"""For ORM updates in a session that has loaded no row they touch: nothing to synchronise
+(the default evaluates the criteria in Python for every update)."""
+_PARTS, _RUNS = cast(Table, PartRow.__table__), cast(Table, RunRow.__table__)
+_ONE_PART = (_PARTS.c.job_id == bindparam("b_job")) & (_PARTS.c.idx == bindparam("b_idx"))
+_FINISH = update(_PARTS).where(_ONE_PART, _PARTS.c.status == "pending").values(
+    status=bindparam("b_status"), result=bindparam("b_result", type_=_PARTS.c.result.type),
+    error=bindparam("b_error", type_=_PARTS.c.error.type), run_id=bindparam("b_run"), finished_at=bindparam("b_at"))
+"""A finished part's outcome, one executemany for the outcomes that arrived together
+(a Core statement: the ORM's per-row update and session synchronisation cost the batch
+process ~5 ms a part)."""
+_SET_RUN_ID = update(_PARTS).where(_ONE_PART).values(run_id=bindparam("b_run"))
+
+
+def _put_runs(s: Any, rows: list[dict[str, Any]]) -> None:
+    """Insert run rows, or overwrite every given column of those already stored (a part
+    dispatched again records under its run id): what ``Session.merge`` did row by row,
+    in one query and at most two executemanys."""
+    if not rows:
+        return
+    have = set(s.scalars(select(RunRow.run_id).where(RunRow.run_id.in_([r["run_id"] for r in rows]))))
+    new = [r for r in rows if r["run_id"] not in have]
+    if new:
+        s.execute(insert(_RUNS), new)
+    for r in (r for r in rows if r["run_id"] in have):
+        s.execute(update(_RUNS).where(_RUNS.c.run_id == r["run_id"]).values(**r))
+
+
 def _count(s: Any, job_id: str, idxs: list[int]) -> None:
     if idxs:
-        s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx.in_(idxs)).values(attempts=PartRow.attempts + 1))
+        s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx.in_(idxs)).values(attempts=PartRow.attempts + 1),
+                  execution_options=_NO_SYNC)
 
 
 def _run_dict(r: RunRow) -> dict[str, Any]:

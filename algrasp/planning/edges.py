@@ -30,6 +30,8 @@ True
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -114,7 +116,12 @@ def _curve_grid(cells: np.ndarray, grid_rad: float) -> tuple[FloatArray, np.ndar
 def _threshold_gaps(theta: FloatArray, f: SupportPairFunction, slopes_at: Sequence[float],
                     jaw: tuple[float, float] | None, levels: Sequence[float]) -> FloatArray:
     """|f′| − threshold (and f − level) at each θ for every threshold, shape (E, m)."""
-    g, v = slopes(f, theta)
+    return _gaps(*slopes(f, theta), slopes_at, jaw, levels)
+
+
+def _gaps(g: FloatArray, v: FloatArray, slopes_at: Sequence[float], jaw: tuple[float, float] | None,
+          levels: Sequence[float]) -> FloatArray:
+    """:func:`_threshold_gaps` from f′ and f already evaluated."""
     a = np.abs(g)
     rows = [a - t for t in slopes_at]
     if jaw is not None:
@@ -123,11 +130,12 @@ def _threshold_gaps(theta: FloatArray, f: SupportPairFunction, slopes_at: Sequen
     return np.stack(rows)
 
 
-def _curve_roots(f: SupportPairFunction, theta: FloatArray, cell: np.ndarray, slopes_at: Sequence[float],
+def _curve_roots(f: SupportPairFunction, grid: _Grid, slopes_at: Sequence[float],
                  jaw: tuple[float, float] | None, levels: Sequence[float]) -> FloatArray:
     """Threshold crossings between consecutive samples ``theta`` of the same curve cell,
     bracketed by a sign change and placed by ``SECANT_STEPS`` Illinois steps (all at once)."""
-    h = _threshold_gaps(theta, f, slopes_at, jaw, levels)
+    theta, cell = grid.theta, grid.cell
+    h = _gaps(grid.slope, grid.value, slopes_at, jaw, levels)
     change = (np.sign(h[:, :-1]) != np.sign(h[:, 1:])) & (cell[:-1] == cell[1:])[None, :]
     row, col = np.nonzero(change)
     if not len(row):
@@ -150,6 +158,33 @@ def crossings(f: SupportPairFunction, slopes: Sequence[float], jaw: tuple[float,
     contact, whose crossings are bracketed on it and placed by regula falsi; and where f
     crosses each of ``levels`` (a basin's rim). Thresholds ≤ 0 are skipped (|f′| ≥ 0
     crosses nothing below 0)."""
+    grid = _grid(f, tol, grid_rad)
+    positive = tuple(t for t in slopes if t > 0.0)
+    exact = _point_roots(grid.point_cells, grid.centres, grid.radii, positive, jaw, levels)
+    if not len(grid.theta):
+        return exact, grid.theta
+    return np.concatenate([exact, _curve_roots(f, grid, positive, jaw, levels)]), grid.theta
+
+
+@dataclass(frozen=True, eq=False)
+class _Grid:
+    """What :func:`crossings` reads of f that no threshold changes: the contact cells
+    (point-like ones with the centres and radii of their contacts) and, on the curve
+    cells, the grid θ, its cells and f′ and f there. Read-only arrays."""
+
+    point_cells: FloatArray
+    centres: FloatArray
+    radii: FloatArray
+    theta: FloatArray
+    cell: np.ndarray
+    slope: FloatArray
+    value: FloatArray
+
+
+@lru_cache(maxsize=8)
+def _grid(f: SupportPairFunction, tol: Tolerances, grid_rad: float) -> _Grid:
+    """:class:`_Grid` once per function (identity), tolerances and spacing: a limit
+    search's probes and a basin's rims ask again with other thresholds only."""
     table = f.hull.table
     # Row −1 of the centre table is the centre of mass (the radius's near contact).
     centres = np.vstack([table.centers, np.asarray(f.com, dtype=float)[None, :]])
@@ -158,9 +193,9 @@ def crossings(f: SupportPairFunction, slopes: Sequence[float], jaw: tuple[float,
     cells = np.array(contact_cells(f, tol), dtype=float).reshape(-1, 4)
     near, far = cells[:, 0].astype(np.intp), cells[:, 1].astype(np.intp)
     curved = curve[near] | curve[far]
-    positive = tuple(t for t in slopes if t > 0.0)
-    grid, cell = _curve_grid(cells[curved], grid_rad)
-    exact = _point_roots(cells[~curved], centres, radii, positive, jaw, levels)
-    if not len(grid):
-        return exact, grid
-    return np.concatenate([exact, _curve_roots(f, grid, cell, positive, jaw, levels)]), grid
+    theta, cell = _curve_grid(cells[curved], grid_rad)
+    slope, value = slopes(f, theta) if len(theta) else (np.zeros(0), np.zeros(0))
+    out = _Grid(cells[~curved], centres, radii, theta, cell, slope, value)
+    for a in (out.point_cells, out.centres, out.radii, out.theta, out.cell, out.slope, out.value):
+        a.setflags(write=False)
+    return out

@@ -11,6 +11,7 @@ relative to the previous action's, with the plan still orienting the part.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from typing import Any, Literal
 
@@ -309,7 +310,9 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0, l
 
     Raises NotOrientableError (constant width, no step, margin too large, too uncertain);
     in the robust model a refusal carries every limit (``limits``) and says them, unless
-    ``limits`` is ``none``.
+    ``limits`` is ``none``. The refusal's limit search runs when its ``limits``,
+    ``message``, ``str`` or ``to_dict`` is first read (every interface that shows a refusal
+    reads them; a caller that only catches it pays one planning attempt).
     """
     if action not in ("squeeze", "push_grasp"):
         raise ConfigError("action", f"expected squeeze or push_grasp, got {action!r}")
@@ -322,16 +325,29 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0, l
     except NotOrientableError as e:
         if limits == "none":
             raise NotOrientableError(e.reason, f"{e.message} (physics limits not searched: limits 'none')") from None
+        raise NotOrientableError(e.reason, e.message, search=_refusal_limits(analysis, action, e.message, min_margin_deg)) from None
+    if limits in ("none", "refusal"):
+        return replace(plan, analysis=analysis)
+    wanted = lim.HEADLINE if limits == "headline" else tuple(lim.SEARCHES)
+    return replace(plan, analysis=analysis, limits=lim.limits(analysis, action, plan_once, wanted, min_margin_deg, refused=False))
+
+
+def _refusal_limits(analysis: Analysis, action: Action, message: str,
+                    min_margin_deg: float) -> Callable[[], tuple[str, dict[str, Any]]]:
+    """The limit search of a refusal, left for the refusal to run when its limits or
+    message are first read (:class:`~algrasp.errors.NotOrientableError`): a caller that
+    only needs to know that no plan exists does not pay the ~5–25 probes."""
+    def search() -> tuple[str, dict[str, Any]]:
+        from algrasp.planning import limits as lim
+
+        assert analysis.robust is not None
         found = lim.limits(analysis, action, plan_once, margin_deg=min_margin_deg, refused=True)
         if action == "squeeze":
             found["push_grasp_orients"] = lim.plan_exists(analysis, analysis.robust.physics, "push_grasp", plan_once,
                                                           min_margin_deg)
         other = "; a push-grasp plan exists under these ranges" if found.get("push_grasp_orients") else ""
-        raise NotOrientableError(e.reason, f"{e.message}. Under the given ranges: {found['advice']}{other}", found) from None
-    if limits in ("none", "refusal"):
-        return replace(plan, analysis=analysis)
-    wanted = lim.HEADLINE if limits == "headline" else tuple(lim.SEARCHES)
-    return replace(plan, analysis=analysis, limits=lim.limits(analysis, action, plan_once, wanted, min_margin_deg, refused=False))
+        return f"{message}. Under the given ranges: {found['advice']}{other}", found
+    return search
 
 
 def plan_once(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -> Plan:

@@ -80,8 +80,14 @@ def _extremum_orders(f: SupportPairFunction, value_tol: float) -> np.ndarray:
     # The lowest and highest extrema (np.median would import numpy.ma on first use).
     order = np.argsort(value, kind="stable")
     pick = order if len(order) <= EXTREMA_TESTED else np.concatenate([order[:EXTREMA_TESTED // 2], order[-(EXTREMA_TESTED // 2):]])
-    shifted = f.values((theta[pick][None, :] + f.period / ks[:, None]).ravel()).reshape(len(ks), -1)
-    return np.asarray(ks[np.all(np.abs(shifted - value[pick][None, :]) <= value_tol, axis=1)])
+    # The lowest and the highest extremum first: they rule out most orders at an eighth of
+    # the cost; the survivors are then tried at every picked extremum (the same test).
+    for chosen in (pick[[0, -1]], pick):
+        shifted = f.values((theta[chosen][None, :] + f.period / ks[:, None]).ravel()).reshape(len(ks), -1)
+        ks = ks[np.all(np.abs(shifted - value[chosen][None, :]) <= value_tol, axis=1)]
+        if not len(ks):
+            break
+    return np.asarray(ks)
 
 
 SCREEN_HARMONICS = 64

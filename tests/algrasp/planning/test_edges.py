@@ -88,3 +88,17 @@ def test_curve_crossings_are_placed_on_their_thresholds() -> None:
         off = np.min(np.abs(np.stack([g - slopes[0], g - slopes[1], g - (0.1 * v + 0.1 * scale)])), axis=0)
         # |f′| changes by at most ~f per radian of θ: an error of 1e-6·scale is ~1e-6 rad.
         assert np.all(off <= 1e-6 * scale)
+
+
+def test_the_grid_kept_between_calls_gives_the_crossings_of_a_fresh_one() -> None:
+    """The curve grid and f′ on it are kept per function (a limit search asks again with
+    other thresholds): each call equals the same call on an empty cache."""
+    from algrasp.planning import edges
+
+    f = _function(shapes.bezier_blob(8, 3), "diameter")
+    calls = [((0.05, 0.2), (0.1, 0.02), ()), ((0.3,), None, ()), ((), None, (float(f.values(np.array([0.3]))[0]),))]
+    warm = [edges.crossings(f, s, j, TOL, edges.CURVE_GRID_RAD, levels=lv) for s, j, lv in calls]
+    for (s, j, lv), (theta, grid) in zip(calls, warm):
+        edges._grid.cache_clear()
+        fresh_theta, fresh_grid = edges.crossings(f, s, j, TOL, edges.CURVE_GRID_RAD, levels=lv)
+        assert np.array_equal(theta, fresh_theta) and np.array_equal(grid, fresh_grid) and len(theta) > 0

@@ -4,6 +4,7 @@ alone, and ``limits="none"`` refuses after one planning attempt."""
 
 from __future__ import annotations
 
+import pickle
 from typing import Any
 
 import pytest
@@ -60,8 +61,37 @@ def test_limits_none_refuses_after_one_attempt_without_searching(monkeypatch: py
     analysis = analyse_document(PARTS["random 5-gon"], ROBUST)
     with pytest.raises(NotOrientableError) as searched:
         make_plan(analysis, "squeeze")
+    assert searched.value.limits is not None  # searched now, before probes are forbidden
     monkeypatch.setattr(lim, "_plan_exists", lambda *a: pytest.fail("a limit probe under limits='none'"))
     with pytest.raises(NotOrientableError) as bare:
         make_plan(analysis, "squeeze", limits="none")
     assert bare.value.reason == searched.value.reason and bare.value.limits is None
-    assert "not searched" in bare.value.message and searched.value.limits is not None
+    assert "not searched" in bare.value.message
+
+
+@pytest.mark.parametrize("read", ["limits", "message", "to_dict", "pickle"])
+def test_a_refusal_searches_its_limits_when_first_read(read: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The refusal of make_plan probes nothing until its limits are read; then they (and
+    the sentence) equal an eager search of the same part, made here apart."""
+    analysis = analyse_document(PARTS["random 5-gon"], ROBUST)
+    eager = lim.limits(analysis, "squeeze", plan_once, refused=True)
+    eager["push_grasp_orients"] = lim.plan_exists(analysis, analysis.robust.physics, "push_grasp", plan_once, 0.0)  # type: ignore[union-attr]
+    calls: list[int] = []
+    real = lim._plan_exists
+
+    def counted(*args: Any) -> bool:
+        calls.append(1)
+        return real(*args)
+
+    monkeypatch.setattr(lim, "_plan_exists", counted)
+    with pytest.raises(NotOrientableError) as refused:
+        make_plan(analysis, "squeeze")
+    err = refused.value
+    assert calls == [] and err.limits_pending and err.reason == "uncertain"
+    got = {"limits": lambda: err.limits, "message": lambda: err.message, "to_dict": err.to_dict,
+           "pickle": lambda: pickle.loads(pickle.dumps(err))}[read]()
+    assert calls and not err.limits_pending
+    assert err.limits == eager and "Under the given ranges: " + str(eager["advice"]) in err.message
+    if read == "pickle":
+        assert got.limits == eager and got.message == err.message
+    assert str(err) == err.message and err.to_dict()["limits"] == eager
