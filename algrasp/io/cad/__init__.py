@@ -192,6 +192,7 @@ def _sheet(filename: str, data: bytes, layer: str | None, element_id: str | None
     """The parts of a DXF/SVG drawing, its unit, scale and source description."""
     from algrasp.io.cad.chain import drawing_extent, point_at
     from algrasp.io.cad.clutter import Marks
+    from algrasp.io.cad.colours import by_colour
     from algrasp.io.cad.sheet import find_parts
 
     suffix = PurePath(filename).suffix.lower()
@@ -210,7 +211,8 @@ def _sheet(filename: str, data: bytes, layer: str | None, element_id: str | None
     for p in pieces:  # a transform can overflow (SVG scale(1e308) scale(1e308))
         if not all(math.isfinite(c) for e in (False, True) for c in point_at(p.segment, e)):
             raise PartDocumentError(p.origin, "coordinates overflow to infinity (an extreme scale or transform?)")
-    sheet = find_parts(pieces, drawing_extent(pieces), tolerance, marks)
+    size = drawing_extent(pieces)
+    sheet = by_colour(pieces, size, lambda kept: find_parts(kept, size, tolerance, marks))
     if units is None and suffix == ".dxf":
         doc_units, k = _plausible_units(sheet, doc_units, k, source)
     return sheet, doc_units, k, source

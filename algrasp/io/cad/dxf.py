@@ -280,7 +280,23 @@ def entity_pieces(e: Any, within: str = "", depth: int = 0, budget: list[int] | 
     if budget[0] < 0:
         raise LimitExceededError(origin, f"the drawing expands to more than {MAX_EXPANDED_SEGMENTS} segments "
                                  "(blocks inserted many times over?)")
-    return [Piece(s, origin, e.dxf.layer) for s in segments]
+    colour = _colour(e)
+    return [Piece(s, origin, e.dxf.layer, colour) for s in segments]
+
+
+def _colour(e: Any) -> str | None:
+    """The entity's colour as ``#rrggbb``: its true colour, else its ACI colour, BYLAYER
+    looked up on its layer; None for BYBLOCK or an unknown layer."""
+    from ezdxf.colors import aci2rgb, int2rgb
+
+    if e.dxf.hasattr("true_color"):
+        return "#%02x%02x%02x" % tuple(int2rgb(e.dxf.true_color))
+    aci = e.dxf.color
+    if aci == 256 and e.doc is not None and (layer := e.doc.layers.get(e.dxf.layer)) is not None:
+        if layer.dxf.hasattr("true_color"):
+            return "#%02x%02x%02x" % tuple(int2rgb(layer.dxf.true_color))
+        aci = abs(layer.dxf.color)
+    return "#%02x%02x%02x" % tuple(aci2rgb(aci)) if 1 <= aci <= 255 else None
 
 
 def _insert_pieces(e: Any, within: str, depth: int, budget: list[int]) -> list[Piece]:
@@ -295,7 +311,7 @@ def _insert_pieces(e: Any, within: str, depth: int, budget: list[int]) -> list[P
         if depth == 0 and _entities(e.doc, e.dxf.name, {}) * _copies(e) > budget[0]:  # before expanding anything
             raise LimitExceededError(f"block {e.dxf.name!r}{top}", f"block {e.dxf.name!r} expands to more than "
                                      f"{MAX_EXPANDED_SEGMENTS} segments (inserted many times over?)")
-    return [Piece(p.segment, f"{p.origin.split(' in block ')[0]} in block {e.dxf.name!r}{top}", p.layer)
+    return [Piece(p.segment, f"{p.origin.split(' in block ')[0]} in block {e.dxf.name!r}{top}", p.layer, p.colour)
             for v in e.virtual_entities() for p in entity_pieces(v, top, depth + 1, budget)]
 
 
