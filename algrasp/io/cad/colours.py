@@ -9,27 +9,54 @@ the commoner colour cuts — the rarer colour is engraving. A red rectangle draw
 corner is then an etched area, not a part nested in an L-shaped one; red loops that are
 only holes (a shop cutting inner contours first in their own colour) change no part and
 stay cuts; a red part nested in a blue part's cutout lies in the cutout, not the material,
-and stays a part. The decision is said in the warnings.
+and stays a part. The decision is said in the warnings; ``--engrave-colours`` (HTTP:
+``engrave_colours``, the workbench's "engrave colours") names the engraving colours
+instead, or says none is.
 """
 
 from __future__ import annotations
 
+import re
 from collections import Counter
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from algrasp.errors import PartDocumentError
+from algrasp.errors import ConfigError, PartDocumentError
 from algrasp.io.cad.arrange import GAP_MAX_REL
 from algrasp.io.cad.chain import Piece, ring, samples
 
 FindParts = Callable[[Sequence[Piece]], Any]
+HEX = re.compile(r"#(?:[0-9a-f]{3}|[0-9a-f]{6})")
 
 
-def by_colour(pieces: Sequence[Piece], size: float, find_parts: FindParts) -> Any:
-    """The sheet ``find_parts`` finds in ``pieces``, or, when a second stroke colour is
-    engraving (module docs), the sheet of the other colour's pieces with that said in its
-    warnings. Two imports of the drawing when it has exactly two colours, else one."""
+def parse_colours(text: str | None) -> frozenset[str] | None:
+    """``"#ff0000, #00F"`` → ``{"#ff0000", "#0000ff"}``; ``"none"`` → the empty set (every
+    colour is cut); None → None (judged from the drawing). ConfigError naming
+    ``engrave_colours`` for anything else."""
+    if text is None:
+        return None
+    if text.strip().lower() == "none":
+        return frozenset()
+    out = set()
+    for item in (t.strip().lower() for t in text.split(",")):
+        if not HEX.fullmatch(item):
+            raise ConfigError("engrave_colours", f"{item!r} is not a colour: give #rrggbb or #rgb values separated by "
+                              "commas (the drawing's stroke colours), or none")
+        out.add(item if len(item) == 7 else "#" + "".join(c * 2 for c in item[1:]))
+    return frozenset(out)
+
+
+def by_colour(pieces: Sequence[Piece], size: float, find_parts: FindParts,
+              engrave: frozenset[str] | None = None) -> Any:
+    """The sheet ``find_parts`` finds in ``pieces`` less those stroked in an ``engrave``
+    colour; with ``engrave`` None, when a second stroke colour is engraving (module docs),
+    the sheet of the other colour's pieces. Either is said in the warnings. Two imports of
+    the drawing when it has exactly two colours and ``engrave`` is None, else one."""
+    if engrave:
+        return _named(pieces, find_parts, engrave)
     sheet = find_parts(pieces)
+    if engrave is not None:
+        return sheet
     counts = Counter(p.colour for p in pieces)
     if len(counts) != 2 or None in counts:
         return sheet
@@ -45,6 +72,19 @@ def by_colour(pieces: Sequence[Piece], size: float, find_parts: FindParts) -> An
                              f"they lie on the parts cut in {major} and would carve {len(sheet.parts) - len(alone.parts)} "
                              f"more part(s) out of them (colour conventions differ between shops)")
     return alone
+
+
+def _named(pieces: Sequence[Piece], find_parts: FindParts, engrave: frozenset[str]) -> Any:
+    cut = [p for p in pieces if p.colour not in engrave]
+    n = len(pieces) - len(cut)
+    if not cut:
+        raise PartDocumentError("engrave_colours", f"every entity is stroked in {', '.join(sorted(engrave))}: "
+                                "nothing left to cut")
+    sheet = find_parts(cut)
+    shown = ", ".join(sorted({p.colour or "none" for p in pieces}))
+    sheet.warnings.insert(0, f"{n} entit{'y' if n == 1 else 'ies'} stroked {', '.join(sorted(engrave))} set aside as "
+                             f"engraving (engrave colours; the drawing's colours: {shown})")
+    return sheet
 
 
 def _on_material(sheet: Any, pieces: Sequence[Piece], size: float) -> bool:

@@ -292,7 +292,8 @@ def _colour(e: Any) -> str | None:
     if e.dxf.hasattr("true_color"):
         return "#%02x%02x%02x" % tuple(int2rgb(e.dxf.true_color))
     aci = e.dxf.color
-    if aci == 256 and e.doc is not None and (layer := e.doc.layers.get(e.dxf.layer)) is not None:
+    if aci == 256 and e.doc is not None and e.doc.layers.has_entry(e.dxf.layer):
+        layer = e.doc.layers.get(e.dxf.layer)
         if layer.dxf.hasattr("true_color"):
             return "#%02x%02x%02x" % tuple(int2rgb(layer.dxf.true_color))
         aci = abs(layer.dxf.color)
