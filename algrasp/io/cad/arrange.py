@@ -31,6 +31,7 @@ import numpy as np
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES
 from algrasp.io.cad.chain import Piece, Segment, point_at, samples
 from algrasp.io.cad.faces import Arrangement, Edge, Union, faces
+from algrasp.io.cad.gaps import close_gaps, snap_to_corners
 from algrasp.io.cad.split import at, is_closed_curve, length, midpoint, project, sub, t_range
 
 JOIN_REL = 1e-6
@@ -71,7 +72,7 @@ def arrange(pieces: Sequence[Piece], size: float, tolerance: float | None = None
     edges, notes = _split_at_ends(segs, ends, allowance, tight, size, uf)
     edges, dup_notes = _deduplicate(edges, tight, uf, segs)
     notes += dup_notes
-    notes += _close_gaps(edges, ends, allowance, uf)
+    notes += close_gaps(edges, ends, allowance, uf)
     edges = [Edge(e.segment, uf.find(e.u), uf.find(e.v), e.piece, e.t0, e.t1) for e in edges]
     edges, degenerate = _without_degenerate(edges, size)
     out, open_chains = _faces_without_strays(edges, segs, origins, allowance)
@@ -152,7 +153,7 @@ def _split_at_ends(segs: list[Segment], ends: np.ndarray, allowance: np.ndarray,
     tree = STRtree(lines)
     pts = shapely.points(ends)
     hits = tree.query(pts, predicate="dwithin", distance=allowance + SAMPLE_SLACK_REL * size)
-    snapped = _snap_to_corners(ends, allowance, tight, uf, hits[0], hits[1])
+    snapped = snap_to_corners(ends, allowance, tight, uf, hits[0], hits[1])
     cuts: dict[int, list[tuple[float, int]]] = {}
     for e, j, t, dist in _on_interiors(segs, ends, allowance, tight, hits[0], hits[1]):
         if dist <= allowance[e]:
@@ -168,27 +169,6 @@ def _split_at_ends(segs: list[Segment], ends: np.ndarray, allowance: np.ndarray,
     if crossings:
         notes.append(f"{crossings} crossing(s) of cut lines attached at both ends (a cut grid): split there")
     return edges, notes
-
-
-def _snap_to_corners(ends: np.ndarray, allowance: np.ndarray, tight: float, uf: Union, end_of: np.ndarray,
-                     seg_of: np.ndarray) -> int:
-    """Join each free end to the nearest corner (a point where two or more ends already
-    meet) of another entity within its gap allowance: a line stopping 0.001 short of a
-    rectangle's corner. `_close_gaps` joins free ends only to each other and an end at a
-    corner is no interior to split. ``ends`` holds entity i's ends at 2i, 2i + 1; O(pairs)."""
-    roots = np.array([uf.find(x) for x in range(len(ends))])
-    degree = np.bincount(roots, minlength=len(ends))[roots]
-    keep = (degree[end_of] == 1) & (end_of // 2 != seg_of)
-    e = np.repeat(end_of[keep], 2)
-    k = np.stack([2 * seg_of[keep], 2 * seg_of[keep] + 1], axis=1).ravel()
-    dist = np.linalg.norm(ends[e] - ends[k], axis=1)
-    ok = (degree[k] >= 2) & (dist > tight) & (dist <= allowance[e])
-    done: set[int] = set()
-    for d, a, b in sorted(zip(dist[ok].tolist(), e[ok].tolist(), k[ok].tolist())):
-        if a not in done:
-            done.add(a)
-            uf.join(a, b)
-    return len(done)
 
 
 def _on_interiors(segs: list[Segment], ends: np.ndarray, allowance: np.ndarray, tight: float, end_of: np.ndarray,
@@ -308,36 +288,6 @@ def _deduplicate(edges: list[Edge], tight: float, uf: Union, segs_of: list[Segme
     if near:
         notes.append(f"{near} near-duplicate entit{'y' if near == 1 else 'ies'} merged (drawn twice, a hair apart)")
     return [e for k, e in enumerate(edges) if k not in drop], notes
-
-
-def _close_gaps(edges: list[Edge], ends: np.ndarray, allowance: np.ndarray, uf: Union) -> list[str]:
-    """Join pairs of free ends (nearest first) whose gap is within both ends' allowance."""
-    from scipy.spatial import cKDTree
-
-    count: dict[int, int] = {}
-    for e in edges:
-        for x in (e.u, e.v):
-            count[uf.find(x)] = count.get(uf.find(x), 0) + 1
-    free = [x for e in edges for x in (e.u, e.v) if x < len(ends) and count[uf.find(x)] == 1]
-    if len(free) < 2:
-        return []
-    pts = ends[free]
-    tree = cKDTree(pts)
-    pairs = sorted((float(np.linalg.norm(pts[a] - pts[b])), a, b)
-                   for a, b in tree.query_pairs(float(np.max(allowance[free]))))
-    done: set[int] = set()
-    gaps = []
-    for d, a, b in pairs:
-        ea, eb = free[a], free[b]
-        if a in done or b in done or ea // 2 == eb // 2 or d > min(allowance[ea], allowance[eb]):
-            continue
-        done |= {a, b}
-        uf.join(ea, eb)
-        gaps.append(d)
-    if not gaps:
-        return []
-    return [f"{len(gaps)} gap(s) closed between entities that should meet (largest {max(gaps):.3g}, "
-            f"judged against the lengths of the chains meeting there)"]
 
 
 def _without_degenerate(edges: list[Edge], size: float) -> tuple[list[Edge], int]:

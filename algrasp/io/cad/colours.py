@@ -100,3 +100,23 @@ def _on_material(sheet: Any, pieces: Sequence[Piece], size: float) -> bool:
     shapely.prepare(material)
     pts = [pt for p in pieces for pt in samples(p.segment)]
     return bool(pts) and bool(shapely.contains_xy(material, [x for x, _ in pts], [y for _, y in pts]).all())
+
+
+def dxf_colour(e: Any) -> str | None:
+    """The entity's colour as ``#rrggbb``: its true colour, else its ACI colour, BYLAYER
+    looked up on its layer; None for BYBLOCK or an unknown layer."""
+    from ezdxf.colors import aci2rgb, int2rgb
+
+    if e.dxf.hasattr("true_color"):
+        return _hex(int2rgb(e.dxf.true_color))
+    aci = e.dxf.color
+    if aci == 256 and e.doc is not None and e.doc.layers.has_entry(e.dxf.layer):
+        layer = e.doc.layers.get(e.dxf.layer)
+        if layer.dxf.hasattr("true_color"):
+            return _hex(int2rgb(layer.dxf.true_color))
+        aci = abs(layer.dxf.color)
+    return _hex(aci2rgb(aci)) if 1 <= aci <= 255 else None
+
+
+def _hex(rgb: Any) -> str:
+    return "#" + "".join(f"{int(c):02x}" for c in rgb)

@@ -24,6 +24,7 @@ from algrasp.geometry.limits import DEFAULT_LIMITS
 from algrasp.geometry.tolerances import ROUNDING
 from algrasp.io.cad.chain import Piece, Segment, check_bounded
 from algrasp.io.cad.clutter import Marks
+from algrasp.io.cad.colours import dxf_colour
 from algrasp.io.cad.dxf_marks import drawing_scale, hatch_points, measured_points, text_marks
 from algrasp.io.cad.nurbs import nurbs_to_beziers
 
@@ -280,24 +281,8 @@ def entity_pieces(e: Any, within: str = "", depth: int = 0, budget: list[int] | 
     if budget[0] < 0:
         raise LimitExceededError(origin, f"the drawing expands to more than {MAX_EXPANDED_SEGMENTS} segments "
                                  "(blocks inserted many times over?)")
-    colour = _colour(e)
+    colour = dxf_colour(e)
     return [Piece(s, origin, e.dxf.layer, colour) for s in segments]
-
-
-def _colour(e: Any) -> str | None:
-    """The entity's colour as ``#rrggbb``: its true colour, else its ACI colour, BYLAYER
-    looked up on its layer; None for BYBLOCK or an unknown layer."""
-    from ezdxf.colors import aci2rgb, int2rgb
-
-    if e.dxf.hasattr("true_color"):
-        return "#%02x%02x%02x" % tuple(int2rgb(e.dxf.true_color))
-    aci = e.dxf.color
-    if aci == 256 and e.doc is not None and e.doc.layers.has_entry(e.dxf.layer):
-        layer = e.doc.layers.get(e.dxf.layer)
-        if layer.dxf.hasattr("true_color"):
-            return "#%02x%02x%02x" % tuple(int2rgb(layer.dxf.true_color))
-        aci = abs(layer.dxf.color)
-    return "#%02x%02x%02x" % tuple(aci2rgb(aci)) if 1 <= aci <= 255 else None
 
 
 def _insert_pieces(e: Any, within: str, depth: int, budget: list[int]) -> list[Piece]:

@@ -6,6 +6,7 @@ construction."""
 from __future__ import annotations
 
 import io
+import json
 from pathlib import Path
 from typing import Any
 
@@ -136,3 +137,23 @@ def test_visicut_box_has_its_six_panels() -> None:
                    (195.087, 85.039)])
     got = [(w / MM_PER_PX, h / MM_PER_PX) for w, h in _sizes(rows)]
     assert got == [pytest.approx(w, abs=0.05) for w in want]
+
+
+def test_engrave_colours_name_the_engraving_or_none(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``engrave_colours`` decides instead of the drawing: "none" keeps the corner rectangle
+    a part (2 parts); naming blue (#00f) engraves the panel and leaves the red rectangle
+    alone (1 part, 50 x 40 px); a bad colour is a ConfigError naming the field. The CLI's
+    ``--engrave-colours`` gives the same listing."""
+    from algrasp.cli import main
+    from algrasp.errors import ConfigError
+
+    data = _svg(_corner_etch("#ff0000"))
+    assert len(list_parts("etch.svg", data, engrave_colours="none")["parts"]) == 2
+    (red,) = list_parts("etch.svg", data, engrave_colours="#00F")["parts"]
+    assert _sizes([red]) == [pytest.approx((50 * MM_PER_PX, 40 * MM_PER_PX), abs=0.02)]
+    with pytest.raises(ConfigError, match="engrave_colours"):
+        list_parts("etch.svg", data, engrave_colours="red")
+    path = tmp_path / "etch.svg"
+    path.write_bytes(data)
+    assert main(["import", str(path), "--list", "--json", "--engrave-colours", "none"]) == 0
+    assert len(json.loads(capsys.readouterr().out)["parts"]) == 2
