@@ -33,7 +33,8 @@ def read_document(path: str, args: argparse.Namespace | None = None) -> dict[str
 
 
 def _import_options(args: argparse.Namespace | None) -> dict[str, Any]:
-    keys = {"layer": "layer", "id": "element_id", "pose": "pose", "tolerance": "tolerance", "units": "units", "sheet_part": "part"}
+    keys = {"layer": "layer", "id": "element_id", "pose": "pose", "tolerance": "tolerance", "units": "units", "sheet_part": "part",
+            "engrave_colours": "engrave_colours"}
     return {v: getattr(args, k) for k, v in keys.items() if getattr(args, k, None) is not None}
 
 
@@ -431,6 +432,9 @@ def _cad_options(p: argparse.ArgumentParser) -> None:
                    help="join and gap tolerance in drawing units (default: ends within 1e-6 of the drawing's size "
                         "join; gaps up to 2e-3 of the chains meeting there close, reported)")
     g.add_argument("--units", help="override the unit (meshes carry none: default mm)")
+    g.add_argument("--engrave-colours", metavar="COLOURS",
+                   help="DXF/SVG: stroke colours that are engraving, not cuts (#rrggbb,... ; none: every colour is "
+                        "cut; default: a second colour lying on the first colour's parts is engraving, reported)")
     g.add_argument("--part", type=int, metavar="K", dest="sheet_part",
                    help="DXF/SVG sheet: the K-th part (import FILE --list shows them)")
 

@@ -258,7 +258,10 @@ async def imports(request: Request, file: Annotated[UploadFile, File(description
                   documents: Annotated[int, Form(ge=0, le=1000, description="with list=true: the part documents of "
                                                  "the first N parts too (`documents`), the drawing read once")] = 0,
                   units: Annotated[str | None, Form(pattern="^(mm|cm|m|in|um)$",
-                                                    description="the drawing's unit (default: its header's)")] = None) -> Response:
+                                                    description="the drawing's unit (default: its header's)")] = None,
+                  engrave_colours: Annotated[str | None, Form(max_length=256, description=(
+                      "stroke colours that are engraving (#rrggbb,...; none: every colour is cut; default: judged "
+                      "from the drawing, reported in the warnings)"))] = None) -> Response:
     """A CAD file → its part document (exact curves; meshes give an approximate
     polygon), ready for ``/v1/plans``; ``part`` chooses one of several parts on a sheet,
     ``list=true`` returns ``{"parts": [...], "ignored", "warnings"}`` instead. Only the file
@@ -271,7 +274,7 @@ async def imports(request: Request, file: Annotated[UploadFile, File(description
         raise ConfigError("file", f"unsupported file type {PurePath(name).suffix or '(none)'}: use "
                           f"{supported(('drawing', 'mesh'))} (a part document goes to /v1/plans as JSON)")
     options = {k: v for k, v in (("layer", layer), ("element_id", id), ("pose", pose), ("part", part),
-                                 ("units", units)) if v is not None}
+                                 ("units", units), ("engrave_colours", engrave_colours)) if v is not None}
     if list_parts:
         options["list_parts"] = True
         if documents:

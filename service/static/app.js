@@ -135,6 +135,7 @@ function wire() {
   });
   $("file").addEventListener("change", importChosen);
   $("units").addEventListener("change", () => $("file").files[0] && importChosen());
+  $("engrave-colours").addEventListener("change", () => $("file").files[0] && importChosen());
   setupEditor({
     use: async (doc) => {
       $("example").value = "";

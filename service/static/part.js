@@ -30,14 +30,17 @@ function importForm(file, fields) {
 
 // A file: a part document (JSON) is used as it is; a drawing goes once through
 // /v1/imports: the sheet's listing with the documents of its first MAX_THUMBNAILS parts.
-// The page's "drawing units" choice (empty: the drawing's header) goes with it.
+// The page's "drawing units" choice (empty: the drawing's header) and "engrave colours"
+// (empty: judged from the drawing) go with it.
 export async function importFile(state, file) {
   const current = begin("import");
   if (file.name.toLowerCase().endsWith(".json")) {
     return { parts: [JSON.parse(await file.text())], warnings: [], ignored: [] };
   }
   const units = document.getElementById("units").value;
-  const fields = { list: "true", documents: String(MAX_THUMBNAILS), ...(units ? { units } : {}) };
+  const engrave = document.getElementById("engrave-colours").value.trim();
+  const fields = { list: "true", documents: String(MAX_THUMBNAILS), ...(units ? { units } : {}),
+                   ...(engrave ? { engrave_colours: engrave } : {}) };
   const sheet = await api("/v1/imports", { form: importForm(file, fields) });
   current(document.getElementById("thumbs"));
   const warnings = [...sheet.warnings];

@@ -143,6 +143,22 @@ def test_a_sheet_and_its_documents_in_one_upload(server: Server) -> None:
         assert c.post("/v1/imports", files=files, data={"list": "true", "units": "furlong"}).status_code == 422
 
 
+def test_engrave_colours_go_with_an_upload(server: Server) -> None:
+    """``engrave_colours``: a panel cut in blue with a red rectangle on its corner is one
+    part as the drawing says (red judged engraving), two with ``none``; a bad colour is a
+    422 naming the field (as a bad unit is)."""
+    svg = (b'<svg xmlns="http://www.w3.org/2000/svg" width="300" height="300" viewBox="0 0 300 300">'
+           b'<rect x="0" y="0" width="200" height="100" fill="none" stroke="#0000ff"/>'
+           b'<rect x="0" y="0" width="50" height="40" fill="none" stroke="#ff0000"/></svg>')
+    files = {"file": ("etch.svg", svg)}
+    with server.client() as c:
+        assert len(c.post("/v1/imports", files=files, data={"list": "true"}).json()["parts"]) == 1
+        two = c.post("/v1/imports", files=files, data={"list": "true", "engrave_colours": "none"}).json()
+        assert len(two["parts"]) == 2
+        bad = c.post("/v1/imports", files=files, data={"list": "true", "engrave_colours": "red"})
+        assert bad.status_code == 422 and "engrave_colours" in bad.text
+
+
 def test_a_job_says_the_archive_files_it_does_not_read(server: Server, pie: dict[str, Any]) -> None:
     import io
     import zipfile

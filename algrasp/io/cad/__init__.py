@@ -84,14 +84,16 @@ def _library_faults(fn: Callable[..., T]) -> Callable[..., T]:
 @_library_faults
 def import_bytes(filename: str, data: bytes, layer: str | None = None, element_id: str | None = None,
                  pose: int | None = None, tolerance: float | None = None, units: str | None = None,
-                 part: int | None = None) -> dict[str, Any]:
+                 part: int | None = None, engrave_colours: str | None = None) -> dict[str, Any]:
     """The part document of a DXF/SVG/mesh file's bytes (a fence layout DXF gives its layout
     document, ``kind`` "fence_layout": :mod:`algrasp.io.fence_import`). ``layer`` (DXF), ``element_id``
     (SVG), ``pose`` (mesh) choose what to import; ``part`` chooses one of several parts on
     a sheet (:func:`list_parts` lists them); ``tolerance`` is the join and gap tolerance in
     drawing units (default: ends within 1e-6 of the drawing's size join, and gaps up to
     2e-3 of the chains meeting there close); ``units`` overrides the unit
-    (meshes carry none: default mm)."""
+    (meshes carry none: default mm); ``engrave_colours`` names the stroke colours that are
+    engraving ("#ff0000,#00f"; "none": every colour is cut; default: judged from the drawing,
+    :mod:`algrasp.io.cad.colours`)."""
     suffix = PurePath(filename).suffix.lower()
     name = PurePath(filename).stem
     _need_cad_extra(filename)
@@ -101,12 +103,14 @@ def import_bytes(filename: str, data: bytes, layer: str | None = None, element_i
         from algrasp.io.cad.mesh import mesh_document
 
         _check_options(suffix, layer, element_id, pose)
+        if engrave_colours is not None:
+            raise ConfigError("engrave_colours", "a mesh has no stroke colours (only DXF/SVG drawings)")
         if part not in (None, 0):
             raise ConfigError("part", "a mesh is one part (choose a resting pose with --pose)")
         return mesh_document(data, suffix[1:], name, pose, units or "mm")
     if suffix == ".dxf" and (fences := _fence_layout(data, name)) is not None:
         return fences  # a drawing of belt fences (algrasp fences --dxf): its layout, no part
-    sheet, doc_units, k, source = _sheet(filename, data, layer, element_id, pose, tolerance, units)
+    sheet, doc_units, k, source = _sheet(filename, data, layer, element_id, pose, tolerance, units, engrave_colours)
     if part is None and len(sheet.parts) > 1:
         rows = sheet.summary(units or doc_units)["parts"]
         listing = "; ".join(f"{r['index']}: {r['segments']} segments, {r['holes']} hole(s), area {k * k * r['area']:.4g}"
@@ -145,10 +149,10 @@ def import_all_parts(filename: str, data: bytes) -> list[dict[str, Any]]:
 @_library_faults
 def sheet_documents(filename: str, data: bytes, documents: int, layer: str | None = None,
                     element_id: str | None = None, tolerance: float | None = None,
-                    units: str | None = None) -> dict[str, Any]:
+                    units: str | None = None, engrave_colours: str | None = None) -> dict[str, Any]:
     """:func:`list_parts`' listing of a DXF/SVG sheet with the part documents of its first
     ``documents`` parts (``"documents"``), the drawing read once: one upload shows a sheet."""
-    sheet, doc_units, k, source = _sheet(filename, data, layer, element_id, None, tolerance, units)
+    sheet, doc_units, k, source = _sheet(filename, data, layer, element_id, None, tolerance, units, engrave_colours)
     out = _listing(sheet, units or doc_units, k, source)
     name = PurePath(filename).stem
     out["documents"] = [_part_document(sheet, i, name, units or doc_units, k, dict(source))
@@ -170,10 +174,11 @@ def _part_document(sheet: Any, index: int, name: str, units: str, k: float, sour
 
 @_library_faults
 def list_parts(filename: str, data: bytes, layer: str | None = None, element_id: str | None = None,
-               tolerance: float | None = None, units: str | None = None) -> dict[str, Any]:
+               tolerance: float | None = None, units: str | None = None,
+               engrave_colours: str | None = None) -> dict[str, Any]:
     """``{"parts": [{"index", "bbox", "area", "holes", "segments", "units"}], "ignored",
     "warnings"}`` of a DXF/SVG sheet, lengths in the document's unit."""
-    sheet, doc_units, k, source = _sheet(filename, data, layer, element_id, None, tolerance, units)
+    sheet, doc_units, k, source = _sheet(filename, data, layer, element_id, None, tolerance, units, engrave_colours)
     return _listing(sheet, units or doc_units, k, source)
 
 
@@ -188,14 +193,17 @@ def _listing(sheet: Any, units: str, k: float, source: dict[str, Any]) -> dict[s
 
 
 def _sheet(filename: str, data: bytes, layer: str | None, element_id: str | None, pose: int | None,
-           tolerance: float | None, units: str | None) -> tuple[Any, str, float, dict[str, Any]]:
+           tolerance: float | None, units: str | None,
+           engrave_colours: str | None = None) -> tuple[Any, str, float, dict[str, Any]]:
     """The parts of a DXF/SVG drawing, its unit, scale and source description."""
     from algrasp.io.cad.chain import drawing_extent, point_at
     from algrasp.io.cad.clutter import Marks
+    from algrasp.io.cad.colours import by_colour, parse_colours
     from algrasp.io.cad.sheet import find_parts
 
     suffix = PurePath(filename).suffix.lower()
     _check_options(suffix, layer, element_id, pose)
+    engrave = parse_colours(engrave_colours)
     if suffix == ".dxf":
         pieces, doc_units, k, source, marks = _dxf(data, layer, units)
     elif suffix == ".svg":
@@ -210,7 +218,8 @@ def _sheet(filename: str, data: bytes, layer: str | None, element_id: str | None
     for p in pieces:  # a transform can overflow (SVG scale(1e308) scale(1e308))
         if not all(math.isfinite(c) for e in (False, True) for c in point_at(p.segment, e)):
             raise PartDocumentError(p.origin, "coordinates overflow to infinity (an extreme scale or transform?)")
-    sheet = find_parts(pieces, drawing_extent(pieces), tolerance, marks)
+    size = drawing_extent(pieces)
+    sheet = by_colour(pieces, size, lambda kept: find_parts(kept, size, tolerance, marks), engrave)
     if units is None and suffix == ".dxf":
         doc_units, k = _plausible_units(sheet, doc_units, k, source)
     return sheet, doc_units, k, source

@@ -31,6 +31,7 @@ import numpy as np
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES
 from algrasp.io.cad.chain import Piece, Segment, point_at, samples
 from algrasp.io.cad.faces import Arrangement, Edge, Union, faces
+from algrasp.io.cad.gaps import close_gaps, snap_to_corners
 from algrasp.io.cad.split import at, is_closed_curve, length, midpoint, project, sub, t_range
 
 JOIN_REL = 1e-6
@@ -67,11 +68,11 @@ def arrange(pieces: Sequence[Piece], size: float, tolerance: float | None = None
     ends = np.array([point_at(s, e) for s in segs for e in (False, True)]).reshape(-1, 2)
     uf = Union(len(ends))
     _join_close(ends, tight, uf)
-    allowance = _allowances(segs, ends, uf, tight, size, tolerance is not None)
+    allowance = _allowances(segs, ends, uf, tight, size, tolerance is not None, [p.reach for p in pieces])
     edges, notes = _split_at_ends(segs, ends, allowance, tight, size, uf)
     edges, dup_notes = _deduplicate(edges, tight, uf, segs)
     notes += dup_notes
-    notes += _close_gaps(edges, ends, allowance, uf)
+    notes += close_gaps(edges, ends, allowance, uf)
     edges = [Edge(e.segment, uf.find(e.u), uf.find(e.v), e.piece, e.t0, e.t1) for e in edges]
     edges, degenerate = _without_degenerate(edges, size)
     out, open_chains = _faces_without_strays(edges, segs, origins, allowance)
@@ -122,9 +123,11 @@ def _chain_lengths(segs: list[Segment], uf: Union, n_ends: int) -> dict[int, flo
 
 
 def _allowances(segs: list[Segment], ends: np.ndarray, uf: Union, tight: float, size: float,
-                fixed: bool) -> np.ndarray:
+                fixed: bool, reach: Sequence[float]) -> np.ndarray:
     """How far each end may reach: the join tolerance, or for a free end (no other end at
-    its point) the local gap allowance of its chain."""
+    its point) the local gap allowance of its chain, or half its drawn stroke's width when
+    that is more (an SVG whose 0.13 mm strokes overlap across a 0.017 mm gap shows the
+    outline closed, and a laser's kerf closes it); never more than ``GAP_MAX_REL``."""
     out = np.full(len(ends), tight)
     if fixed:
         return out
@@ -134,7 +137,7 @@ def _allowances(segs: list[Segment], ends: np.ndarray, uf: Union, tight: float, 
     chain_len = _chain_lengths(segs, uf, len(ends))
     for e in range(len(ends)):
         if degree[uf.find(e)] == 1 and not is_closed_curve(segs[e // 2]):
-            out[e] = max(tight, min(GAP_CHAIN_REL * chain_len[e], GAP_MAX_REL * size))
+            out[e] = max(tight, min(max(GAP_CHAIN_REL * chain_len[e], reach[e // 2]), GAP_MAX_REL * size))
     return out
 
 
@@ -150,6 +153,7 @@ def _split_at_ends(segs: list[Segment], ends: np.ndarray, allowance: np.ndarray,
     tree = STRtree(lines)
     pts = shapely.points(ends)
     hits = tree.query(pts, predicate="dwithin", distance=allowance + SAMPLE_SLACK_REL * size)
+    snapped = snap_to_corners(ends, allowance, tight, uf, hits[0], hits[1])
     cuts: dict[int, list[tuple[float, int]]] = {}
     for e, j, t, dist in _on_interiors(segs, ends, allowance, tight, hits[0], hits[1]):
         if dist <= allowance[e]:
@@ -160,6 +164,8 @@ def _split_at_ends(segs: list[Segment], ends: np.ndarray, allowance: np.ndarray,
     for i, s in enumerate(segs):
         edges += _cut(s, i, sorted(cuts.get(i, [])), uf)
     notes = [f"{n} entity end(s) lie on another entity (shared or common cut lines): split there"] if n else []
+    if snapped:
+        notes.append(f"{snapped} free end(s) joined to a corner of another outline they stop short of")
     if crossings:
         notes.append(f"{crossings} crossing(s) of cut lines attached at both ends (a cut grid): split there")
     return edges, notes
@@ -282,36 +288,6 @@ def _deduplicate(edges: list[Edge], tight: float, uf: Union, segs_of: list[Segme
     if near:
         notes.append(f"{near} near-duplicate entit{'y' if near == 1 else 'ies'} merged (drawn twice, a hair apart)")
     return [e for k, e in enumerate(edges) if k not in drop], notes
-
-
-def _close_gaps(edges: list[Edge], ends: np.ndarray, allowance: np.ndarray, uf: Union) -> list[str]:
-    """Join pairs of free ends (nearest first) whose gap is within both ends' allowance."""
-    from scipy.spatial import cKDTree
-
-    count: dict[int, int] = {}
-    for e in edges:
-        for x in (e.u, e.v):
-            count[uf.find(x)] = count.get(uf.find(x), 0) + 1
-    free = [x for e in edges for x in (e.u, e.v) if x < len(ends) and count[uf.find(x)] == 1]
-    if len(free) < 2:
-        return []
-    pts = ends[free]
-    tree = cKDTree(pts)
-    pairs = sorted((float(np.linalg.norm(pts[a] - pts[b])), a, b)
-                   for a, b in tree.query_pairs(float(np.max(allowance[free]))))
-    done: set[int] = set()
-    gaps = []
-    for d, a, b in pairs:
-        ea, eb = free[a], free[b]
-        if a in done or b in done or ea // 2 == eb // 2 or d > min(allowance[ea], allowance[eb]):
-            continue
-        done |= {a, b}
-        uf.join(ea, eb)
-        gaps.append(d)
-    if not gaps:
-        return []
-    return [f"{len(gaps)} gap(s) closed between entities that should meet (largest {max(gaps):.3g}, "
-            f"judged against the lengths of the chains meeting there)"]
 
 
 def _without_degenerate(edges: list[Edge], size: float) -> tuple[list[Edge], int]:

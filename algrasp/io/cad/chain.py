@@ -30,6 +30,10 @@ class Piece:
     segment: Segment
     origin: str
     layer: str | None = None
+    colour: str | None = None
+    """The stroke colour (``#rrggbb``; SVG stroke, DXF true colour or ACI), None: not known."""
+    reach: float = 0.0
+    """Half the drawn stroke's width (drawing units): an SVG shows gaps narrower than this closed."""
 
 
 def _ellipse_point(s: Segment, deg: float) -> np.ndarray:

@@ -24,6 +24,7 @@ from algrasp.geometry.limits import DEFAULT_LIMITS
 from algrasp.geometry.tolerances import ROUNDING
 from algrasp.io.cad.chain import Piece, Segment, check_bounded
 from algrasp.io.cad.clutter import Marks
+from algrasp.io.cad.colours import dxf_colour
 from algrasp.io.cad.dxf_marks import drawing_scale, hatch_points, measured_points, text_marks
 from algrasp.io.cad.nurbs import nurbs_to_beziers
 
@@ -280,7 +281,8 @@ def entity_pieces(e: Any, within: str = "", depth: int = 0, budget: list[int] | 
     if budget[0] < 0:
         raise LimitExceededError(origin, f"the drawing expands to more than {MAX_EXPANDED_SEGMENTS} segments "
                                  "(blocks inserted many times over?)")
-    return [Piece(s, origin, e.dxf.layer) for s in segments]
+    colour = dxf_colour(e)
+    return [Piece(s, origin, e.dxf.layer, colour) for s in segments]
 
 
 def _insert_pieces(e: Any, within: str, depth: int, budget: list[int]) -> list[Piece]:
@@ -295,7 +297,7 @@ def _insert_pieces(e: Any, within: str, depth: int, budget: list[int]) -> list[P
         if depth == 0 and _entities(e.doc, e.dxf.name, {}) * _copies(e) > budget[0]:  # before expanding anything
             raise LimitExceededError(f"block {e.dxf.name!r}{top}", f"block {e.dxf.name!r} expands to more than "
                                      f"{MAX_EXPANDED_SEGMENTS} segments (inserted many times over?)")
-    return [Piece(p.segment, f"{p.origin.split(' in block ')[0]} in block {e.dxf.name!r}{top}", p.layer)
+    return [Piece(p.segment, f"{p.origin.split(' in block ')[0]} in block {e.dxf.name!r}{top}", p.layer, p.colour)
             for v in e.virtual_entities() for p in entity_pieces(v, top, depth + 1, budget)]
 
 

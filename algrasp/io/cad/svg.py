@@ -84,6 +84,15 @@ def _painted(paint: Any) -> bool:
     return paint is not None and getattr(paint, "value", None) is not None
 
 
+def _stroke(shape: Any) -> tuple[str | None, float]:
+    """A shape's stroke colour (``#rrggbb``, None when unstroked) and half its stroke
+    width in mm (after every transform)."""
+    if not _painted(shape.stroke):
+        return None, 0.0
+    width = float(getattr(shape, "implicit_stroke_width", None) or shape.stroke_width or 0.0)
+    return str(shape.stroke.hex)[:7].lower(), 0.5 * width * MM_PER_PX
+
+
 def fill_points(shape: Any, segments: list[Segment]) -> list[tuple[float, float]]:
     """One point inside each region a shape fills without a stroke (black-filled icons
     to engrave, as a hatch in a DXF): its subpaths filled even-odd. Empty for a stroked
@@ -134,7 +143,8 @@ def svg_pieces(data: bytes, element_id: str | None, fills: list[tuple[float, flo
         path = shape if isinstance(shape, Path) else Path(shape)
         segments = [seg for seg in map(_segment, path.segments()) if seg is not None]
         check_bounded(segments, origin)
-        pieces += [Piece(seg, origin, layers.get(id(shape))) for seg in segments]
+        colour, reach = _stroke(shape)
+        pieces += [Piece(seg, origin, layers.get(id(shape)), colour, reach) for seg in segments]
         if fills is not None:
             fills += fill_points(shape, segments)
     if not pieces:

@@ -23,10 +23,6 @@ CORPUS = bench.corpus()
 KNOWN_MISSES: dict[str, str] = {
     # drawings the importer still reads wrong (issue 32 stays open for them); strict: a fix
     # that makes one right fails here until it is taken off this list
-    "batch-ae/cnlohr-mitx-laser-cut-case-case.svg": "8 parts, truth 7 (the red etch rectangle shares edges with cut "
-                                                    "lines: a part; etch is told from cut by colour only)",
-    "batch-sz/t-oster-visicut-box-6x3x3.svg": "7 parts, truth 6 (a side panel drawn with open snap-clip slits does "
-                                              "not close; its slots are listed as parts)",
 }
 
 
