@@ -187,7 +187,7 @@ class FenceLayout:
         return {"units": self.units, "model": "exact" if d.exact else "robust", "belt_direction_deg": 0.0,
                 "belt_width": self.belt_width, "reach": self.reach, "cover_radius": self.cover_radius,
                 "fence_friction": list(d.rules.friction), "max_steepness_deg": _deg(d.rules.max_steepness),
-                "min_steepness_deg": _deg(d.rules.min_steepness), "fences": fences,
+                "min_steepness_deg": _deg(d.rules.min_steepness), "exit_turns": d.rules.exit_turns, "fences": fences,
                 "total_length": float(sum(self.lengths)), "symmetry_period_deg": _deg(d.symmetry),
                 "final_orientations_deg": [_deg(f) for f in self.claim()[0]],
                 "final_uncertainty_deg": _deg(self.claim()[1]),
@@ -197,7 +197,9 @@ class FenceLayout:
                     "side": "right" if self.exit.side == 0 else "left", "angle_deg": _deg(self.exit.angle),
                     "steepness_deg": _deg(self.exit.steepness), "length": self.exit_length,
                     "start": list(self.exit_points()[0]), "end": list(self.exit_points()[1]),
-                    "push_distance_bound": self.exit_push_bound},
+                    "push_distance_bound": self.exit_push_bound,
+                    **({} if self.motion is None or len(self.motion.after) <= len(fences) else
+                       {"image_deg": [[_deg(a), _deg(b)] for a, b in self.motion.after[len(fences)]]})},
                 **({} if self.tail is None else {
                     "tail": {"radius": self.tail.radius, "sweep_deg": _deg(self.tail.sweep),
                              "turn_deg": _deg(self.tail_turn())}}),
@@ -314,4 +316,5 @@ def plan_fences(analysis: Analysis, rules: FenceRules = DEFAULT_RULES, min_margi
         return float(sum(layout(analysis, design, None, model).lengths))
 
     design = design_fences(analysis, rules, min_margin_deg, total)
-    return replace(layout(analysis, design, belt_width, model, beta_e), motion=fence_motion(analysis, design))
+    out = layout(analysis, design, belt_width, model, beta_e)
+    return replace(out, motion=fence_motion(analysis, design, None if out.exit is None else out.exit.angle))

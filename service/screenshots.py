@@ -108,10 +108,10 @@ def _editor(pg: Any) -> list[Any]:
 
 
 def _fences(pg: Any) -> list[Any]:
-    """The bracket's robust fence design: the API's drawing, the table, the part played
-    along the belt from 200°."""
+    """The battery plate's robust fence design (the tips' turns modelled, an exit guide):
+    the API's drawing, the table, the part played along the belt from 200°."""
     pg.click("button[data-page=part]")
-    pg.select_option("#example", "bracket")
+    pg.select_option("#example", "battery-plate")
     pg.wait_for_selector("#plot-d canvas")
     pg.click("button[data-page=fences]")
     pg.click("#fence-btn")

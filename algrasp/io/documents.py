@@ -198,6 +198,8 @@ class ExitGuideDoc(Open):
     start: list[float] = Field(min_length=2, max_length=2, description="(x, y) where it leaves the fence (part units)")
     end: list[float] = Field(min_length=2, max_length=2, description="(x, y) of its downstream end")
     push_distance_bound: float
+    image_deg: list[list[float]] | None = Field(None, description="world arcs [lo, hi] the part can be in past it, "
+                                                "from any start (what a page animates)")
 
 
 class FenceDocument(Open):
@@ -208,6 +210,8 @@ class FenceDocument(Open):
     model: Literal["exact", "robust"]
     belt_width: float = Field(gt=0, description="between the side rails (part units)")
     fence_friction: list[float] = Field(min_length=2, max_length=2, description="μ_f range the angles hold for")
+    exit_turns: bool | None = Field(None, description="whether the design models the turn a part takes over each "
+                                    "fence's tip (false: Berretty et al.'s model)")
     fences: list[Fence] = Field(min_length=1)
     total_length: float
     symmetry_period_deg: float

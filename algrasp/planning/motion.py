@@ -55,7 +55,7 @@ def motion(plan: Any) -> Motion:
     hi = np.array([b + k * period for _, b in first for k in range(copies)])
     steps = plan.steps
     lo, hi = lo + steps[0].gripper_angle, hi + steps[0].gripper_angle
-    after = [_merged(lo, hi)]
+    after = [merged_arcs(lo, hi)]
     for s in steps[1:]:
         a = s.gripper_angle
         if S is not None:
@@ -63,11 +63,11 @@ def motion(plan: Any) -> Motion:
         else:
             lo, hi = F.apply(lo - a), F.apply(hi - a)
         lo, hi = lo + a, hi + a
-        after.append(_merged(lo, hi))
+        after.append(merged_arcs(lo, hi))
     return Motion(period, tuple(images), tuple(after))
 
 
-def _merged(lo: np.ndarray, hi: np.ndarray) -> tuple[Arc, ...]:
+def merged_arcs(lo: np.ndarray, hi: np.ndarray) -> tuple[Arc, ...]:
     """The arcs [lo, hi] wrapped to start in [0, 2π), overlapping ones joined (one that
     reaches past 2π joins those it covers after 0)."""
     two_pi = 2 * math.pi

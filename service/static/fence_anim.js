@@ -5,7 +5,7 @@
 // a gripper action at α_i. No planner here. Degrees, as the documents.
 
 import { mod, rotate } from "./geom.js";
-import { follow, middle, withinClaim } from "./motion.js";
+import { middle, valueAt, withinClaim } from "./motion.js";
 
 const NS = "http://www.w3.org/2000/svg";
 const RAD = Math.PI / 180;
@@ -19,9 +19,32 @@ function el(tag, attrs, parent) {
   return e;
 }
 
-// The fence document as a plan motion.js follows: one step per fence at its angle.
+// The fence document as a plan motion.js reads: one step per fence at its angle, then the
+// exit guide's (guide: true) where the layout has one.
 export function fencePlan(doc) {
-  return { ...doc, steps: doc.fences.map((f) => ({ gripper_angle_deg: f.angle_deg, image_deg: f.image_deg })) };
+  const steps = doc.fences.map((f) => ({ gripper_angle_deg: f.angle_deg, image_deg: f.image_deg }));
+  if (doc.exit) steps.push({ gripper_angle_deg: doc.exit.angle_deg, image_deg: doc.exit.image_deg || [], guide: true });
+  return { ...doc, steps };
+}
+
+// [lo, hi] widened by the turn a part may take over the tip of a wall at world angle α
+// (deg): towards the belt direction by up to its steepness, clockwise on the right rail
+// (α < 90°), counter-clockwise on the left (the core's exit_turn, conventions §9).
+const overTip = ([lo, hi], alpha) => (alpha < 90 ? [lo - alpha, hi] : [lo, hi + (180 - alpha)]);
+
+// Per fence, then the exit guide, {alpha, before, after, all} from φ₀: the push's images at
+// its angle (the document's own), and in the design's model the turn over the tip before it
+// (always before the guide, and over the guide's own tip after it).
+export function followFences(doc, phi0) {
+  const steps = fencePlan(doc).steps;
+  let r = [phi0, phi0];
+  return steps.map((s, i) => {
+    if (i > 0 && (doc.exit_turns || s.guide)) r = overTip(r, steps[i - 1].gripper_angle_deg);
+    const before = r, a = s.gripper_angle_deg;
+    r = [valueAt(doc.images, r[0] - a, 2) + a, valueAt(doc.images, r[1] - a, 3) + a];
+    if (s.guide) r = overTip(r, a);
+    return { alpha: a, before, after: r, all: s.image_deg };
+  });
 }
 
 export const hasImages = (doc) => Boolean(doc.images && doc.images.pieces && doc.fences.every((f) => f.image_deg));
@@ -48,10 +71,16 @@ function frames(doc, phases) {
     const w = wall(doc, f);
     const from = add(add(w.root, w.dir, 0.25 * f.length), w.n, a), to = add(w.tip, w.n, a);
     if (i === 0) legs.push({ from: [from[0] - 4 * a, from[1]], to: from, range: () => phases[0].before, fence: -1 });
-    else legs.push({ from: legs[legs.length - 1].to, to: from, range: () => phases[i - 1].after, fence: -1 });
+    else legs.push({ from: legs[legs.length - 1].to, to: from, range: () => phases[i].before, fence: -1 });
     const ph = phases[i];
     legs.push({ from, to, fence: i, range: (u) => lerp(ph.before, ph.after, ease(u / TURN)) });
   });
+  if (doc.exit && phases.length > doc.fences.length) { // along the exit guide (its tip's turn: at its end)
+    const ph = phases[doc.fences.length], e = doc.exit, al = e.angle_deg * RAD;
+    const n = [-Math.sin(al), Math.cos(al)], from = add(e.start, n, a), to = add(e.end, n, a);
+    legs.push({ from: legs[legs.length - 1].to, to: from, range: () => ph.before, fence: -1 });
+    legs.push({ from, to, fence: doc.fences.length, range: (u) => lerp(ph.before, ph.after, ease(u / TURN)) });
+  }
   const last = legs[legs.length - 1].to;
   legs.push({ from: last, to: [last[0] + 4 * a, last[1]], range: () => phases[phases.length - 1].after, fence: -1 });
   for (const leg of legs) {
@@ -72,6 +101,10 @@ function belt(host, doc, box) {
     el("line", { id: `fence-line-${i + 1}`, x1: w.root[0], y1: w.root[1], x2: w.tip[0], y2: w.tip[1], stroke: "#c00",
       "stroke-width": 4, "vector-effect": "non-scaling-stroke" }, g);
   });
+  if (doc.exit) {
+    el("line", { id: "fence-exit-line", x1: doc.exit.start[0], y1: doc.exit.start[1], x2: doc.exit.end[0], y2: doc.exit.end[1],
+      stroke: "#c00", "stroke-width": 3, "stroke-dasharray": "8 4", "vector-effect": "non-scaling-stroke" }, g);
+  }
   host.replaceChildren(svg);
   return g;
 }
@@ -95,7 +128,7 @@ export function playFences(state, phi0) {
   const doc = state.fences.doc, g = state.analysis.geometry, out = document.getElementById("fence-final");
   if (!hasImages(doc)) { out.textContent = "this fence document carries no images: design again to animate it"; return; }
   const plan = fencePlan(doc);
-  const phases = follow(plan, phi0);
+  const phases = followFences(doc, phi0);
   const seq = frames(doc, phases);
   const xs = seq.map((f) => f.at[0]);
   const box = { x0: Math.min(...xs) - 2 * doc.cover_radius, x1: Math.max(...xs) + 2 * doc.cover_radius };
@@ -128,5 +161,6 @@ function finish(plan, phases, out) {
   out.dataset.finalRange = JSON.stringify(last);
   out.dataset.claimed = String(claimed);
   const spread = last[1] - last[0] > 1e-6 ? ` (within ±${(0.5 * (last[1] - last[0])).toFixed(2)}°)` : "";
-  out.textContent = `leaves the last fence at φ = ${final.toFixed(2)}°${spread} — ${claimed ? "a claimed final orientation" : "NOT a claimed final orientation"}`;
+  const where = plan.exit ? "leaves the exit guide" : "leaves the last fence";
+  out.textContent = `${where} at φ = ${final.toFixed(2)}°${spread} — ${claimed ? "a claimed final orientation" : "NOT a claimed final orientation"}`;
 }

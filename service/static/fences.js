@@ -17,6 +17,7 @@ function request(state) {
     exact: $("fence-model").value === "exact",
     fence_friction: [Number($("fence-mu-lo").value), Number($("fence-mu-hi").value)],
     min_margin_deg: Number($("fence-margin").value),
+    exit_turns: $("fence-tip-turns").checked,
   };
   const w = $("belt-width").value.trim();
   if (w) body.belt_width = Number(w);
@@ -40,8 +41,11 @@ function show(state, body, doc, svg) {
   const s = $("fence-summary");
   s.textContent = `${n} fence${n > 1 ? "s" : ""} for ${state.part.name || "the part"} (${doc.model} model, fence friction `
     + `${doc.fence_friction[0]}–${doc.fence_friction[1]}: each fence at most ${fmt(doc.max_steepness_deg)}° to the belt); `
-    + `belt width ${fmt(doc.belt_width)} ${u}, total fence length ${fmt(doc.total_length)} ${u}; the part leaves at ${finals} `
-    + `± ${fmt(doc.final_uncertainty_deg, 3)}° (mod ${fmt(doc.symmetry_period_deg)}°)`;
+    + `belt width ${fmt(doc.belt_width)} ${u}, total fence length ${fmt(doc.total_length)} ${u}; `
+    + (doc.exit ? `an exit guide at ${fmt(doc.exit.steepness_deg, 3)}° to the belt, ${fmt(doc.exit.length)} ${u} long; ` : "")
+    + `the part leaves ${doc.exit ? "the guide" : "the layout"} at ${finals} ± ${fmt(doc.final_uncertainty_deg, 3)}° `
+    + `(mod ${fmt(doc.symmetry_period_deg)}°)`
+    + (doc.exit_turns === false ? "; in Berretty et al.'s model (no turn over the fences' tips)" : "");
   s.dataset.fences = String(n);
   const drawing = new DOMParser().parseFromString(svg, "image/svg+xml").documentElement;
   drawing.removeAttribute("width");

@@ -7,7 +7,7 @@ import { mod } from "./geom.js";
 
 // The map's value at θ (gripper frame): pieces [start, end, lower, upper] over one period,
 // repeating with it; null lower/upper is θ itself. which: 2 lower, 3 upper.
-function valueAt(images, theta, which) {
+export function valueAt(images, theta, which) {
   const P = images.period_deg, pieces = images.pieces;
   const base = pieces[0][0];
   const k = Math.floor((theta - base) / P);

@@ -24,13 +24,17 @@ pytestmark = [
 
 ROOT = Path(__file__).resolve().parents[2]
 BRACKET = json.loads((ROOT / "algrasp" / "examples" / "bracket.json").read_text())
+PLATE = json.loads((ROOT / "algrasp" / "examples" / "real" / "battery-plate.json").read_text())
 
 
-def _design(pg: Any, model: str = "exact") -> dict[str, Any]:
-    pg.select_option("#example", "bracket")
+def _design(pg: Any, model: str = "exact", example: str = "bracket", tip_turns: bool = False) -> dict[str, Any]:
+    """Design on the page; the bracket has a design only in Berretty et al.'s model (no turn
+    over the tips), the battery plate in the default one."""
+    pg.select_option("#example", example)
     pg.wait_for_selector("#analysis:not([hidden])")
     pg.click("button[data-page=fences]")
     pg.select_option("#fence-model", model)
+    pg.set_checked("#fence-tip-turns", tip_turns)
     with pg.expect_response(lambda r: r.url.endswith("/v1/fences") and "svg" not in (r.request.post_data or "")) as resp:
         pg.click("#fence-btn")
     pg.wait_for_selector("#fence-summary[data-fences]")
@@ -43,7 +47,8 @@ def _off(phi: float, finals: list[float], period: float) -> float:
 
 def test_design_shows_the_apis_layout_and_table(page: Any) -> None:  # noqa: F811
     doc = _design(page)
-    want: dict[str, Any] = dict(algrasp.fences(BRACKET, exact=True, fence_friction=[0.1, 0.3], min_margin_deg=1.0).to_dict())
+    want: dict[str, Any] = dict(algrasp.fences(BRACKET, exact=True, fence_friction=[0.1, 0.3], min_margin_deg=1.0,
+                                               exit_turns=False).to_dict())
     assert [f["angle_deg"] for f in doc["fences"]] == pytest.approx([f["angle_deg"] for f in want["fences"]])
     rows = page.locator("#fence-table tbody tr")
     assert rows.count() == len(want["fences"]) == int(page.get_attribute("#fence-summary", "data-fences") or 0)
@@ -54,29 +59,49 @@ def test_design_shows_the_apis_layout_and_table(page: Any) -> None:  # noqa: F81
         assert float(cells[6].split()[0]) == pytest.approx(f["length"], rel=1e-3)
     # the drawing is the API's SVG: one red line per fence
     assert page.locator("#fence-drawing svg line.fence").count() == len(want["fences"])
+    assert "Berretty" in page.inner_text("#fence-summary")
 
 
-def test_animation_ends_where_the_designs_push_puts_the_part(page: Any) -> None:  # noqa: F811
-    from algrasp.planning.analysis import EXACT, analyse_document
-    from algrasp.planning.fence_model import push_of
+def _expected_final(part: dict[str, Any], exact: bool, tip_turns: bool, start_deg: float) -> tuple[float, float]:
+    """[lo, hi] (deg) past the exit guide from ``start_deg``, composed here from the core's
+    push: each fence's push at its angle, the turn over each tip (in the design's model),
+    the last tip's turn, the guide's push at its angle and its own tip's turn."""
+    from algrasp.planning.fence_model import exit_turn, push_of
 
-    doc = _design(page)
-    analysis = analyse_document(BRACKET, EXACT)
-    design = algrasp.fences(BRACKET, exact=True).design  # the layout's (ties broken by length)
-    assert [math.degrees(a) for a in design.angles] == pytest.approx([f["angle_deg"] for f in doc["fences"]])
+    layout = algrasp.fences(part, exact=exact, exit_turns=tip_turns)
+    assert layout.exit is not None
+    analysis = algrasp.analyse(part, exact=exact)
+    push = push_of(analysis)
+    lo, hi = layout.design.run(push, np.array([math.radians(start_deg)]))
+    lo, hi = exit_turn(lo, hi, layout.design.angles[-1])
+    g = layout.exit.angle
+    lo, hi = push.image(lo - g, hi - g)
+    lo, hi = exit_turn(lo + g, hi + g, g)
+    return math.degrees(lo[0]), math.degrees(hi[0])
+
+
+@pytest.mark.parametrize(("example", "model", "tip_turns"), [("bracket", "exact", False), ("battery-plate", "robust", True)])
+def test_animation_ends_where_the_designs_push_puts_the_part(page: Any, example: str, model: str,  # noqa: F811
+                                                            tip_turns: bool) -> None:
+    part = BRACKET if example == "bracket" else PLATE
+    doc = _design(page, model, example, tip_turns)
+    assert doc["exit_turns"] is tip_turns and doc["exit"]
     for start in (200, 47):
         page.fill("#fence-start", str(start))
         page.dispatch_event("#fence-start", "input")
         page.evaluate("document.getElementById('fence-final').removeAttribute('data-final-range')")
         page.click("#fence-play")
         page.wait_for_selector("#fence-final[data-final-range]")
-        lo, hi = design.run(push_of(analysis), np.array([math.radians(start)]))
-        want = math.degrees(0.5 * (lo[0] + hi[0])) % 360.0
-        got = float(page.get_attribute("#fence-final", "data-final-deg") or "nan")
-        assert abs((got - want + 180.0) % 360.0 - 180.0) < 1e-6
+        lo, hi = _expected_final(part, model == "exact", tip_turns, start)
+        got_lo, got_hi = json.loads(page.get_attribute("#fence-final", "data-final-range") or "[]")
+        T = doc["symmetry_period_deg"]  # the push is periodic with it: the core's image lands in one period
+        shift = T * round((got_lo - lo) / T)
+        assert (got_lo - shift, got_hi - shift) == pytest.approx((lo, hi), abs=1e-6)
         assert page.get_attribute("#fence-final", "data-claimed") == "true"
-        assert _off(got, doc["final_orientations_deg"], doc["symmetry_period_deg"]) < 1e-6
+        got = float(page.get_attribute("#fence-final", "data-final-deg") or "nan")
+        assert _off(got, doc["final_orientations_deg"], doc["symmetry_period_deg"]) <= doc["final_uncertainty_deg"] + 1e-6
     assert page.locator("#fence-anim svg line[id^=fence-line-]").count() == len(doc["fences"])
+    assert page.locator("#fence-anim svg #fence-exit-line").count() == 1
 
 
 def test_downloaded_dxf_reimports_to_the_tables_fences(page: Any, tmp_path: Path) -> None:  # noqa: F811
