@@ -236,6 +236,9 @@ def print_layout_lines(doc: dict[str, Any], head: str) -> None:
     if "tail" in doc:
         t = doc["tail"]
         print(f"  tail on fence {t['fence']}: radius {t['radius']:.6g} {u}, sweep {t['sweep_deg']:.4f}°")
+    if "exit" in doc:
+        e = doc["exit"]
+        print(f"  exit guide: {e['steepness_deg']:.4f}° to the belt from x = {e['start'][0]:.6g} {u}, length {e['length']:.6g} {u}")
 
 
 def listed_layout(path: Any, as_json: bool) -> bool:

@@ -126,6 +126,7 @@ def test_cli_import_reports_the_layout_and_planners_refuse_it(tmp_path: Path, ca
     text = capsys.readouterr().out
     n = len(doc["fences"])
     assert f"fence layout, {n} fence{'s' if n > 1 else ''} on a belt" in text and f"tail on fence {n}:" in text
+    assert f"exit guide: {doc['exit']['steepness_deg']:.4f}° to the belt" in text
     read = json.loads(out.read_text())
     assert main(["import", str(path), "--list", "--json"]) == 0  # no parts on it: its fences
     assert json.loads(capsys.readouterr().out)["fences"] == read["fences"]
