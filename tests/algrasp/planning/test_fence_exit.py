@@ -99,3 +99,76 @@ def test_berretty_designs_do_not_survive_the_tip_turn() -> None:
     analysis = analyse_document(_poly(RECT_MM), EXACT)
     assert _berretty_breaks(design_fences(analysis, BERRETTY), RECT_MM)
     assert not _berretty_breaks(design_fences(analysis), RECT_MM)
+
+
+TIP_TURNS = np.linspace(0.0, 1.0, 41)
+"""Fractions t/β of each fence's steepness a part may turn by over its tip, sampled."""
+STEEPNESS_DEG = np.arange(10.0, 73.0, 1.0)
+"""Admissible steepness on a 1° grid (β_min = 10°, below 90° − atan 0.3 = 73.3°)."""
+
+
+def _outcomes(push: brute.Flow, subset: frozenset[float], rails: tuple[int, int], beta: float, beta_next: float,
+              turns: bool) -> frozenset[float]:
+    """Orientations (relative to the next fence, on ``rails[1]`` at steepness ``beta_next``)
+    the part may rest in, from the orientations ``subset`` relative to a fence on
+    ``rails[0]`` at steepness ``beta``, over the sampled tip turns (none without ``turns``)."""
+    alpha = beta if rails[0] == 0 else math.pi - beta
+    alpha_next = beta_next if rails[1] == 0 else math.pi - beta_next
+    t = TIP_TURNS if turns else np.zeros(1)
+    world = np.array(sorted(subset))[:, None] + alpha + (-1.0 if rails[0] == 0 else 1.0) * t[None, :] * beta
+    return frozenset(np.round(np.mod(push(world - alpha_next), 2 * np.pi), 6).ravel().tolist())
+
+
+def _fewest_reachable(part: brute.ExactPart, turns: bool, same_rail: bool = False) -> int:
+    """The fewest orientations any sequence of fences (steepness on the 1° grid, any
+    number; alternating rails unless ``same_rail``) can leave the part in from every
+    start: the closure over states (outcome set, rail, steepness of the last fence).
+    Brute force, nothing of algrasp."""
+    push = brute.Flow(part.radius, 0.0)
+    betas = np.radians(STEEPNESS_DEG)
+    first = frozenset(np.round(np.mod(push(STARTS), 2 * np.pi), 6).tolist())
+    seen = {(first, rail, i) for rail in (0, 1) for i in range(len(betas))}
+    todo = list(seen)
+    while todo:
+        subset, rail, i = todo.pop()
+        for nxt in ((1 - rail, rail) if same_rail else (1 - rail,)):
+            for j, beta_next in enumerate(betas):
+                state = (_outcomes(push, subset, (rail, nxt), betas[i], beta_next, turns), nxt, j)
+                if state not in seen:
+                    seen.add(state)
+                    todo.append(state)
+    return min(len(s) for s, _, _ in seen)
+
+
+@pytest.mark.parametrize("name", ["pie", "bracket", "triangle"])
+def test_refusals_with_tip_turns_hold_by_brute_force(name: str) -> None:
+    """The exit model's refusal is not the search's (nor the hull's) weakness: from the
+    outcome sets themselves (no hull), no sequence of alternating fences leaves pie-20, the
+    bracket or the triangle in fewer than 2 orientations once the tips' turns are sampled, while
+    without them (Berretty et al.'s model) the same closure reaches 1 and the planner
+    designs. Past a fence's tip the part's world orientation is s + [0, β] on the right
+    rail (s + 180° − [0, β] on the left) whatever β: the next fence sees it shifted by
+    180° − β' only, widened by β."""
+    from algrasp.errors import NotOrientableError
+    from tests.algrasp.planning.test_fences import BERRETTY, _cases
+
+    doc, model = _cases()[name]
+    analysis = analyse_document(doc, EXACT)
+    part = model(analysis.part.center_of_mass)  # type: ignore[operator]
+    with pytest.raises(NotOrientableError, match="tip is modelled"):
+        design_fences(analysis)
+    assert design_fences(analysis, BERRETTY).angles
+    assert _fewest_reachable(part, turns=False) == 1
+    assert _fewest_reachable(part, turns=True) >= 2
+
+
+def test_same_rail_fences_would_orient_with_tip_turns() -> None:
+    """What the exit model lacks is the shift between fences, not precision: were two
+    consecutive fences allowed on one rail (the next seeing the part shifted by its own
+    steepness β' ∈ [10°, 73°] instead of 180° − β'), the same brute-force closure, tip
+    turns sampled, reaches one orientation for pie-20 (the triangle too, slower)."""
+    from tests.algrasp.planning.test_fences import _cases
+
+    doc, model = _cases()["pie"]
+    part = model(analyse_document(doc, EXACT).part.center_of_mass)  # type: ignore[operator]
+    assert _fewest_reachable(part, turns=True, same_rail=True) == 1
