@@ -262,7 +262,9 @@ def _refusal(analysis: Analysis, push: Push, rules: FenceRules, margin: float) -
     if rules.exit_turns and _search(analysis, push, replace(rules, exit_turns=False), margin, None) is not None:
         return NotOrientableError("no_fence_design", f"no sequence of at most {MAX_FENCES} alternating fences orients the "
                                   "part once the turn it takes over each fence's tip is modelled (up to the fence's "
-                                  "angle to the belt); in Berretty et al.'s model, where it keeps its orientation "
+                                  "angle to the belt): past each tip it lies where a fence parallel to the belt "
+                                  "would leave it, so the next fence, on the other rail, sees its outcomes shifted by "
+                                  "180° − β only (conventions §9); in Berretty et al.'s model, where it keeps its orientation "
                                   "between fences, a design exists (exit_turns false, --no-exit-turns), which Drake "
                                   "does not bear out", {"fence_friction_max": None, "berretty_design": True})
     mu = friction_limit(analysis, push, rules, margin)
