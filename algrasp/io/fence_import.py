@@ -18,6 +18,7 @@ import math
 from typing import Any
 
 from algrasp.errors import PartDocumentError
+from algrasp.geometry.angles import to_deg, to_rad
 from algrasp.geometry.tolerances import DRAWING_SNAP_REL
 
 KIND = "fence_layout"
@@ -79,7 +80,7 @@ def _exit(frame: _Frame, guide: tuple[Point, Point]) -> dict[str, Any]:
     """The exit guide (layer EXIT): from its upstream end, its angle and steepness to the
     belt (degrees), length and ends in the belt frame."""
     start, end = sorted((frame.to_belt(e) for e in guide), key=lambda p: p[0])
-    angle = math.degrees(math.atan2(end[1] - start[1], end[0] - start[0])) % 180.0
+    angle = to_deg(math.atan2(end[1] - start[1], end[0] - start[0])) % 180.0
     return {"angle_deg": angle, "steepness_deg": min(angle, 180.0 - angle),
             "length": math.hypot(end[0] - start[0], end[1] - start[1]), "start": list(start), "end": list(end)}
 
@@ -124,7 +125,7 @@ def _fence(frame: _Frame, wall: tuple[Point, Point], k: int) -> dict[str, Any]:
     if not any(on):
         raise PartDocumentError("FENCES", f"line {k} on layer FENCES touches neither rail: not a fence")
     root, tip = (p, q) if on[0] else (q, p)
-    angle = math.degrees(math.atan2(tip[1] - root[1], tip[0] - root[0])) % 180.0
+    angle = to_deg(math.atan2(tip[1] - root[1], tip[0] - root[0])) % 180.0
     return {"side": "right" if abs(root[1]) <= frame.snap else "left", "angle_deg": angle,
             "steepness_deg": min(angle, 180.0 - angle), "position": root[0],
             "length": math.hypot(tip[0] - root[0], tip[1] - root[1]), "tip": [tip[0], tip[1]]}
@@ -134,7 +135,7 @@ def _tail(frame: _Frame, arc: Any, fences: list[dict[str, Any]]) -> dict[str, An
     """The curved tail: its radius, sweep (degrees) and the fence whose tip it starts at."""
     c = (float(arc.dxf.center.x), float(arc.dxf.center.y))
     R = float(arc.dxf.radius)
-    ends = [frame.to_belt((c[0] + R * math.cos(math.radians(t)), c[1] + R * math.sin(math.radians(t))))
+    ends = [frame.to_belt((c[0] + R * math.cos(to_rad(t)), c[1] + R * math.sin(to_rad(t))))
             for t in (arc.dxf.start_angle, arc.dxf.end_angle)]
     sweep = (float(arc.dxf.end_angle) - float(arc.dxf.start_angle)) % 360.0
     at = [i for i, f in enumerate(fences, 1) for e in ends

@@ -51,5 +51,13 @@ def fence_motion(analysis: Analysis, design: FenceDesign, exit_angle: float | No
         lo, hi = lo + a, hi + a
         if i == guide:  # and off the guide's own tip
             lo, hi = exit_turn(lo, hi, a)
-        after.append(merged_arcs(lo, hi))
+        arcs = merged_arcs(*_copies(lo, hi, push.symmetry))  # the image lands in one period: every copy
+        after.append(arcs)
+        lo, hi = np.array([x for x, _ in arcs]), np.array([y for _, y in arcs])
     return Motion(plain.period, plain.images, tuple(after))
+
+
+def _copies(lo: np.ndarray, hi: np.ndarray, period: float) -> tuple[np.ndarray, np.ndarray]:
+    """The arcs [lo, hi] and their copies shifted by every multiple of ``period`` round the circle."""
+    k = np.arange(max(1, round(2 * np.pi / period))) * period
+    return (lo[None, :] + k[:, None]).ravel(), (hi[None, :] + k[:, None]).ravel()

@@ -85,6 +85,8 @@ def even_odd(rings: list[np.ndarray]) -> list[Any]:
 
 SCALE_DIGITS = 9
 """DIMLFAC values equal to this many digits are one drawing scale."""
+SCALE_MATCH_REL = 1e-6
+"""A DIMLFAC within this fraction of a standard drawing scale is that scale."""
 DRAWING_SCALES = (0.5, 0.2, 0.1, 0.05, 0.02, 2.0, 5.0, 20.0, 50.0)
 """DIMLFAC values read as the drawing's scale (ISO 5455: 2:1, 5:1, 10:1, 20:1, 50:1 and
 1:2, 1:5, 1:20, 1:50). Others are taken for a unit change between the drawing and its
@@ -115,7 +117,7 @@ def drawing_scale(entities: Any) -> tuple[float, str | None]:
                          f"{', '.join(f'{f:g}' for f in sorted(factors))}): read as drawn")
         return 1.0, None
     (f, n), = factors.items()
-    if not any(abs(f - s) <= 1e-6 * s for s in DRAWING_SCALES):
+    if not any(abs(f - s) <= SCALE_MATCH_REL * s for s in DRAWING_SCALES):
         return 1.0, (f"the dimensions read {f:g} × the drawn lengths (DIMLFAC), a unit change rather than a "
                      "drawing scale: read as drawn (in the header's unit)")
     return f, (f"the drawing is at {_ratio(f)}: its {n} dimension(s) read {f:g} × the drawn lengths (DIMLFAC): "

@@ -36,6 +36,7 @@ import re
 from dataclasses import dataclass
 from itertools import permutations
 
+from algrasp.geometry.angles import to_deg
 from algrasp.io.cad.clutter import COPY_AREA_REL, Loops, Marks, groups
 
 VIEW_ALIGN_REL = 5e-3
@@ -193,7 +194,7 @@ def _skew(lp: Loops, members: list[int]) -> float:
                 continue
             dx, dy = s["end"][0] - s["start"][0], s["end"][1] - s["start"][1]
             length = math.hypot(dx, dy)
-            angle = math.degrees(math.atan2(abs(dy), abs(dx)))
+            angle = to_deg(math.atan2(abs(dy), abs(dx)))
             total += length
             off += length if SKEW_DEG < angle < 90.0 - SKEW_DEG else 0.0
     return off / total if total > 0 else 0.0
