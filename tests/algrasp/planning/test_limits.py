@@ -39,7 +39,8 @@ def test_screened_limits_equal_one_search_per_range(name: str, action: str, monk
     assert screened == _refused_limits(PARTS[name], action)
 
 
-def test_the_screen_saves_probes_when_no_single_range_helps(monkeypatch: pytest.MonkeyPatch) -> None:
+def _count_probes(monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    """A list that grows by one at each limit probe (``_plan_exists``) from now on."""
     calls: list[int] = []
     real = lim._plan_exists
 
@@ -48,6 +49,11 @@ def test_the_screen_saves_probes_when_no_single_range_helps(monkeypatch: pytest.
         return real(*args)
 
     monkeypatch.setattr(lim, "_plan_exists", counted)
+    return calls
+
+
+def test_the_screen_saves_probes_when_no_single_range_helps(monkeypatch: pytest.MonkeyPatch) -> None:
+    calls = _count_probes(monkeypatch)
     found = _refused_limits(PARTS["random 5-gon"], "squeeze")
     screened = len(calls)
     assert found is not None and all(found[n]["value"] is None for n in sum(lim.SCREENS, ()))
@@ -76,14 +82,7 @@ def test_a_refusal_searches_its_limits_when_first_read(read: str, monkeypatch: p
     analysis = analyse_document(PARTS["random 5-gon"], ROBUST)
     eager = lim.limits(analysis, "squeeze", plan_once, refused=True)
     eager["push_grasp_orients"] = lim.plan_exists(analysis, analysis.robust.physics, "push_grasp", plan_once, 0.0)  # type: ignore[union-attr]
-    calls: list[int] = []
-    real = lim._plan_exists
-
-    def counted(*args: Any) -> bool:
-        calls.append(1)
-        return real(*args)
-
-    monkeypatch.setattr(lim, "_plan_exists", counted)
+    calls = _count_probes(monkeypatch)
     with pytest.raises(NotOrientableError) as refused:
         make_plan(analysis, "squeeze")
     err = refused.value
