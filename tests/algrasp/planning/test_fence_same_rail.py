@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 import pytest
@@ -61,7 +62,7 @@ def test_same_rail_layout_catches_the_part_off_each_tip(name: str,
     leaves 2a + c to the far rail; each fence's x-extent lies past the one before (no
     crossing); each length is its reach over sin β."""
     out, _ = layouts[name]
-    doc = out.to_dict()
+    doc: dict[str, Any] = dict(out.to_dict())
     a, W, fences = doc["cover_radius"], doc["belt_width"], doc["fences"]
     for prev, f in zip(fences, fences[1:]):
         x_tip = prev["position"] + prev["reach"] / math.tan(math.radians(prev["steepness_deg"]))
@@ -83,5 +84,5 @@ def test_alternating_refusal_names_the_same_rail_design() -> None:
     analysis = analyse_document(doc, EXACT)
     with pytest.raises(NotOrientableError, match=r"consecutive fences on one rail \(--same-rail\)") as err:
         design_fences(analysis)
-    assert err.value.limits["same_rail_design"] is True
+    assert (err.value.limits or {})["same_rail_design"] is True
     assert design_fences(analysis, replace(DEFAULT_RULES, same_rail=True)).angles
