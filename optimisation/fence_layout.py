@@ -324,14 +324,15 @@ def with_tail(out: FenceLayout, radius: float, sweep_deg: float | None = None) -
     need = out.push_bounds[-1] * math.cos(beta) - (c if len(out.lengths) == 1 else 0.0)
     h_now = out.reach_of(len(out.lengths) - 1)
     sides = out.design.sides
-    if len(sides) > 1 and sides[-1] == sides[-2]:  # it must still reach 2a + s_N cos β_N past the fence before
-        slack = h_now - (out.reach_of(len(sides) - 2) + 2.0 * a + need)
-    else:
-        slack = h_now - ((4.0 + CLEARANCE) * a + need)
+    same = len(sides) > 1 and sides[-1] == sides[-2]
+    # on the rail of the fence before, it must still reach 2a + s_N cos β_N past it, whatever the belt's width
+    floor = out.reach_of(len(sides) - 2) + 2.0 * a if same else (4.0 + CLEARANCE) * a
+    slack = h_now - (floor + need)
     if delta > slack + ROUNDING:
+        wider = ("" if same else f", or a belt {delta - slack:.4g} {out.units} wider (belt_width)")
         raise ConfigError("tail", f"a tail of radius {radius:g} {out.units} shortens the last fence by {delta:.4g} {out.units} "
                           f"across the belt, more than the {max(slack, 0.0):.4g} {out.units} it can spare: use a smaller "
-                          f"radius or sweep, or a belt {delta - slack:.4g} {out.units} wider (belt_width)")
+                          f"radius or sweep{wider}")
     h = h_now - delta
     lengths = out.lengths[:-1] + (h / math.sin(beta),)
     return replace(out, tail=Tail(float(radius), float(sweep)), last_reach=h, lengths=lengths)

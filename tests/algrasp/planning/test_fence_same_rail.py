@@ -86,3 +86,20 @@ def test_alternating_refusal_names_the_same_rail_design() -> None:
         design_fences(analysis)
     assert (err.value.limits or {})["same_rail_design"] is True
     assert design_fences(analysis, replace(DEFAULT_RULES, same_rail=True)).angles
+
+
+def test_tail_keeps_the_same_rail_reach(layouts: dict[str, tuple[FenceLayout, brute.ExactPart]]) -> None:
+    """Pie-20's last two fences share a rail: a tail may shorten the last one only while it
+    still reaches 2a + s_N cos β_N past the one before, which a wider belt does not change
+    (so the refusal does not offer one); a small tail that keeps it is accepted."""
+    from algrasp.errors import ConfigError
+    from optimisation.fence_layout import with_tail
+
+    out, _ = layouts["pie"]
+    assert out.design.sides[-1] == out.design.sides[-2]
+    with pytest.raises(ConfigError, match="smaller radius or sweep$"):
+        with_tail(out, 5.0)
+    tailed = with_tail(out, 1.0)
+    a, n = tailed.cover_radius, len(tailed.lengths)
+    lateral = tailed.push_bounds[-1] * math.cos(tailed.steepness[-1])
+    assert tailed.reach_of(n - 1) >= tailed.reach_of(n - 2) + 2.0 * a + lateral - 1e-9
