@@ -3,7 +3,8 @@
 The model — the push a fence applies, admissible angles, designs and margins — is
 :mod:`algrasp.planning.fence_model`. Fences alternate rails, so consecutive angles differ
 by δ = α_{i+1} − α_i in ``(2 atan μ_f, 180° − 2β_min]`` (right → left) or its negative
-(left → right), and the angles themselves stay in the admissible set.
+(left → right), and the angles themselves stay in the admissible set; with
+``rules.same_rail`` the next fence may stand on either rail (twice the branching).
 
 The search is breadth-first over designs: fence angles on a grid of each side's
 admissible set; a state is the arc of orientations (relative to its last fence) the part
