@@ -357,7 +357,7 @@ def plan(source: PartSource, *, action: Action | str = "squeeze", min_margin_deg
 def fences(source: PartSource, *, fence_friction: float | list[float] | tuple[float, float] | None = None,
            belt_width: float | None = None, min_margin_deg: float = 1.0, exact: bool | None = None,
            physics: PhysicsSource = None, tail: float | Mapping[str, Any] | None = None,
-           exit_steepness_deg: float | None = None, exit_turns: bool = True) -> FenceLayout:
+           exit_steepness_deg: float | None = None, exit_turns: bool = True, same_rail: bool = False) -> FenceLayout:
     """The fewest conveyor fences that bring the part from any orientation to one (up to
     its push function's symmetry), laid out on a belt moving along +x (conventions §9).
 
@@ -387,6 +387,9 @@ def fences(source: PartSource, *, fence_friction: float | list[float] | tuple[fl
         Model the turn towards the belt (by up to the fence's angle to it) that a part
         takes as it comes off each fence's tip; False plans in Berretty et al.'s model,
         where it keeps its orientation between fences (Drake shows it does not).
+    same_rail : bool, default False
+        Let consecutive fences stand on one rail (the later one reaching further across the
+        belt, past where the part comes off the earlier one's tip); by default they alternate.
 
     Returns
     -------
@@ -416,7 +419,9 @@ def fences(source: PartSource, *, fence_friction: float | list[float] | tuple[fl
     beta_e = None if exit_steepness_deg is None else _number(exit_steepness_deg, "exit_steepness_deg")
     if not isinstance(exit_turns, bool):
         raise ConfigError("exit_turns", f"expected true or false, got {exit_turns!r}")
-    out = plan_fences(analysis, rules, _number(min_margin_deg, "min_margin_deg"), width, beta_e, exit_turns)
+    if not isinstance(same_rail, bool):
+        raise ConfigError("same_rail", f"expected true or false, got {same_rail!r}")
+    out = plan_fences(analysis, rules, _number(min_margin_deg, "min_margin_deg"), width, beta_e, exit_turns, same_rail)
     return out if tail is None else _with_tail(out, tail)
 
 

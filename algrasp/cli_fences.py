@@ -54,6 +54,9 @@ def fence_design_options(p: Any) -> None:
     p.add_argument("--no-exit-turns", dest="exit_turns", action="store_false",
                    help="plan in Berretty et al.'s model: a part keeps its orientation between fences (by default "
                         "it may turn towards the belt by up to a fence's angle to it as it comes off the tip)")
+    p.add_argument("--same-rail", dest="same_rail", action="store_true",
+                   help="let consecutive fences stand on one rail (the later reaching further across the belt); by "
+                        "default fences alternate rails")
 
 
 def add_validate_fences_options(p: Any) -> None:
@@ -82,8 +85,9 @@ def check_validate_flags(args: argparse.Namespace) -> None:
         for name in FENCES_ONLY:
             if getattr(args, name) is not None:
                 raise ConfigError(name, "needs --fences (it describes the belt and its fences)")
-        if not args.exit_turns:
-            raise ConfigError("exit_turns", "needs --fences (it describes the belt and its fences)")
+        for name in ("exit_turns", "same_rail"):
+            if getattr(args, name) != (name == "exit_turns"):
+                raise ConfigError(name, "needs --fences (it describes the belt and its fences)")
         return
     for name, default in GRIPPER_ONLY.items():
         if getattr(args, name) != default:
@@ -142,7 +146,8 @@ def fence_options(args: argparse.Namespace) -> dict[str, Any]:
     tail = None if args.tail is None else {"radius": args.tail, "sweep_deg": args.tail_sweep}
     return {"fence_friction": args.fence_friction, "belt_width": args.belt_width,
             "min_margin_deg": args.min_margin_deg, "exact": model.exact, "physics": model.physics, "tail": tail,
-            "exit_steepness_deg": args.exit_steepness_deg, "exit_turns": args.exit_turns}
+            "exit_steepness_deg": args.exit_steepness_deg, "exit_turns": args.exit_turns,
+            "same_rail": args.same_rail}
 
 
 def print_validation(v: dict[str, Any]) -> None:

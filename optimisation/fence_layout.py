@@ -13,7 +13,13 @@ so with every fence reaching h = W − 2a − c (c = a/2, the clearance beside a
 
 and the first fence (parts enter along its side, within 2a of it) needs W ≥ 6a + c +
 s_1 cos β_1. Fence i's root is at ``position`` along the belt, its tip h·cot β_i further;
-the next root is 2a past that tip. The last fence is followed by its exit guide
+the next root is 2a past that tip. With consecutive fences on one rail (``same_rail``)
+the later one must catch the part where it comes off the earlier one's tip, within 2a of
+it: h_i ≥ h_{i−1} + 2a + s_i cos β_i. So a fence followed by one on its own rail reaches
+D_i less than h (D_i = D_{i+1} + 2a + s_{i+1} cos β_{i+1}, the last of a run reaching h),
+and the bounds above read h_i = h − D_i: the belt widens by the D's. Each root lies
+downstream of the tip before, every fence slanting downstream: no fence crosses another.
+The last fence is followed by its exit guide
 (:mod:`algrasp.planning.fence_exit`): s_e cot β_e long from its tip at β_e, rising
 s_e cos β_e across the belt, by which the last fence is shortened and the belt widened.
 Lengths in the part's unit.
@@ -99,6 +105,9 @@ class FenceLayout:
     """The guide's length along its wall (part units): its push bound times cot β_e."""
     exit_push_bound: float = 0.0
     """s_e: Peshkin's push distance over the arc the part arrives at the guide in."""
+    reaches: tuple[float, ...] | None = None
+    """Each fence's extent across the belt when they differ: a fence followed by one on the
+    same rail reaches less than h (None: every fence ``reach``, the last ``last_reach``)."""
     motion: Motion | None = None
     """The push's images and each fence's arcs after it (:mod:`algrasp.planning.fence_motion`):
     the document's ``images`` and fences' ``image_deg``, what a page animates."""
@@ -111,9 +120,15 @@ class FenceLayout:
     def tip(self, i: int) -> tuple[float, float]:
         """Fence i's free end (x, y) on the belt (y = 0 the right rail, y = W the left)."""
         beta = self.steepness[i]
-        h = self.last_reach if self.last_reach is not None and i == len(self.lengths) - 1 else self.reach
+        h = self.reach_of(i)
         x = self.positions[i] + h / math.tan(beta)
         return x, h if self.design.sides[i] == 0 else self.belt_width - h
+
+    def reach_of(self, i: int) -> float:
+        """Fence i's extent across the belt from its rail (part units)."""
+        if self.last_reach is not None and i == len(self.lengths) - 1:
+            return self.last_reach
+        return self.reach if self.reaches is None else self.reaches[i]
 
     def root(self, i: int) -> tuple[float, float]:
         """Fence i's end on its rail (x, y)."""
@@ -181,13 +196,16 @@ class FenceLayout:
                    "push_distance_bound": p}
                   for s, a, b, x, n, m, p in zip(d.sides, d.angles, self.steepness, self.positions, self.lengths,
                                                  d.margins, self.push_bounds)]
+        for i, f in enumerate(fences):
+            f["reach"] = self.reach_of(i)
         if self.motion is not None:
             for f, arcs in zip(fences, self.motion.after):
                 f["image_deg"] = [[_deg(a), _deg(b)] for a, b in arcs]
         return {"units": self.units, "model": "exact" if d.exact else "robust", "belt_direction_deg": 0.0,
                 "belt_width": self.belt_width, "reach": self.reach, "cover_radius": self.cover_radius,
                 "fence_friction": list(d.rules.friction), "max_steepness_deg": _deg(d.rules.max_steepness),
-                "min_steepness_deg": _deg(d.rules.min_steepness), "exit_turns": d.rules.exit_turns, "fences": fences,
+                "min_steepness_deg": _deg(d.rules.min_steepness), "exit_turns": d.rules.exit_turns,
+                "same_rail": d.rules.same_rail, "fences": fences,
                 "total_length": float(sum(self.lengths)), "symmetry_period_deg": _deg(d.symmetry),
                 "final_orientations_deg": [_deg(f) for f in self.claim()[0]],
                 "final_uncertainty_deg": _deg(self.claim()[1]),
@@ -244,21 +262,38 @@ def layout(analysis: Analysis, design: FenceDesign, belt_width: float | None = N
     s_e = 0.0 if guide is None else push_distances(model, analysis, [guide.input], to_rad(PUSH_TOLERANCE_DEG),
                                                    to_rad(UNSTABLE_BAND_DEG))[0].bound
     rise = s_e * math.cos(guide.steepness) if guide is not None else 0.0
-    need = [s[0] * math.cos(beta[0]) - CLEARANCE * a] + [si * math.cos(b) for si, b in zip(s[1:], beta[1:])]
-    need[-1] += rise
+    short = _shortfalls(design.sides, [si * math.cos(b) for si, b in zip(s, beta)], a, rise)
+    need = [s[0] * math.cos(beta[0]) - CLEARANCE * a + short[0]]
+    need += [si * math.cos(b) + d0 + d1 for si, b, d0, d1, s0, s1 in zip(s[1:], beta[1:], short, short[1:], design.sides,
+                                                                           design.sides[1:]) if s0 != s1]
     least = (6.0 + 2.0 * CLEARANCE) * a + max(need)
     if belt_width is not None and not (np.isfinite(belt_width) and belt_width >= least):
         raise ConfigError("belt_width", f"this design needs a belt at least {least:.4g} {analysis.part.units} wide, "
                           f"got {belt_width!r}")
     W = least if belt_width is None else float(belt_width)
     h = W - (2.0 + CLEARANCE) * a
+    reaches = [h - d for d in short]
     positions = [0.0]
-    for b in beta[:-1]:
-        positions.append(positions[-1] + h / math.tan(b) + SPACING * a)
-    lengths = tuple(h / math.sin(b) for b in beta[:-1]) + ((h - rise) / math.sin(beta[-1]),)
+    for hi, b in zip(reaches[:-1], beta[:-1]):
+        positions.append(positions[-1] + hi / math.tan(b) + SPACING * a)
+    lengths = tuple(hi / math.sin(b) for hi, b in zip(reaches, beta))
+    same = any(s0 == s1 for s0, s1 in zip(design.sides, design.sides[1:]))
     return FenceLayout(design, W, h, tuple(s), lengths, tuple(positions), a, analysis.part.units,
-                       last_reach=h - rise if guide is not None else None, exit=guide,
-                       exit_length=0.0 if guide is None else s_e / math.tan(guide.steepness), exit_push_bound=s_e)
+                       last_reach=reaches[-1] if guide is not None or same else None, exit=guide,
+                       exit_length=0.0 if guide is None else s_e / math.tan(guide.steepness), exit_push_bound=s_e,
+                       reaches=tuple(reaches) if same else None)
+
+
+def _shortfalls(sides: tuple[int, ...], lateral: list[float], a: float, rise: float) -> list[float]:
+    """D_i: how much less than the full reach h each fence reaches across the belt (part
+    units). The last fence falls short by the exit guide's ``rise``; a fence followed by
+    one on the same rail by that one's D plus 2a + s cos β of it (``lateral``: s_i cos β_i),
+    so the later fence reaches past the earlier one's tip by all a part leaving it can
+    occupy (2a) and its own turn; a fence followed by one on the other rail reaches h. O(N)."""
+    out = [rise]
+    for i in range(len(sides) - 2, -1, -1):
+        out.insert(0, out[0] + 2.0 * a + lateral[i + 1] if sides[i] == sides[i + 1] else 0.0)
+    return out
 
 
 def with_tail(out: FenceLayout, radius: float, sweep_deg: float | None = None) -> FenceLayout:
@@ -287,12 +322,17 @@ def with_tail(out: FenceLayout, radius: float, sweep_deg: float | None = None) -
     c = CLEARANCE * a
     delta = max(radius * (1.0 - math.cos(sweep)) - c, 0.0)
     need = out.push_bounds[-1] * math.cos(beta) - (c if len(out.lengths) == 1 else 0.0)
-    h_now = out.reach if out.last_reach is None else out.last_reach
-    slack = h_now - ((4.0 + CLEARANCE) * a + need)
+    h_now = out.reach_of(len(out.lengths) - 1)
+    sides = out.design.sides
+    same = len(sides) > 1 and sides[-1] == sides[-2]
+    # on the rail of the fence before, it must still reach 2a + s_N cos β_N past it, whatever the belt's width
+    floor = out.reach_of(len(sides) - 2) + 2.0 * a if same else (4.0 + CLEARANCE) * a
+    slack = h_now - (floor + need)
     if delta > slack + ROUNDING:
+        wider = ("" if same else f", or a belt {delta - slack:.4g} {out.units} wider (belt_width)")
         raise ConfigError("tail", f"a tail of radius {radius:g} {out.units} shortens the last fence by {delta:.4g} {out.units} "
                           f"across the belt, more than the {max(slack, 0.0):.4g} {out.units} it can spare: use a smaller "
-                          f"radius or sweep, or a belt {delta - slack:.4g} {out.units} wider (belt_width)")
+                          f"radius or sweep{wider}")
     h = h_now - delta
     lengths = out.lengths[:-1] + (h / math.sin(beta),)
     return replace(out, tail=Tail(float(radius), float(sweep)), last_reach=h, lengths=lengths)
@@ -300,16 +340,17 @@ def with_tail(out: FenceLayout, radius: float, sweep_deg: float | None = None) -
 
 def plan_fences(analysis: Analysis, rules: FenceRules = DEFAULT_RULES, min_margin_deg: float = DEFAULT_MIN_MARGIN_DEG,
                 belt_width: float | None = None, exit_steepness_deg: float | None = None,
-                exit_turns: bool = True) -> FenceLayout:
+                exit_turns: bool = True, same_rail: bool = False) -> FenceLayout:
     """The fence design of :func:`~algrasp.planning.fences.design_fences`, ties broken by
     the total fence length of its layout, laid out on the belt with its exit guide at
     ``exit_steepness_deg`` (default 2°; the guide is not part of the tie-break); with
-    ``exit_turns`` False in Berretty et al.'s model (no turn over the fences' tips).
+    ``exit_turns`` False in Berretty et al.'s model (no turn over the fences' tips); with
+    ``same_rail`` consecutive fences may stand on one rail.
 
     Raises ConfigError (``exit_steepness_deg``) unless 0 < β_e ≤ 10°."""
 
     beta_e = exit_steepness(exit_steepness_deg)
-    rules = replace(rules, exit_steepness=beta_e, exit_turns=bool(exit_turns))
+    rules = replace(rules, exit_steepness=beta_e, exit_turns=bool(exit_turns), same_rail=bool(same_rail))
     model = push_model(analysis, mean_radius(analysis.part))
 
     def total(design: FenceDesign) -> float:

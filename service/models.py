@@ -172,6 +172,8 @@ class FencesBody(ModelOptions):
                                              "(default 2°): the claim past it is ±β_e/2 wider")
     exit_turns: bool = Field(True, description="model the turn a part takes over each fence's tip (false: Berretty "
                              "et al.'s model, the part keeps its orientation between fences)")
+    same_rail: bool = Field(False, description="let consecutive fences stand on one rail (the later reaching further "
+                            "across the belt); false: they alternate rails")
     validate_: FenceValidateOptions | None = Field(None, alias="validate", description="simulate the design on a belt "
                                                    "in Drake (the document's validation)")
 
@@ -186,7 +188,8 @@ class FencesBody(ModelOptions):
         return {"fence_friction": self.fence_friction, "belt_width": self.belt_width,
                 "min_margin_deg": self.min_margin_deg, "exact": model["exact"], "physics": model["physics"],
                 "tail": None if self.tail is None else self.tail.model_dump(),
-                "exit_steepness_deg": self.exit_steepness_deg, "exit_turns": self.exit_turns}
+                "exit_steepness_deg": self.exit_steepness_deg, "exit_turns": self.exit_turns,
+                "same_rail": self.same_rail}
 
 
 class JobOptions(ModelOptions):

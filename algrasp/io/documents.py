@@ -185,6 +185,7 @@ class Fence(Open):
     steepness_deg: float | None = Field(None, description="β: its angle to the belt direction")
     margin_deg: float | None = Field(None, description="how far the angle may be off, the others as designed")
     push_distance_bound: float | None = Field(None, description="Peshkin's push distance along its normal (part units)")
+    reach: float | None = Field(None, description="its extent across the belt from its rail (part units)")
 
 
 class ExitGuideDoc(Open):
@@ -212,6 +213,8 @@ class FenceDocument(Open):
     fence_friction: list[float] = Field(min_length=2, max_length=2, description="μ_f range the angles hold for")
     exit_turns: bool | None = Field(None, description="whether the design models the turn a part takes over each "
                                     "fence's tip (false: Berretty et al.'s model)")
+    same_rail: bool | None = Field(None, description="whether consecutive fences may stand on one rail (false: they "
+                                   "alternate)")
     fences: list[Fence] = Field(min_length=1)
     total_length: float
     symmetry_period_deg: float

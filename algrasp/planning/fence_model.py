@@ -101,6 +101,9 @@ class FenceRules:
     exit_turns: bool = True
     """Model the turn a part takes over each fence's tip (:func:`exit_turn`); False is
     Berretty et al.'s model, in which the part keeps its orientation between fences."""
+    same_rail: bool = False
+    """Let consecutive fences stand on one rail (the layout then makes the later reach
+    further across the belt); False: they alternate rails (conventions §9)."""
 
     @property
     def max_steepness(self) -> float:

@@ -3,7 +3,8 @@
 The model — the push a fence applies, admissible angles, designs and margins — is
 :mod:`algrasp.planning.fence_model`. Fences alternate rails, so consecutive angles differ
 by δ = α_{i+1} − α_i in ``(2 atan μ_f, 180° − 2β_min]`` (right → left) or its negative
-(left → right), and the angles themselves stay in the admissible set.
+(left → right), and the angles themselves stay in the admissible set; with
+``rules.same_rail`` the next fence may stand on either rail (twice the branching).
 
 The search is breadth-first over designs: fence angles on a grid of each side's
 admissible set; a state is the arc of orientations (relative to its last fence) the part
@@ -80,17 +81,17 @@ def _first_level(push: Push, rules: FenceRules) -> _Level:
 
 
 def _next_level(push: Push, rules: FenceRules, level: _Level) -> _Level:
-    """Every state followed by every admissible angle of the other side, pruned to the
-    ``BEAM`` narrowest distinct arcs per angle."""
+    """Every state followed by every admissible angle of the other side (of either side
+    with ``rules.same_rail``), pruned to the ``BEAM`` narrowest distinct arcs per angle."""
     parts = []
-    for s in (0, 1):
+    for s, nxt in ((0, 1), (1, 0), (0, 0), (1, 1))[:4 if rules.same_rail else 2]:
         idx = np.nonzero(level.side == s)[0]
-        grid = rules.grid(1 - s)
+        grid = rules.grid(nxt)
         shift = level.alpha[idx, None] - grid[None, :]
         lo0, hi0 = leave(level.lo[idx], level.hi[idx], level.alpha[idx], rules.exit_turns)
         lo, hi = push.image(lo0[:, None] + shift, hi0[:, None] + shift)
         cols = np.broadcast_to(grid[None, :], lo.shape)
-        parts.append((lo.ravel(), hi.ravel(), cols.ravel(), np.full(lo.size, 1 - s), np.repeat(idx, len(grid))))
+        parts.append((lo.ravel(), hi.ravel(), cols.ravel(), np.full(lo.size, nxt), np.repeat(idx, len(grid))))
     lo, hi, alpha, side, parent = (np.concatenate(x) for x in zip(*parts))
     keep = _prune(lo, hi, alpha, push.symmetry)
     return _Level(lo[keep], hi[keep], alpha[keep], side[keep], parent[keep])
@@ -257,18 +258,25 @@ def _design(analysis: Analysis, push: Push, rules: FenceRules, angles: list[floa
                        unc, T, rules, push.exact)
 
 
+SAME_RAIL_HINT = "; a design exists with consecutive fences on one rail (--same-rail)"
+
+
 def _refusal(analysis: Analysis, push: Push, rules: FenceRules, margin: float) -> NotOrientableError:
-    """Why no design exists, and the largest fence friction under which one would."""
+    """Why no design exists, and the largest fence friction under which one would. When
+    fences alternate and the exit turns are modelled, one more search tells whether
+    consecutive fences on one rail would orient the part (``limits["same_rail_design"]``)."""
     if rules.exit_turns and _search(analysis, push, replace(rules, exit_turns=False), margin, None) is not None:
-        return NotOrientableError("no_fence_design", f"no sequence of at most {MAX_FENCES} alternating fences orients the "
+        same = not rules.same_rail and _search(analysis, push, replace(rules, same_rail=True), margin, None) is not None
+        return NotOrientableError("no_fence_design", f"no sequence of at most {MAX_FENCES} {_kind(rules)}fences orients the "
                                   "part once the turn it takes over each fence's tip is modelled (up to the fence's "
                                   "angle to the belt): past each tip it lies where a fence parallel to the belt "
                                   "would leave it, so the next fence, on the other rail, sees its outcomes shifted by "
                                   "180° − β only (conventions §9); in Berretty et al.'s model, where it keeps its orientation "
                                   "between fences, a design exists (exit_turns false, --no-exit-turns), which Drake "
-                                  "does not bear out", {"fence_friction_max": None, "berretty_design": True})
+                                  "does not bear out" + (SAME_RAIL_HINT if same else ""),
+                                  {"fence_friction_max": None, "berretty_design": True, "same_rail_design": same})
     mu = friction_limit(analysis, push, rules, margin)
-    base = (f"no sequence of at most {MAX_FENCES} alternating fences with steepness in "
+    base = (f"no sequence of at most {MAX_FENCES} {_kind(rules)}fences with steepness in "
             f"[{to_deg(rules.min_steepness):g}°, {to_deg(rules.max_steepness):.3g}°) (fence friction ≤ "
             f"{rules.friction[1]:g}) and margins ≥ {to_deg(margin):g}° orients the part")
     if mu is None:
@@ -280,11 +288,15 @@ def _refusal(analysis: Analysis, push: Push, rules: FenceRules, margin: float) -
                               {"fence_friction_max": mu})
 
 
+def _kind(rules: FenceRules) -> str:
+    """How the refusal names the fences: "alternating", or "" (either rail) with ``same_rail``."""
+    return "" if rules.same_rail else "alternating "
+
+
 def friction_limit(analysis: Analysis, push: Push, rules: FenceRules, margin: float) -> float | None:
     """The largest μ_f,hi (bisection, ``LIMIT_PROBES`` steps) with a design; None: none even at 0."""
     def exists(mu: float) -> bool:
-        return _search(analysis, push, FenceRules((0.0, mu), rules.min_steepness, rules.exit_steepness, rules.exit_turns), margin,
-                       None) is not None
+        return _search(analysis, push, replace(rules, friction=(0.0, mu)), margin, None) is not None
 
     if not exists(0.0):
         return None

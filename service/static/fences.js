@@ -18,6 +18,7 @@ function request(state) {
     fence_friction: [Number($("fence-mu-lo").value), Number($("fence-mu-hi").value)],
     min_margin_deg: Number($("fence-margin").value),
     exit_turns: $("fence-tip-turns").checked,
+    same_rail: $("fence-same-rail").checked,
   };
   const w = $("belt-width").value.trim();
   if (w) body.belt_width = Number(w);

@@ -112,3 +112,19 @@ def test_drawing_by_suffix(rect_file: Path, tmp_path: Path, capsys: pytest.Captu
     assert out.read_text().lstrip().startswith("0")
     assert main(["fences", str(rect_file), "--exact", "--drawing", str(tmp_path / "belt.png")]) == 2
     assert capsys.readouterr().err.startswith("algrasp: error: --drawing: expected a .dxf or .svg file name")
+
+
+def test_same_rail_flag_is_the_apis(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``--same-rail`` on ``fences`` and ``validate --fences`` (the shared options): the
+    triangle's design is the API's, with consecutive fences on one rail; without
+    ``--fences`` the flag is named as needing it."""
+    tri = tmp_path / "tri.json"
+    tri.write_text(json.dumps({"name": "tri", "units": "in", "boundary": [[0, 0], [5, 0], [1, 3]]}))
+    assert main(["fences", str(tri), "--exact", "--same-rail", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc == json.loads(json.dumps(algrasp.fences(json.loads(tri.read_text()), exact=True,
+                                                       same_rail=True).to_dict()))
+    sides = [f["side"] for f in doc["fences"]]
+    assert doc["same_rail"] and any(a == b for a, b in zip(sides, sides[1:]))
+    assert main(["validate", str(tri), "--exact", "--same-rail"]) == 2
+    assert capsys.readouterr().err.startswith("algrasp: error: --same-rail: needs --fences")

@@ -40,6 +40,7 @@ def test_fences_answer_the_document(server: Server) -> None:
     ({"tail": {"radius": 10, "sweep_deg": 80}}, "tail"),
     ({"exit_steepness_deg": 12}, "exit_steepness_deg"),
     ({"exit_turns": "maybe"}, "exit_turns"),
+    ({"same_rail": "maybe"}, "same_rail"),
 ])
 def test_bad_input_is_422_naming_the_field(server: Server, body: dict[str, Any], field: str) -> None:
     with server.client() as c:
@@ -110,3 +111,21 @@ def test_layout_dxf_imported_over_http_is_the_layout(server: Server) -> None:
             assert mine[key] == pytest.approx(want[key], abs=1e-9 * doc["belt_width"])
     assert "FenceLayoutOut" in spec["components"]["schemas"]
     assert listed.status_code == 200 and listed.json()["fences"] == got["fences"]
+
+
+TRIANGLE = {"name": "tri", "units": "in", "boundary": [[0, 0], [5, 0], [1, 3]]}
+
+
+def test_same_rail_is_the_apis_and_off_by_default(server: Server) -> None:
+    """The triangle: refused with alternating fences (the refusal naming the same-rail
+    design), designed with ``same_rail``, two consecutive fences on one rail, as the API's."""
+    with server.client() as c:
+        refused = c.post("/v1/fences", json={"part": TRIANGLE, "exact": True})
+        r = c.post("/v1/fences", json={"part": TRIANGLE, "exact": True, "same_rail": True})
+    assert refused.status_code == 422 and "--same-rail" in refused.text
+    assert r.status_code == 200, r.text
+    doc = r.json()
+    FenceDocument.model_validate(doc)
+    assert doc == json.loads(json.dumps(algrasp.fences(TRIANGLE, exact=True, same_rail=True).to_dict()))
+    sides = [f["side"] for f in doc["fences"]]
+    assert doc["same_rail"] is True and any(a == b for a, b in zip(sides, sides[1:]))

@@ -27,7 +27,8 @@ BRACKET = json.loads((ROOT / "algrasp" / "examples" / "bracket.json").read_text(
 PLATE = json.loads((ROOT / "algrasp" / "examples" / "real" / "battery-plate.json").read_text())
 
 
-def _design(pg: Any, model: str = "exact", example: str = "bracket", tip_turns: bool = False) -> dict[str, Any]:
+def _design(pg: Any, model: str = "exact", example: str = "bracket", tip_turns: bool = False,
+            same_rail: bool = False) -> dict[str, Any]:
     """Design on the page; the bracket has a design only in Berretty et al.'s model (no turn
     over the tips), the battery plate in the default one."""
     pg.select_option("#example", example)
@@ -35,6 +36,7 @@ def _design(pg: Any, model: str = "exact", example: str = "bracket", tip_turns: 
     pg.click("button[data-page=fences]")
     pg.select_option("#fence-model", model)
     pg.set_checked("#fence-tip-turns", tip_turns)
+    pg.set_checked("#fence-same-rail", same_rail)
     with pg.expect_response(lambda r: r.url.endswith("/v1/fences") and "svg" not in (r.request.post_data or "")) as resp:
         pg.click("#fence-btn")
     pg.wait_for_selector("#fence-summary[data-fences]")
@@ -158,3 +160,15 @@ def test_validate_on_the_belt_says_what_and_each_sample(page: Any) -> None:  # n
     assert cells[-1] == ("yes" if agrees else "NO")
     assert float(cells[4].rstrip("°")) == pytest.approx(sample["simulated_deg"], abs=0.005)
     assert float(page.get_attribute("#fence-validation-summary", "data-agreement") or -1) == float(agrees)
+
+
+def test_same_rail_checkbox_asks_for_the_same_rail_design(page: Any) -> None:  # noqa: F811
+    """Ticked, the page's request carries ``same_rail`` and shows the API's same-rail design
+    of the bracket (tip turns modelled), two consecutive fences on one rail."""
+    doc = _design(page, "exact", "bracket", tip_turns=True, same_rail=True)
+    want: dict[str, Any] = dict(algrasp.fences(BRACKET, exact=True, fence_friction=[0.1, 0.3], min_margin_deg=1.0,
+                                               same_rail=True).to_dict())
+    assert doc["same_rail"] is True
+    assert [f["angle_deg"] for f in doc["fences"]] == pytest.approx([f["angle_deg"] for f in want["fences"]])
+    assert [f["side"] for f in doc["fences"]] == [f["side"] for f in want["fences"]]
+    assert page.locator("#fence-table tbody tr").count() == len(want["fences"])

@@ -1,0 +1,105 @@
+"""Consecutive fences on one rail (``same_rail``, conventions §9): the designs the exit
+model refuses with alternating fences — pie-20, the triangle, the bracket — held to the
+brute force of ``test_fence_exit`` (the push of ``tests.algrasp.brute``, nothing of
+algrasp, from 3,600 starts, each fence's tip turning the part by a sampled t ∈ [0, β],
+then the exit guide), and their layout's geometry checked from the fence document."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+import pytest
+
+from algrasp.errors import NotOrientableError
+from algrasp.planning.analysis import EXACT, analyse_document
+from algrasp.planning.fences import DEFAULT_RULES, design_fences
+from optimisation.fence_layout import FenceLayout, plan_fences
+from tests.algrasp import brute
+from tests.algrasp.planning.test_fence_exit import _fracs, _miss_deg, _run, _steep
+from tests.algrasp.planning.test_fences import STARTS, _cases
+
+PARTS = ["pie", "triangle", "bracket"]
+
+
+@pytest.fixture(scope="module")
+def layouts() -> dict[str, tuple[FenceLayout, brute.ExactPart]]:
+    out = {}
+    for name in PARTS:
+        doc, model = _cases()[name]
+        analysis = analyse_document(doc, EXACT)
+        out[name] = (plan_fences(analysis, same_rail=True), model(analysis.part.center_of_mass))  # type: ignore[operator]
+    return out
+
+
+@pytest.mark.parametrize("name", PARTS)
+def test_same_rail_designs_hold_by_brute_force(name: str, layouts: dict[str, tuple[FenceLayout, brute.ExactPart]]) -> None:
+    """From 3,600 starts and every sampled tip turn (none, the full β, seeded random):
+    on the last fence at the design's finals, and past the exit guide within its claim;
+    at least two consecutive fences share a rail (the alternating model has no design)."""
+    out, part = layouts[name]
+    design, guide = out.design, out.exit
+    assert len(STARTS) >= 3000 and guide is not None
+    assert any(a == b for a, b in zip(design.sides, design.sides[1:]))
+    push = brute.Flow(part.radius, 0.0)
+    beta_n, sign_n = _steep(design.angles[-1])
+    beta_e, sign_e = _steep(guide.angle)
+    for frac in _fracs(len(design.angles), 11):
+        phi = _run(part, design.angles, frac)
+        assert _miss_deg(phi, design.final_orientations, design.symmetry) < 0.01
+        off = push(phi + sign_n * frac[0] * beta_n - guide.angle) + guide.angle + sign_e * frac[-1][::-1] * beta_e
+        assert _miss_deg(np.mod(off, 2 * np.pi), guide.final_orientations, design.symmetry) \
+            <= math.degrees(guide.final_uncertainty) + 0.01
+
+
+@pytest.mark.parametrize("name", PARTS)
+def test_same_rail_layout_catches_the_part_off_each_tip(name: str,
+                                                        layouts: dict[str, tuple[FenceLayout, brute.ExactPart]]) -> None:
+    """From the document: a fence on the rail of the one before reaches past that one's tip
+    by at least 2a + s_i cos β_i (so past the part's covering radius); every fence's tip
+    leaves 2a + c to the far rail; each fence's x-extent lies past the one before (no
+    crossing); each length is its reach over sin β."""
+    out, _ = layouts[name]
+    doc: dict[str, Any] = dict(out.to_dict())
+    a, W, fences = doc["cover_radius"], doc["belt_width"], doc["fences"]
+    for prev, f in zip(fences, fences[1:]):
+        x_tip = prev["position"] + prev["reach"] / math.tan(math.radians(prev["steepness_deg"]))
+        assert f["position"] >= x_tip + 2.0 * a - 1e-9
+        if f["side"] == prev["side"]:
+            lateral = f["push_distance_bound"] * math.cos(math.radians(f["steepness_deg"]))
+            assert f["reach"] >= prev["reach"] + 2.0 * a + lateral - 1e-9
+            assert f["reach"] - prev["reach"] > a
+        else:
+            assert prev["reach"] + f["reach"] >= W + 2.0 * a - 1e-9
+    for f in fences:
+        assert f["reach"] <= W - 2.5 * a + 1e-9
+        assert f["length"] == pytest.approx(f["reach"] / math.sin(math.radians(f["steepness_deg"])))
+
+
+def test_alternating_refusal_names_the_same_rail_design() -> None:
+    """The default (alternating) model refuses pie-20 and says a same-rail design exists."""
+    doc, _ = _cases()["pie"]
+    analysis = analyse_document(doc, EXACT)
+    with pytest.raises(NotOrientableError, match=r"consecutive fences on one rail \(--same-rail\)") as err:
+        design_fences(analysis)
+    assert (err.value.limits or {})["same_rail_design"] is True
+    assert design_fences(analysis, replace(DEFAULT_RULES, same_rail=True)).angles
+
+
+def test_tail_keeps_the_same_rail_reach(layouts: dict[str, tuple[FenceLayout, brute.ExactPart]]) -> None:
+    """Pie-20's last two fences share a rail: a tail may shorten the last one only while it
+    still reaches 2a + s_N cos β_N past the one before, which a wider belt does not change
+    (so the refusal does not offer one); a small tail that keeps it is accepted."""
+    from algrasp.errors import ConfigError
+    from optimisation.fence_layout import with_tail
+
+    out, _ = layouts["pie"]
+    assert out.design.sides[-1] == out.design.sides[-2]
+    with pytest.raises(ConfigError, match="smaller radius or sweep$"):
+        with_tail(out, 5.0)
+    tailed = with_tail(out, 1.0)
+    a, n = tailed.cover_radius, len(tailed.lengths)
+    lateral = tailed.push_bounds[-1] * math.cos(tailed.steepness[-1])
+    assert tailed.reach_of(n - 1) >= tailed.reach_of(n - 2) + 2.0 * a + lateral - 1e-9
