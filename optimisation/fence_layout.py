@@ -38,6 +38,7 @@ from algrasp.geometry.tolerances import ROUNDING
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.deadband import mean_radius
 from algrasp.planning.fence_exit import ExitGuide, exit_guide, exit_steepness
+from algrasp.planning.fence_model import exit_turn
 from algrasp.planning.fence_motion import fence_motion
 from algrasp.planning.fences import DEFAULT_MIN_MARGIN_DEG, DEFAULT_RULES, FenceDesign, FenceRules, design_fences
 from algrasp.planning.motion import Motion
@@ -183,10 +184,10 @@ class FenceLayout:
         if self.exit is not None:
             return self.exit.final_orientations, self.exit.final_uncertainty
         d = self.design
-        b = self.steepness[-1]
-        turn = -0.5 * b if d.sides[-1] == 0 else 0.5 * b
-        return (tuple(sorted(float(np.mod(f + turn, 2 * np.pi)) for f in d.final_orientations)),
-                d.final_uncertainty + 0.5 * b)
+        finals = np.array(d.final_orientations)
+        lo, hi = exit_turn(finals, finals, d.angles[-1])
+        return (tuple(sorted(float(f) for f in np.mod(0.5 * (lo + hi), 2 * np.pi))),
+                d.final_uncertainty + 0.5 * float(hi[0] - lo[0]))
 
     def to_dict(self) -> dict[str, object]:
         """The fence document (degrees; lengths in ``units``): ``FenceDocument``."""

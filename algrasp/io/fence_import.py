@@ -80,9 +80,15 @@ def _exit(frame: _Frame, guide: tuple[Point, Point]) -> dict[str, Any]:
     """The exit guide (layer EXIT): from its upstream end, its angle and steepness to the
     belt (degrees), length and ends in the belt frame."""
     start, end = sorted((frame.to_belt(e) for e in guide), key=lambda p: p[0])
-    angle = to_deg(math.atan2(end[1] - start[1], end[0] - start[0])) % 180.0
+    return {**_wall(start, end), "start": list(start), "end": list(end)}
+
+
+def _wall(root: Point, tip: Point) -> dict[str, float]:
+    """A wall from ``root`` to ``tip`` (belt frame): its angle and steepness to the belt
+    (degrees, the fence document's) and its length."""
+    angle = to_deg(math.atan2(tip[1] - root[1], tip[0] - root[0])) % 180.0
     return {"angle_deg": angle, "steepness_deg": min(angle, 180.0 - angle),
-            "length": math.hypot(end[0] - start[0], end[1] - start[1]), "start": list(start), "end": list(end)}
+            "length": math.hypot(tip[0] - root[0], tip[1] - root[1])}
 
 
 def _ends(e: Any) -> tuple[Point, Point]:
@@ -125,10 +131,9 @@ def _fence(frame: _Frame, wall: tuple[Point, Point], k: int) -> dict[str, Any]:
     if not any(on):
         raise PartDocumentError("FENCES", f"line {k} on layer FENCES touches neither rail: not a fence")
     root, tip = (p, q) if on[0] else (q, p)
-    angle = to_deg(math.atan2(tip[1] - root[1], tip[0] - root[0])) % 180.0
-    return {"side": "right" if abs(root[1]) <= frame.snap else "left", "angle_deg": angle,
-            "steepness_deg": min(angle, 180.0 - angle), "position": root[0],
-            "length": math.hypot(tip[0] - root[0], tip[1] - root[1]), "tip": [tip[0], tip[1]]}
+    w = _wall(root, tip)
+    return {"side": "right" if abs(root[1]) <= frame.snap else "left", "angle_deg": w["angle_deg"],
+            "steepness_deg": w["steepness_deg"], "position": root[0], "length": w["length"], "tip": [tip[0], tip[1]]}
 
 
 def _tail(frame: _Frame, arc: Any, fences: list[dict[str, Any]]) -> dict[str, Any]:

@@ -25,7 +25,7 @@ from algrasp.errors import ConfigError
 from algrasp.geometry.angles import to_deg, to_rad
 from algrasp.geometry.tolerances import MAX_UNCERTAINTY_RAD, UNCERTAINTY_FLOOR_RAD
 from algrasp.planning.analysis import Analysis
-from algrasp.planning.fence_model import EXIT_STEEPNESS_RAD, FenceDesign, exit_turn, guide_angle, push_of
+from algrasp.planning.fence_model import EXIT_STEEPNESS_RAD, FenceDesign, exit_turn, guide_angle, push_of, to_guide
 from algrasp.planning.planner import GUARD_RAD
 from algrasp.planning.plans import _edge_tilt
 
@@ -89,7 +89,7 @@ def exit_guide(analysis: Analysis, design: FenceDesign, steepness: float) -> Exi
         lo, hi = np.array([push.circle[0]]), np.array([push.circle[1]])
     else:
         lo, hi = push.image(np.array([design.inputs[-1][0]]), np.array([design.inputs[-1][1]]))
-    lo, hi = exit_turn(lo + a_n - alpha, hi + a_n - alpha, a_n)
+    lo, hi = to_guide(lo, hi, a_n, alpha)
     glo, ghi = push.image(lo, hi)
     goal = EXACT_GOAL_RAD if push.exact else 2.0 * MAX_UNCERTAINTY_RAD
     if float(ghi[0] - glo[0]) > goal:

@@ -214,6 +214,17 @@ def guide_angle(alpha: FloatArray | float, steepness: float) -> FloatArray:
     return np.where(a < 0.5 * np.pi, steepness, np.pi - steepness)
 
 
+def to_guide(lo: FloatArray, hi: FloatArray, last: FloatArray | float,
+             guide: FloatArray | float) -> tuple[FloatArray, FloatArray]:
+    """The arcs [lo, hi] the part is in on the last fence at α_N = ``last`` (relative to
+    it, radians) as it arrives at the exit guide at α_e = ``guide``: turned over the
+    fence's tip (:func:`exit_turn`, always: the guide is there to take that turn back),
+    relative to the guide. O(n)."""
+    lo, hi = exit_turn(lo, hi, last)
+    shift = np.asarray(last, dtype=float) - np.asarray(guide, dtype=float)
+    return lo + shift, hi + shift
+
+
 def leave(lo: FloatArray, hi: FloatArray, alpha: FloatArray | float, turns: bool) -> tuple[FloatArray, FloatArray]:
     """The arcs [lo, hi] (any frame, radians) the part may be in when it has left the fence
     at α over its tip: :func:`exit_turn` with ``turns`` (the default model), unchanged
@@ -239,9 +250,7 @@ def collapse_width(push: Push, angles: FloatArray, exit_steepness: float | None 
     if exit_steepness is None:
         return np.asarray(hi - lo)
     last = angles[:, -1]
-    glo, ghi = exit_turn(lo, hi, last)
-    shift = last - guide_angle(last, exit_steepness)
-    glo, ghi = push.image(glo + shift, ghi + shift)
+    glo, ghi = push.image(*to_guide(lo, hi, last, guide_angle(last, exit_steepness)))
     return np.asarray(np.maximum(hi - lo, ghi - glo))
 
 

@@ -22,8 +22,8 @@ from types import SimpleNamespace
 import numpy as np
 
 from algrasp.planning.analysis import Analysis
-from algrasp.planning.fence_model import FenceDesign, exit_turn, leave, on_belt, push_of
-from algrasp.planning.motion import Motion, merged_arcs, motion
+from algrasp.planning.fence_model import FenceDesign, Push, exit_turn, leave, on_belt, push_of, to_guide
+from algrasp.planning.motion import Motion, merged_arcs, motion, periodic_copies
 
 
 def fence_motion(analysis: Analysis, design: FenceDesign, exit_angle: float | None = None) -> Motion:
@@ -35,29 +35,28 @@ def fence_motion(analysis: Analysis, design: FenceDesign, exit_angle: float | No
     belt = on_belt(analysis)
     bounds = None if belt.robust is None else belt.robust.push
     steps = tuple(SimpleNamespace(gripper_angle=float(a)) for a in design.angles)
-    plain = motion(SimpleNamespace(bounds=bounds, transfer=belt.push, steps=steps))
     if not design.rules.exit_turns and exit_angle is None:
-        return plain
+        return motion(SimpleNamespace(bounds=bounds, transfer=belt.push, steps=steps))
+    first = motion(SimpleNamespace(bounds=bounds, transfer=belt.push, steps=steps[:1]))  # the images, fence 1's arcs
     push = push_of(analysis)
-    lo = np.array([a for a, _ in plain.after[0]])
-    hi = np.array([b for _, b in plain.after[0]])
-    after = [plain.after[0]]
-    angles = [*design.angles, *([] if exit_angle is None else [exit_angle])]
-    guide = len(design.angles) if exit_angle is not None else -1  # its index in ``angles``
-    for i in range(1, len(angles)):
-        a = angles[i]
-        lo, hi = leave(lo, hi, angles[i - 1], design.rules.exit_turns or i == guide)  # a guide's input always turned
-        lo, hi = push.image(lo - a, hi - a)
-        lo, hi = lo + a, hi + a
-        if i == guide:  # and off the guide's own tip
-            lo, hi = exit_turn(lo, hi, a)
-        arcs = merged_arcs(*_copies(lo, hi, push.symmetry))  # the image lands in one period: every copy
-        after.append(arcs)
-        lo, hi = np.array([x for x, _ in arcs]), np.array([y for _, y in arcs])
-    return Motion(plain.period, plain.images, tuple(after))
+    after = [first.after[0]]
+    for prev, a in zip(design.angles, design.angles[1:]):
+        lo, hi = leave(*_ends(after[-1]), prev, design.rules.exit_turns)
+        after.append(_world_image(push, lo - a, hi - a, a))
+    if exit_angle is not None:
+        last = design.angles[-1]
+        lo, hi = push.image(*to_guide(*_ends(after[-1], -last), last, exit_angle))
+        after.append(merged_arcs(*periodic_copies(*exit_turn(lo + exit_angle, hi + exit_angle, exit_angle), push.symmetry)))
+    return Motion(first.period, first.images, tuple(after))
 
 
-def _copies(lo: np.ndarray, hi: np.ndarray, period: float) -> tuple[np.ndarray, np.ndarray]:
-    """The arcs [lo, hi] and their copies shifted by every multiple of ``period`` round the circle."""
-    k = np.arange(max(1, round(2 * np.pi / period))) * period
-    return (lo[None, :] + k[:, None]).ravel(), (hi[None, :] + k[:, None]).ravel()
+def _ends(arcs: tuple[tuple[float, float], ...], shift: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """The arcs' lower and upper ends as arrays, shifted."""
+    return np.array([a for a, _ in arcs]) + shift, np.array([b for _, b in arcs]) + shift
+
+
+def _world_image(push: Push, lo: np.ndarray, hi: np.ndarray, alpha: float) -> tuple[tuple[float, float], ...]:
+    """The push's image of the arcs [lo, hi] (relative to a fence at α) as world arcs with
+    every symmetric copy (the image lands in one period)."""
+    glo, ghi = push.image(lo, hi)
+    return merged_arcs(*periodic_copies(glo + alpha, ghi + alpha, push.symmetry))

@@ -50,9 +50,7 @@ def motion(plan: Any) -> Motion:
         period = float(F.period)
         images = tuple((p.start, p.end, p.value, p.value) for p in F.pieces)
         first = [(p.start, p.end) if p.value is None else (p.value, p.value) for p in F.pieces]
-    copies = max(1, round(2 * math.pi / period))
-    lo = np.array([a + k * period for a, _ in first for k in range(copies)])
-    hi = np.array([b + k * period for _, b in first for k in range(copies)])
+    lo, hi = periodic_copies(np.array([a for a, _ in first]), np.array([b for _, b in first]), period)
     steps = plan.steps
     lo, hi = lo + steps[0].gripper_angle, hi + steps[0].gripper_angle
     after = [merged_arcs(lo, hi)]
@@ -65,6 +63,13 @@ def motion(plan: Any) -> Motion:
         lo, hi = lo + a, hi + a
         after.append(merged_arcs(lo, hi))
     return Motion(period, tuple(images), tuple(after))
+
+
+def periodic_copies(lo: np.ndarray, hi: np.ndarray, period: float) -> tuple[np.ndarray, np.ndarray]:
+    """The arcs [lo, hi] and their copies shifted by every multiple of ``period`` round the
+    circle: (k·n,) arrays, k = 2π / period."""
+    k = np.arange(max(1, round(2 * math.pi / period))) * period
+    return (lo[None, :] + k[:, None]).ravel(), (hi[None, :] + k[:, None]).ravel()
 
 
 def merged_arcs(lo: np.ndarray, hi: np.ndarray) -> tuple[Arc, ...]:

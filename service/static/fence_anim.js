@@ -4,17 +4,17 @@
 // motion.js, as the Plan page reads a plan's: passing fence i maps φ to p(φ − α_i) + α_i,
 // a gripper action at α_i. No planner here. Degrees, as the documents.
 
-import { mod, rotate } from "./geom.js";
-import { middle, valueAt, withinClaim } from "./motion.js";
+import { rotate } from "./geom.js";
+import { claimSaid, markFinal, middle, valueAt } from "./motion.js";
+import { el as svgEl } from "./svg.js";
 
-const NS = "http://www.w3.org/2000/svg";
 const RAD = Math.PI / 180;
 const FRAMES = 30; // per leg of the path
 const TURN = 0.6; // the turn against a fence ends this far along it (the rest: aligned)
 
+// An SVG element (svg.js's), appended to ``parent`` when given.
 function el(tag, attrs, parent) {
-  const e = document.createElementNS(NS, tag);
-  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
+  const e = svgEl(tag, attrs);
   if (parent) parent.append(e);
   return e;
 }
@@ -156,11 +156,8 @@ export function playFences(state, phi0) {
 
 function finish(plan, phases, out) {
   const last = phases[phases.length - 1].after;
-  const final = mod(middle(last), 360), claimed = withinClaim(plan, last);
-  out.dataset.finalDeg = final.toFixed(6);
-  out.dataset.finalRange = JSON.stringify(last);
-  out.dataset.claimed = String(claimed);
+  const { final, claimed } = markFinal(out, plan, last);
   const spread = last[1] - last[0] > 1e-6 ? ` (within ±${(0.5 * (last[1] - last[0])).toFixed(2)}°)` : "";
   const where = plan.exit ? "leaves the exit guide" : "leaves the last fence";
-  out.textContent = `${where} at φ = ${final.toFixed(2)}°${spread} — ${claimed ? "a claimed final orientation" : "NOT a claimed final orientation"}`;
+  out.textContent = `${where} at φ = ${final.toFixed(2)}°${spread} — ${claimSaid(claimed)}`;
 }

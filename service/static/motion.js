@@ -47,3 +47,15 @@ export function withinClaim(plan, [lo, hi], slackDeg = 1e-6) {
 }
 
 export const wrapDeg = (x) => mod(x, 360);
+
+// Marks `out` with a played plan's final interval [lo, hi] (data-final-deg, the middle in
+// [0, 360); data-final-range; data-claimed) and returns {final, claimed}.
+export function markFinal(out, plan, last) {
+  const final = mod(middle(last), 360), claimed = withinClaim(plan, last);
+  out.dataset.finalDeg = final.toFixed(6);
+  out.dataset.finalRange = JSON.stringify(last);
+  out.dataset.claimed = String(claimed);
+  return { final, claimed };
+}
+
+export const claimSaid = (claimed) => (claimed ? "a claimed final orientation" : "NOT a claimed final orientation");

@@ -5,7 +5,7 @@
 
 import { api, begin } from "./api.js";
 import { mod } from "./geom.js";
-import { follow, hasImages, middle, withinClaim } from "./motion.js";
+import { claimSaid, follow, hasImages, markFinal, middle } from "./motion.js";
 import { drawScene, frameOf, sceneExtent, turningView, unionBox } from "./scene.js";
 import { describePhysics, limitsWanted, physicsRequest } from "./physics.js";
 import { clearPlot, linePlot } from "./plots.js";
@@ -238,12 +238,8 @@ export function play(state, { host = "anim-view", phi0, onEnd } = {}) {
 
 function finish(state, phases, out, onEnd) {
   const last = phases[phases.length - 1].after;
-  const final = mod(middle(last), 360);
-  const claimed = withinClaim(state.plan, last);
-  out.dataset.finalDeg = final.toFixed(6);
-  out.dataset.finalRange = JSON.stringify(last);
-  out.dataset.claimed = String(claimed);
+  const { final, claimed } = markFinal(out, state.plan, last);
   const spread = last[1] - last[0] > 1e-9 ? ` (within [${mod(last[0], 360).toFixed(2)}°, ${(mod(last[0], 360) + last[1] - last[0]).toFixed(2)}°])` : "";
-  out.textContent = `ends at φ = ${final.toFixed(2)}°${spread} — ${claimed ? "a claimed final orientation" : "NOT a claimed final orientation"}`;
+  out.textContent = `ends at φ = ${final.toFixed(2)}°${spread} — ${claimSaid(claimed)}`;
   if (onEnd) onEnd(final);
 }

@@ -5,6 +5,8 @@
 // series, a gap at each jump) and the CSV export. Every piece drawn is recorded in θ on
 // the plot (`plot.drawn`) so tests can compare it with the API's numbers.
 
+import { mod } from "./geom.js";
+
 export const COLOURS = {
   "band-dead": "rgba(158, 158, 158, 0.3)",
   "band-ramp": "rgba(255, 152, 0, 0.5)", // over a grey dead zone it still reads orange
@@ -74,7 +76,6 @@ function union(spans) {
   return out;
 }
 
-const mod = (x, p) => ((x % p) + p) % p;
 
 // The view's x range and the canvas mapping of a plot.
 function frame(u) {
