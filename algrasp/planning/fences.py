@@ -258,7 +258,8 @@ def _design(analysis: Analysis, push: Push, rules: FenceRules, angles: list[floa
                        unc, T, rules, push.exact)
 
 
-SAME_RAIL_HINT = "; a design exists with consecutive fences on one rail (--same-rail)"
+SAME_RAIL_HINT = "; a design exists with consecutive fences on one rail (same_rail true, --same-rail)"
+"""Added to a refusal with alternating fences when one rail would do (never with ``same_rail``)."""
 
 
 def _refusal(analysis: Analysis, push: Push, rules: FenceRules, margin: float) -> NotOrientableError:
@@ -267,13 +268,7 @@ def _refusal(analysis: Analysis, push: Push, rules: FenceRules, margin: float) -
     consecutive fences on one rail would orient the part (``limits["same_rail_design"]``)."""
     if rules.exit_turns and _search(analysis, push, replace(rules, exit_turns=False), margin, None) is not None:
         same = not rules.same_rail and _search(analysis, push, replace(rules, same_rail=True), margin, None) is not None
-        return NotOrientableError("no_fence_design", f"no sequence of at most {MAX_FENCES} {_kind(rules)}fences orients the "
-                                  "part once the turn it takes over each fence's tip is modelled (up to the fence's "
-                                  "angle to the belt): past each tip it lies where a fence parallel to the belt "
-                                  "would leave it, so the next fence, on the other rail, sees its outcomes shifted by "
-                                  "180° − β only (conventions §9); in Berretty et al.'s model, where it keeps its orientation "
-                                  "between fences, a design exists (exit_turns false, --no-exit-turns), which Drake "
-                                  "does not bear out" + (SAME_RAIL_HINT if same else ""),
+        return NotOrientableError("no_fence_design", _turns_message(rules) + (SAME_RAIL_HINT if same else ""),
                                   {"fence_friction_max": None, "berretty_design": True, "same_rail_design": same})
     mu = friction_limit(analysis, push, rules, margin)
     base = (f"no sequence of at most {MAX_FENCES} {_kind(rules)}fences with steepness in "
@@ -286,6 +281,21 @@ def _refusal(analysis: Analysis, push: Push, rules: FenceRules, margin: float) -
                                   {"fence_friction_max": None})
     return NotOrientableError("no_fence_design", f"{base}; a design exists with fence friction ≤ {mu:.3g}",
                               {"fence_friction_max": mu})
+
+
+def _turns_message(rules: FenceRules) -> str:
+    """The refusal when only the tips' turns stand in the way (Berretty's model has a
+    design): what the next fence sees, on the other rail or, with ``same_rail``, on either."""
+    if rules.same_rail:
+        shift = ("so the next fence sees its outcomes shifted by 180° − β only on the other rail, and by its own "
+                 "steepness β only on the same rail")
+    else:
+        shift = "so the next fence, on the other rail, sees its outcomes shifted by 180° − β only"
+    return (f"no sequence of at most {MAX_FENCES} {_kind(rules)}fences orients the part once the turn it takes over "
+            "each fence's tip is modelled (up to the fence's angle to the belt): past each tip it lies where a fence "
+            f"parallel to the belt would leave it, {shift} (conventions §9); in Berretty et al.'s model, where it "
+            "keeps its orientation between fences, a design exists (exit_turns false, --no-exit-turns), which Drake "
+            "does not bear out")
 
 
 def _kind(rules: FenceRules) -> str:

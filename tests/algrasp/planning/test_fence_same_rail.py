@@ -16,6 +16,7 @@ import pytest
 from algrasp.errors import NotOrientableError
 from algrasp.planning.analysis import EXACT, analyse_document
 from algrasp.planning.fences import DEFAULT_RULES, design_fences
+from algrasp.planning.physics import DEFAULT_PHYSICS
 from optimisation.fence_layout import FenceLayout, plan_fences
 from tests.algrasp import brute
 from tests.algrasp.planning.test_fence_exit import _fracs, _miss_deg, _run, _steep
@@ -82,10 +83,47 @@ def test_alternating_refusal_names_the_same_rail_design() -> None:
     """The default (alternating) model refuses pie-20 and says a same-rail design exists."""
     doc, _ = _cases()["pie"]
     analysis = analyse_document(doc, EXACT)
-    with pytest.raises(NotOrientableError, match=r"consecutive fences on one rail \(--same-rail\)") as err:
+    with pytest.raises(NotOrientableError, match=r"consecutive fences on one rail \(same_rail true, --same-rail\)$") as err:
         design_fences(analysis)
     assert (err.value.limits or {})["same_rail_design"] is True
     assert design_fences(analysis, replace(DEFAULT_RULES, same_rail=True)).angles
+    assert "the next fence, on the other rail, sees its outcomes shifted by 180° − β only" in err.value.message
+
+
+HALF_DISK = {"name": "halfdisk", "units": "mm", "boundary": [
+    {"type": "line", "start": [-15, 0], "end": [15, 0]},
+    {"type": "arc", "center": [0, 0], "radius": 15, "start_deg": 0, "end_deg": 180}]}
+"""Refused in the real cell's robust model with tip turns whether or not fences may share a
+rail, and designed in Berretty et al.'s model either way."""
+REAL = DEFAULT_PHYSICS.to_dict()
+"""The real cell's physics (conventions §8), not the suite's ideal one."""
+
+
+@pytest.mark.parametrize("same_rail", [False, True])
+def test_tip_turn_refusal_says_what_the_next_fence_sees(same_rail: bool) -> None:
+    """The half-disk's refusal describes the mode it was searched in: alternating fences
+    (the next on the other rail) or, with ``same_rail``, fences on either rail (the next on
+    the same rail shifted by its own steepness); it never offers ``--same-rail`` when on,
+    nor (no same-rail design either) when off."""
+    import algrasp
+
+    with pytest.raises(NotOrientableError) as err:
+        algrasp.fences(HALF_DISK, physics=REAL, same_rail=same_rail)
+    msg, limits = err.value.message, err.value.limits or {}
+    assert err.value.reason == "no_fence_design" and limits["berretty_design"] is True
+    assert limits["same_rail_design"] is False
+    assert algrasp.fences(HALF_DISK, physics=REAL, same_rail=same_rail, exit_turns=False).design.angles  # Berretty's model has one
+    assert "a design exists (exit_turns false, --no-exit-turns)" in msg
+    assert "--same-rail" not in msg and "same_rail" not in msg
+    if same_rail:
+        assert msg.startswith("no sequence of at most 12 fences orients the part")
+        assert ("the next fence sees its outcomes shifted by 180° − β only on the other rail, and by its own "
+                "steepness β only on the same rail") in msg
+        assert "alternating" not in msg and "the next fence, on the other rail," not in msg
+    else:
+        assert msg.startswith("no sequence of at most 12 alternating fences orients the part")
+        assert "the next fence, on the other rail, sees its outcomes shifted by 180° − β only" in msg
+        assert "on the same rail" not in msg
 
 
 def test_tail_keeps_the_same_rail_reach(layouts: dict[str, tuple[FenceLayout, brute.ExactPart]]) -> None:
