@@ -468,7 +468,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return exc.exit_code
 
 
-FLAGS = {"element_id": "--id", "gripper_profile": "--gripper"}
+FLAGS = {"element_id": "--id", "gripper_profile": "--gripper", "exit_turns": "--no-exit-turns"}
 """Library parameters whose command-line flag is not ``--`` + the name with dashes."""
 
 

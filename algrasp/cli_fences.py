@@ -37,17 +37,19 @@ def add_fences_command(sub: Any) -> None:
     p.set_defaults(func=cmd_fences)
 
 
-def fence_design_options(p: Any) -> None:
-    """The belt and fence flags ``fences`` and ``validate --fences`` share (not the margin:
-    ``validate`` has its own ``--min-margin-deg``)."""
+def fence_design_options(p: Any, tail: bool = True) -> None:
+    """The belt and fence flags ``fences``, ``validate --fences`` and ``batch --fences``
+    share (not the margin: ``validate`` and ``batch`` have their own ``--min-margin-deg``;
+    ``tail`` False: no ``--tail``, as for a catalogue)."""
     p.add_argument("--fence-friction", "--belt-friction", dest="fence_friction", type=span, metavar="V|LO,HI",
                    help="part–fence friction μ_f (default 0.1,0.3: UHMW-PE guide rails on dry parts); a fence "
                         "slides the part only if its angle to the belt is below 90° − atan μ_f")
     p.add_argument("--belt-width", type=float, metavar="W", help="between the rails, part units (default: the least needed)")
-    p.add_argument("--tail", type=float, metavar="R", help="a curved tail of radius R (part units) on the last fence, "
-                   "tangent at its tip (Brokowski, Peshkin & Goldberg 1995)")
-    p.add_argument("--tail-sweep", type=float, metavar="DEG", help="with --tail: how far it turns towards the belt "
-                   "(default the last fence's angle to the belt less the exit guide's: it ends tangent to the guide)")
+    if tail:
+        p.add_argument("--tail", type=float, metavar="R", help="a curved tail of radius R (part units) on the last "
+                       "fence, tangent at its tip (Brokowski, Peshkin & Goldberg 1995)")
+        p.add_argument("--tail-sweep", type=float, metavar="DEG", help="with --tail: how far it turns towards the belt "
+                       "(default the last fence's angle to the belt less the exit guide's: it ends tangent to the guide)")
     p.add_argument("--exit-steepness-deg", type=float, metavar="DEG", dest="exit_steepness_deg",
                    help="the exit guide's angle to the belt (default 2, at most 10): the claim past it is ±DEG/2 wider, "
                         "the guide cot(DEG) times its push bound long")

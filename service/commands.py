@@ -44,7 +44,7 @@ def cmd_serve(args: argparse.Namespace) -> int:
 
 
 def _options(args: argparse.Namespace) -> dict[str, Any]:
-    from service.fixture import DesignOptions
+    from service.fixture import FENCE_OPTIONS, DesignOptions, check_fence_options
 
     profile = None
     if args.gripper:
@@ -59,13 +59,11 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
     from algrasp.planning.cells import parse_cells
 
     parse_cells(args.sim_physics)
-    if args.fence_friction is not None:
-        from algrasp.planning.fences import fence_rules
-
-        fence_rules(args.fence_friction)
-    return asdict(DesignOptions(args.min_margin_deg, args.validate_samples, args.seed, None, profile,
-                                model["exact"], model.get("physics"), args.sim_physics, args.fences, args.fence_friction,
-                                args.limits))
+    opts = DesignOptions(args.min_margin_deg, args.validate_samples, args.seed, None, profile,
+                         model["exact"], model.get("physics"), args.sim_physics, args.fences, args.fence_friction,
+                         args.limits, **{k: getattr(args, k) for k in FENCE_OPTIONS[1:]})
+    check_fence_options(opts, "--fences")
+    return asdict(opts)
 
 
 def cmd_batch(args: argparse.Namespace) -> int:
@@ -146,11 +144,13 @@ def add_commands(sub: Any) -> None:
                    help="which cells of the physics ranges validation simulates (as for algrasp validate)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--gripper", metavar="PROFILE.yaml|json")
-    p.add_argument("--fences", action="store_true", help="also design conveyor fences for every part (conventions §9)")
-    from algrasp.cli_physics import span
+    g = p.add_argument_group("conveyor fences (with --fences: every part's fence design, as algrasp fences)")
+    g.add_argument("--fences", action="store_true", help="also design conveyor fences for every part (conventions §9)")
+    from algrasp.cli_fences import fence_design_options
 
-    p.add_argument("--fence-friction", "--belt-friction", dest="fence_friction", type=span, metavar="V|LO,HI",
-                   help="with --fences: part–fence friction μ_f (default 0.1,0.3)")
+    fence_design_options(g, tail=False)
+    g.add_argument("--fence-min-margin-deg", type=float, metavar="M", help="every fence angle may be off by M degrees "
+                   "(default --min-margin-deg, at least 1)")
     p.add_argument("--limits", choices=("none", "headline", "all"), default="headline",
                    help="physics limits per part: headline (default) the largest jaw friction with a plan and every "
                    "limit with a refusal; none no search (fastest screen of a catalogue); all every limit")

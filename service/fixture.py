@@ -15,7 +15,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from algrasp.errors import NotOrientableError
+from algrasp.errors import ConfigError, NotOrientableError
 from algrasp.geometry.angles import to_deg
 from algrasp.pipeline import PlanRequest, plan_part
 from algrasp.planning.actions import ACTIONS
@@ -43,6 +43,16 @@ class DesignOptions:
     """Physics limits per part (:data:`algrasp.planning.plans.LimitsWanted`): ``none``
     screens a catalogue fastest (a refusal says only why; the gripper's largest jaw
     friction is not given)."""
+    belt_width: float | None = None
+    """With fences: between the rails, in each part's unit (None: the least its design needs)."""
+    fence_min_margin_deg: float | None = None
+    """With fences: how far every fence angle may be off (None: ``min_margin_deg``, at least 1°)."""
+    exit_steepness_deg: float | None = None
+    """With fences: the exit guide's angle to the belt (None: the planner's 2°)."""
+    exit_turns: bool = True
+    """With fences: model the turn over each fence's tip (False: Berretty et al.'s model)."""
+    same_rail: bool = False
+    """With fences: consecutive fences may stand on one rail (False: they alternate)."""
 
     @property
     def model(self) -> Model:
@@ -116,17 +126,64 @@ def design_part(doc: dict[str, Any], opts: DesignOptions, rec: Any, analysis: An
     return out
 
 
+FENCE_OPTIONS = ("fence_friction", "belt_width", "fence_min_margin_deg", "exit_steepness_deg", "exit_turns",
+                 "same_rail")
+"""The options of :class:`DesignOptions` that describe the belt and its fences (need ``fences``)."""
+
+
+def check_fence_options(opts: DesignOptions, fences: str = "fences") -> None:
+    """ConfigError naming the first fence option that is out of range, or given without
+    ``fences`` (named as ``fences`` says: the option or its flag); the checks of
+    ``algrasp.api.fences``, made once for the whole job."""
+    from algrasp.planning.fence_exit import exit_steepness
+    from algrasp.planning.fences import fence_rules
+
+    if not opts.fences:
+        for name in FENCE_OPTIONS:
+            if getattr(opts, name) != getattr(DesignOptions, name):
+                raise ConfigError(name, f"needs {fences} (it describes the belt and its fences)")
+        return
+    fence_rules(opts.fence_friction)
+    exit_steepness(opts.exit_steepness_deg)
+    if opts.belt_width is not None and not (math.isfinite(opts.belt_width) and opts.belt_width > 0.0):
+        raise ConfigError("belt_width", f"expected a width > 0 (each part's unit), got {opts.belt_width!r}")
+    m = opts.fence_min_margin_deg
+    if m is not None and not (math.isfinite(m) and 0.0 <= m < 45.0):
+        raise ConfigError("fence_min_margin_deg", f"must be in [0, 45), got {m!r}")
+    for name in ("exit_turns", "same_rail"):
+        if not isinstance(getattr(opts, name), bool):
+            raise ConfigError(name, f"expected true or false, got {getattr(opts, name)!r}")
+
+
+def fence_keywords(opts: DesignOptions) -> dict[str, Any]:
+    """The keywords of ``algrasp.api.fences`` the job's options give (but the model), with
+    the defaults filled in: what a part's fence design used (its ``options``)."""
+    from algrasp.planning.fence_exit import DEFAULT_EXIT_STEEPNESS_DEG
+    from algrasp.planning.fences import fence_rules
+
+    margin = max(opts.min_margin_deg, 1.0) if opts.fence_min_margin_deg is None else opts.fence_min_margin_deg
+    steep = DEFAULT_EXIT_STEEPNESS_DEG if opts.exit_steepness_deg is None else opts.exit_steepness_deg
+    return {"fence_friction": list(fence_rules(opts.fence_friction).friction), "belt_width": opts.belt_width,
+            "min_margin_deg": margin, "exit_steepness_deg": steep, "exit_turns": opts.exit_turns,
+            "same_rail": opts.same_rail}
+
+
 def fence_design(analysis: Analysis, opts: DesignOptions) -> dict[str, Any]:
     """The part's conveyor fence document (conventions §9), or why none exists
-    (``{"orientable": false, "reason", "message", "limits"}``); margins as the job's."""
+    (``{"orientable": false, "reason", "message", "limits"}``; a belt too narrow for this
+    part's design: reason ``belt_width``), each with the ``options`` it was designed with."""
     from algrasp.planning.fences import fence_rules
     from optimisation.fence_layout import plan_fences
 
+    kw = fence_keywords(opts)
     try:
-        return {"orientable": True, **plan_fences(analysis, fence_rules(opts.fence_friction),
-                                                  max(opts.min_margin_deg, 1.0)).to_dict()}
+        doc = plan_fences(analysis, fence_rules(kw["fence_friction"]), kw["min_margin_deg"], kw["belt_width"],
+                          kw["exit_steepness_deg"], kw["exit_turns"], kw["same_rail"]).to_dict()
+        return {"orientable": True, "options": kw, **doc}
     except NotOrientableError as e:
-        return {"orientable": False, "reason": e.reason, "message": e.message, "limits": e.limits}
+        return {"orientable": False, "options": kw, "reason": e.reason, "message": e.message, "limits": e.limits}
+    except ConfigError as e:  # an option this part's design cannot take: a belt_width too narrow for it
+        return {"orientable": False, "options": kw, "reason": e.field, "message": e.message, "limits": None}
 
 
 def _requirements(analysis: Analysis, plan_doc: dict[str, Any]) -> dict[str, Any]:

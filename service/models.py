@@ -8,7 +8,16 @@ from __future__ import annotations
 from typing import Annotated, Any, Literal
 
 from fastapi import Query
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, WithJsonSchema, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    ValidationInfo,
+    WithJsonSchema,
+    field_validator,
+    model_validator,
+)
 
 from algrasp.errors import ConfigError
 from algrasp.planning.actions import ALIASES, Action
@@ -200,18 +209,39 @@ class JobOptions(ModelOptions):
     gripper: dict[str, Any] | None = None
     fences: bool = Field(False, description="also design conveyor fences for every part (conventions §9)")
     fence_friction: Range | None = Field(None, description="with fences: part–fence friction μ_f, one value or [lo, hi]")
+    belt_width: float | None = Field(None, gt=0.0, le=1e9, description="with fences: between the rails, in each "
+                                     "part's unit (default: the least each design needs)")
+    fence_min_margin_deg: float | None = Field(None, ge=0.0, lt=45.0, description="with fences: every fence angle "
+                                               "may be off by this much (default min_margin_deg, at least 1°)")
+    exit_steepness_deg: float | None = Field(None, gt=0.0, le=10.0, description="with fences: the exit guide's "
+                                             "angle to the belt (default 2°)")
+    exit_turns: bool = Field(True, description="with fences: model the turn a part takes over each fence's tip "
+                             "(false: Berretty et al.'s model)")
+    same_rail: bool = Field(False, description="with fences: let consecutive fences stand on one rail (false: they "
+                            "alternate rails)")
 
     @field_validator("fence_friction")
     @classmethod
     def _friction(cls, v: Range | None) -> Range | None:
         return _fence_friction(v)
 
+    @field_validator("fence_friction", "belt_width", "fence_min_margin_deg", "exit_steepness_deg", "exit_turns",
+                     "same_rail")
+    @classmethod
+    def _needs_fences(cls, v: Any, info: ValidationInfo) -> Any:
+        """A fence option given (not its default) without ``fences``: refused, named."""
+        if not info.data.get("fences") and v != cls.model_fields[str(info.field_name)].default:
+            raise ValueError("needs fences true (it describes the belt and its fences)")
+        return v
+
     def design(self, cell: Physics = DEFAULT_PHYSICS) -> dict[str, Any]:
         """Keyword arguments of :class:`service.fixture.DesignOptions` (physics over ``cell``)."""
         friction = [self.fence_friction] if isinstance(self.fence_friction, (int, float)) else self.fence_friction
         out: dict[str, Any] = {"min_margin_deg": self.min_margin_deg, "gripper_profile": self.gripper,
                                **self.model_options(cell), "fences": self.fences, "fence_friction": friction,
-                               "limits": "all" if self.limits else "headline"}
+                               "belt_width": self.belt_width, "fence_min_margin_deg": self.fence_min_margin_deg,
+                               "exit_steepness_deg": self.exit_steepness_deg, "exit_turns": self.exit_turns,
+                               "same_rail": self.same_rail, "limits": "all" if self.limits else "headline"}
         if self.validate_ is not None:
             v = self.validate_
             out.update(samples=v.samples, seed=v.seed, placement=v.placement, sim_physics=v.sim_physics)

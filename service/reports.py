@@ -89,8 +89,9 @@ def _fence_lines(results: list[dict[str, Any]]) -> list[str]:
         (r, r["result"]["fences"]) for r in results if (r.get("result") or {}).get("fences") is not None]
     if not rows:
         return []
-    out = ["", "## Conveyor fences", "", "| index | name | fences | belt width | total length | final ± | note |",
-           "|---|---|---|---|---|---|---|"]
+    said = next((f["options"] for _, f in rows if f.get("options")), None)  # the job's: one for every part
+    out = ["", "## Conveyor fences", ""] + ([_fence_options(said), ""] if said else [])
+    out += ["| index | name | fences | belt width | total length | final ± | note |", "|---|---|---|---|---|---|---|"]
     for r, f in rows:
         if f.get("orientable"):
             unit = f["units"]
@@ -100,6 +101,18 @@ def _fence_lines(results: list[dict[str, Any]]) -> list[str]:
         else:
             out.append(f"| {r['index']} | {r['name']} | — | — | — | — | {f['message'].replace('|', '/')} |")
     return out
+
+
+def _fence_options(o: dict[str, Any]) -> str:
+    """The fence options a job designed with, as a sentence (``fence_design``'s ``options``)."""
+    mu = o["fence_friction"]
+    width = "the least each design needs" if o["belt_width"] is None else f"{o['belt_width']:g} (each part's unit)"
+    return (f"Designed with fence friction {mu[0]:g}–{mu[1]:g}; "
+            + ("consecutive fences on either rail (same rail)" if o["same_rail"] else "fences alternating rails")
+            + "; " + ("the turn over each fence's tip modelled" if o["exit_turns"]
+                      else "Berretty model (no turn over the fences' tips)")
+            + f"; exit guide at {o['exit_steepness_deg']:g}° to the belt; fence margins ≥ {o['min_margin_deg']:g}°; "
+            f"belt width {width}.")
 
 
 def report_files(results: list[dict[str, Any]], job: dict[str, Any]) -> dict[str, str]:
