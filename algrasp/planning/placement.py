@@ -54,8 +54,9 @@ def pointwise(fs: list[TransferFunction], take_max: bool, tol_rad: float) -> Tra
     cells = [(a, b) for a, b in zip(cuts[:-1], cuts[1:]) if b - a > 0.0]
     mids = np.array([0.5 * (a + b) for a, b in cells])
     # Every function at every cell's middle in one vectorised lookup each.
-    values = np.array([F.apply(mids) for F in fs]).T.tolist()
-    ramps = np.array([F.on_ramp(mids) for F in fs]).T.tolist()
+    looked = [F.apply_on_ramp(mids) for F in fs]
+    values = np.array([v for v, _ in looked]).T.tolist()
+    ramps = np.array([r for _, r in looked]).T.tolist()
     pieces: list[TransferPiece] = []
     for (a, b), vs, rs in zip(cells, values, ramps):
         consts = [v for v, r in zip(vs, rs) if not r]

@@ -114,6 +114,13 @@ class TransferFunction:
         k, vals = self._lookup(thetas)
         return np.where(np.isnan(vals), thetas, vals + k * self.period)
 
+    def apply_on_ramp(self, thetas: FloatArray) -> tuple[FloatArray, np.ndarray]:
+        """:meth:`apply` and :meth:`on_ramp` from one lookup (radians); O(m log n)."""
+        thetas = np.asarray(thetas, dtype=float)
+        k, vals = self._lookup(thetas)
+        ramp = np.isnan(vals)
+        return np.where(ramp, thetas, vals + k * self.period), ramp
+
     def on_ramp(self, thetas: FloatArray) -> np.ndarray:
         """Whether each θ (radians) lies on a ramp (F(θ) = θ), vectorised; O(m log n)."""
         return np.isnan(self._lookup(np.asarray(thetas, dtype=float))[1])
