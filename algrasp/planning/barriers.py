@@ -11,6 +11,9 @@ That is the first such node on each side of a cell: the *barriers*. They bound h
 a part drifts through a long region of uncertain slope (a tessellated arc whose facets'
 slopes are all within σ), which slope rules alone cannot. With ε = 0 the barrier is
 never before the slope rules' own stop. Vectorised range-maximum search, O(n log n).
+
+The shallow basins belong to the same bound: a drawn minimum less than 2ε deep may be
+no minimum of the real f (:func:`shallow_basins`).
 """
 
 from __future__ import annotations
@@ -114,4 +117,53 @@ def barrier_sets(x: FloatArray, T: float, node_values: FloatArray, cell_levels: 
         right = np.max(np.where(jr < m, xs[at[2 * K * i: 2 * K * i + K]], np.inf), axis=0)
         left = np.min(np.where(jl < m, xs[(m - 1) - at[2 * K * i + K: 2 * K * (i + 1)]] - T, -np.inf), axis=0)
         out.append((right, left))
+    return out
+
+
+def shallow_basins(values: FloatArray, depth: float) -> np.ndarray:
+    """Cells (cyclic sequence of f at cell starts) of a basin whose minimum lies less than
+    ``depth`` below the lower of its two bounding maxima, up to that rim: the real f
+    (within depth/2 of the drawn one) may have no minimum there. O(m).
+
+    >>> shallow_basins(np.array([5, 4, 3, 2.9, 2.95, 2, 1, 2, 3, 4.0]), 0.1).astype(int).tolist()
+    [0, 0, 0, 1, 1, 0, 0, 0, 0, 0]
+    """
+    return basin_cells(values, basins(values, depth))
+
+
+def basin_cells(values: FloatArray, found: list[tuple[np.ndarray, float]]) -> np.ndarray:
+    """:func:`shallow_basins` from the basins :func:`basins` found."""
+    out = np.zeros(len(values), dtype=bool)
+    for span, rim in found:
+        out[span[values[span] <= rim]] = True  # the basin below its lower rim
+    return out
+
+
+def basin_rims(values: FloatArray, depth: float) -> list[float]:
+    """The rim (the lower bounding maximum) of every shallow basin of :func:`shallow_basins`.
+
+    >>> basin_rims(np.array([5, 4, 3, 2.9, 2.95, 2, 1, 2, 3, 4.0]), 0.1)
+    [2.95]
+    """
+    return [rim for _, rim in basins(values, depth)]
+
+
+def basins(values: FloatArray, depth: float) -> list[tuple[np.ndarray, float]]:
+    """(cells from maximum to maximum, rim) of each basin shallower than ``depth``."""
+    m = len(values)
+    step = np.sign(np.concatenate([values[1:], values[:1]]) - values)
+    nz = np.nonzero(step)[0]
+    if depth <= 0.0 or len(nz) < 2:
+        return []
+    s = step[nz]
+    turn = s != np.concatenate([s[-1:], s[:-1]])  # the sign changes at nz[k]: an extremum at its start index
+    idx, kinds = nz[turn], s[turn]  # kinds +1: a minimum (f rises after it), −1: a maximum
+    if len(idx) < 2:
+        return []
+    out = []
+    for k in np.nonzero(kinds > 0)[0].tolist():
+        lo, hi = idx[k - 1], idx[(k + 1) % len(idx)]  # the maxima around minimum idx[k]
+        rim = float(min(values[lo], values[hi]))
+        if rim - values[idx[k]] < depth:
+            out.append((np.arange(lo, hi + (m if hi < lo else 0) + 1) % m, rim))
     return out

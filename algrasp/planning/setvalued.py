@@ -39,7 +39,7 @@ from algrasp.errors import NotOrientableError
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import SupportPairFunction
 from algrasp.geometry.tolerances import ROUNDING, Tolerances
-from algrasp.planning.barriers import barrier_sets
+from algrasp.planning.barriers import barrier_sets, basin_cells, basins
 from algrasp.planning.edges import CURVE_GRID_RAD, crossings, slopes
 from algrasp.planning.symmetry import symmetry_period
 from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical, holding_arcs
@@ -179,55 +179,6 @@ def _permissions(g: FloatArray, v: FloatArray, stall: tuple[float, float], sigma
     rest = a <= jaw_friction * np.abs(v) + stall[1] + sigma
     axes = tuple(range(1, g.ndim))
     return np.asarray(right.any(axis=axes)), np.asarray(left.any(axis=axes)), np.asarray(rest.any(axis=axes))
-
-
-def shallow_basins(values: FloatArray, depth: float) -> np.ndarray:
-    """Cells (cyclic sequence of f at cell starts) of a basin whose minimum lies less than
-    ``depth`` below the lower of its two bounding maxima, up to that rim: the real f
-    (within depth/2 of the drawn one) may have no minimum there. O(m).
-
-    >>> shallow_basins(np.array([5, 4, 3, 2.9, 2.95, 2, 1, 2, 3, 4.0]), 0.1).astype(int).tolist()
-    [0, 0, 0, 1, 1, 0, 0, 0, 0, 0]
-    """
-    return _basin_cells(values, _basins(values, depth))
-
-
-def _basin_cells(values: FloatArray, basins: list[tuple[np.ndarray, float]]) -> np.ndarray:
-    """:func:`shallow_basins` from the basins :func:`_basins` found."""
-    out = np.zeros(len(values), dtype=bool)
-    for span, rim in basins:
-        out[span[values[span] <= rim]] = True  # the basin below its lower rim
-    return out
-
-
-def basin_rims(values: FloatArray, depth: float) -> list[float]:
-    """The rim (the lower bounding maximum) of every shallow basin of :func:`shallow_basins`.
-
-    >>> basin_rims(np.array([5, 4, 3, 2.9, 2.95, 2, 1, 2, 3, 4.0]), 0.1)
-    [2.95]
-    """
-    return [rim for _, rim in _basins(values, depth)]
-
-
-def _basins(values: FloatArray, depth: float) -> list[tuple[np.ndarray, float]]:
-    """(cells from maximum to maximum, rim) of each basin shallower than ``depth``."""
-    m = len(values)
-    step = np.sign(np.concatenate([values[1:], values[:1]]) - values)
-    nz = np.nonzero(step)[0]
-    if depth <= 0.0 or len(nz) < 2:
-        return []
-    s = step[nz]
-    turn = s != np.concatenate([s[-1:], s[:-1]])  # the sign changes at nz[k]: an extremum at its start index
-    idx, kinds = nz[turn], s[turn]  # kinds +1: a minimum (f rises after it), −1: a maximum
-    if len(idx) < 2:
-        return []
-    out = []
-    for k in np.nonzero(kinds > 0)[0].tolist():
-        lo, hi = idx[k - 1], idx[(k + 1) % len(idx)]  # the maxima around minimum idx[k]
-        rim = float(min(values[lo], values[hi]))
-        if rim - values[idx[k]] < depth:
-            out.append((np.arange(lo, hi + (m if hi < lo else 0) + 1) % m, rim))
-    return out
 
 
 def _run_edges(flags: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -376,15 +327,15 @@ def _classify(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatAr
     # real part (nor of the simulation's compliant contact): its basin may go either way.
     starts = v[:, 0, :].T
     flat = starts.ravel()
-    basins = _basins(flat, band.shallow)
-    if basins:
-        basin = np.asarray(_basin_cells(flat, basins).reshape(v.shape[2], -1).any(axis=0))
+    found_basins = basins(flat, band.shallow)
+    if found_basins:
+        basin = np.asarray(basin_cells(flat, found_basins).reshape(v.shape[2], -1).any(axis=0))
         right, left = right | basin, left | basin
     # The energy bound holds for the weakest stall: every cell lowers f at least that fast.
     levels = (v.max(axis=1).T, v.min(axis=1).T) if first and band.err > 0.0 else (v.max(axis=1).T,)
     found = barrier_sets(x, T, starts, levels, band.stall[0], band.err)
     cells = _Cells(x, T, right, left, rest, *found[0])
-    return _Pass(cells, g, [rim for _, rim in basins], found[1] if len(found) > 1 else None)
+    return _Pass(cells, g, [rim for _, rim in found_basins], found[1] if len(found) > 1 else None)
 
 
 def _to_refine(p: _Pass, band: _Band) -> np.ndarray:
@@ -430,7 +381,7 @@ def set_transfer(f: SupportPairFunction, stall: tuple[float, float], sigma: floa
     squeeze, the largest jaw friction. ``value_tol`` judges the drawing's symmetry;
     ``value_err`` (default the same) bounds how far the real f is from the drawn one
     (the barriers: the manufacturing profile tolerance counts here); basins of f less
-    than ``shallow`` deep may be left either way (:func:`shallow_basins`). Raises
+    than ``shallow`` deep may be left either way (:func:`~algrasp.planning.barriers.shallow_basins`). Raises
     NotOrientableError when the part may turn without end. O((c + b)·K·log) for c cells
     (threshold crossings, refined grid), b breakpoints, K symmetric copies."""
     P = f.period
