@@ -132,7 +132,7 @@ class TransferFunction:
         x = thetas - k * self.period
         starts, values = self._arrays
         # x ≥ starts[0]: only the top needs clamping (x may round up to base + P).
-        idx = np.minimum(np.searchsorted(starts, x, side="right") - 1, len(self.pieces) - 1)
+        idx = np.minimum(starts.searchsorted(x, side="right") - 1, len(self.pieces) - 1)
         return k, values[idx]
 
     def circle_images(self, T: float) -> list[tuple[float, float]]:
@@ -176,7 +176,7 @@ class TransferFunction:
                 continue
             if cuts_all is None:
                 cuts_all = self._lifted_starts(min(q.start for q in inner.pieces), max(q.end for q in inner.pieces))
-            i, j = np.searchsorted(cuts_all, [p.start, p.end], side="right")
+            i, j = cuts_all.searchsorted([p.start, p.end], side="right")
             inside = [c for c in cuts_all[i:j].tolist() if p.start < c < p.end]
             cuts = [p.start, *inside, p.end]
             for a, b in zip(cuts[:-1], cuts[1:]):
