@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Literal, NamedTuple
 
 import numpy as np
@@ -91,6 +92,16 @@ class SupportPairFunction:
     @property
     def period(self) -> float:
         return np.pi if self.kind == "diameter" else TWO_PI
+
+    @cached_property
+    def kink_thetas(self) -> FloatArray:
+        """θ (radians, lifted) of every Gauss-map breakpoint of both terms (where f′ may
+        jump) and of every run start (the extrema); computed once, read-only."""
+        bp = self.hull.breakpoints
+        theta_bp = [np.pi / 2 - bp, 1.5 * np.pi - bp] if self.kind == "diameter" else [1.5 * np.pi - bp]
+        out = np.concatenate([*theta_bp, np.array([r.start for r in self.runs])])
+        out.flags.writeable = False
+        return out
 
     def __call__(self, theta: float) -> float:
         """Value at θ (radians): exact support-function evaluation, O(log n)."""

@@ -210,13 +210,15 @@ def analyse_document(doc: Mapping[str, Any], model: Model = ROBUST, tol: Toleran
 
 
 def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, physics: Physics,
-                    tol: Tolerances, terms: PartTerms | None = None, action: str | None = None) -> RobustAnalysis:
+                    tol: Tolerances, terms: PartTerms | None = None, action: str | None = None,
+                    memo: SetMemo | None = None) -> RobustAnalysis:
     """Dead band and set-valued squeeze, push and push-grasp functions over the physics
     ranges; with ``placement="any"`` the squeeze starts with a partial push by either jaw
     (push-grasps are unaffected: the pushing jaw meets the part first by design).
     ``terms``: the part's dead-band terms when already known (another analysis of it).
     ``action``: build only what a plan of that action reads (a limit search's probes);
-    the rest is None with the reason "not built"."""
+    the rest is None with the reason "not built". ``memo``: set-valued functions already
+    built for this part's d and r (a limit search's probes share those of equal dead bands)."""
     terms = part_terms(part, tol) if terms is None else terms
     band = dead_band(part, physics, tol, terms)
     # Creep: the weakest holding case holds nothing, so motion is possible wherever f slopes.
@@ -235,10 +237,11 @@ def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, 
         if name == "push" and not needs_push:
             funcs[name], reasons[name] = None, NOT_BUILT
             continue
-        try:
-            funcs[name] = set_transfer(f, stall, sigma, eps, tol.angle_rad, mu, err, depth)
-        except NotOrientableError as e:
-            funcs[name], reasons[name] = None, str(e)
+        made = _set_transfer(memo, f, (stall, sigma, eps, tol.angle_rad, mu, err, depth))
+        if isinstance(made, SetTransfer):
+            funcs[name] = made
+        else:
+            funcs[name], reasons[name] = None, made
     sq, pu = funcs["squeeze"], funcs["push"]
     if action == "squeeze":
         funcs["push_grasp"], reasons["push_grasp"] = None, NOT_BUILT
@@ -251,3 +254,24 @@ def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, 
         if pu is None:
             reasons["squeeze"] = f"off-centre placement starts a squeeze with a push, and {reasons['push']}"
     return RobustAnalysis(physics, band, funcs["squeeze"], funcs["push"], funcs["push_grasp"], reasons, terms)
+
+
+SetMemo = dict[tuple[object, ...], "SetTransfer | str"]
+"""Set-valued functions of one part by their arguments (or the refusal's message), made
+for the probes of one limit search: probes that move only a range one function does not
+read (the jaw friction, for the push) share it."""
+
+
+def _set_transfer(memo: SetMemo | None, f: SupportPairFunction, args: tuple[Any, ...]) -> SetTransfer | str:
+    """:func:`~algrasp.planning.setvalued.set_transfer` of ``f`` (looked up in, and added
+    to, ``memo``), or the message of its refusal."""
+    key = (f.kind, *args)
+    if memo is not None and key in memo:
+        return memo[key]
+    try:
+        made: SetTransfer | str = set_transfer(f, *args)
+    except NotOrientableError as e:
+        made = str(e)
+    if memo is not None:
+        memo[key] = made
+    return made

@@ -11,6 +11,9 @@ That is the first such node on each side of a cell: the *barriers*. They bound h
 a part drifts through a long region of uncertain slope (a tessellated arc whose facets'
 slopes are all within σ), which slope rules alone cannot. With ε = 0 the barrier is
 never before the slope rules' own stop. Vectorised range-maximum search, O(n log n).
+
+The shallow basins belong to the same bound: a drawn minimum less than 2ε deep may be
+no minimum of the real f (:func:`shallow_basins`).
 """
 
 from __future__ import annotations
@@ -20,35 +23,60 @@ import numpy as np
 from algrasp.geometry.curves import FloatArray
 
 IntArray = np.ndarray
+SCAN_SIZE = 1 << 16
+"""Largest r·n·m a :func:`first_reaching` answers by one comparison of every level with
+every value (a few array passes, where the sparse table's ~4 log m small passes each
+cost more than the arithmetic; the answers are the same indices)."""
 
 
 def first_reaching(q: FloatArray, level: FloatArray, start: IntArray) -> IntArray:
     """For each i, the first j ≥ start[i] with q[j] ≥ level[i] (len(q) when none); with
     ``q`` (r, m) and ``level``, ``start`` (r, n) (``start`` may be (n,)), row by row.
 
-    Binary lifting on a sparse table of block maxima: blocks wholly below the level are
-    skipped, largest first. O(r·m log m) to build (one preallocated table, every row at
-    once), O(r·n log m) to query."""
+    Small searches (r·n·m ≤ ``SCAN_SIZE``) compare everything at once, O(r·n·m); larger
+    ones use binary lifting on a sparse table of block maxima: blocks wholly below the
+    level are skipped, largest first. O(r·m log m) to build (one preallocated table,
+    every row at once), O(r·n log m) to query."""
     q2 = np.atleast_2d(np.asarray(q, dtype=float))
     lv = np.atleast_2d(np.asarray(level, dtype=float))
     st = np.broadcast_to(np.atleast_2d(np.asarray(start, dtype=np.intp)), lv.shape)
     r, m = q2.shape
+    out = _scan(q2, lv, st) if r * lv.shape[1] * m <= SCAN_SIZE else _lift(q2, lv, st)
+    return out.reshape(np.shape(level))
+
+
+def _scan(q: FloatArray, level: FloatArray, start: IntArray) -> IntArray:
+    """:func:`first_reaching` by comparing every level with every value: (r, n, m + 1)
+    flags, the last column a sentinel that always reaches."""
+    r, m = q.shape
+    hit = np.ones((r, level.shape[1], m + 1), dtype=bool)
+    np.greater_equal(q[:, None, :], level[:, :, None], out=hit[:, :, :m])
+    hit[:, :, :m] &= np.arange(m) >= start[:, :, None]
+    return np.asarray(hit.argmax(axis=2))
+
+
+def _lift(q: FloatArray, level: FloatArray, start: IntArray) -> IntArray:
+    """:func:`first_reaching` by binary lifting on a sparse table (row k: maxima of blocks
+    of 2^k from each index, −∞ past the end), read through flat indices."""
+    r, m = q.shape
+    w = m + 1
     levels = max(1, int(np.ceil(np.log2(max(m, 2)))) + 1)
-    table = np.full((levels, r, m + 1), -np.inf)
-    table[0, :, :m] = q2
+    table = np.empty((levels, r, w))
+    table[0, :, :m], table[0, :, m] = q, -np.inf
     for k in range(1, levels):
         half, prev, cur = 1 << (k - 1), table[k - 1], table[k]
-        cur[...] = prev
-        if half < m + 1:
-            np.maximum(prev[:, : m + 1 - half], prev[:, half:], out=cur[:, : m + 1 - half])
-    pos = np.minimum(st, m)
-    rows = np.arange(r)[:, None]
+        if half < w:
+            np.maximum(prev[:, : w - half], prev[:, half:], out=cur[:, : w - half])
+            cur[:, w - half:] = prev[:, w - half:]
+        else:
+            cur[...] = prev
+    flat = table.reshape(levels, -1)
+    base = (np.arange(r) * w)[:, None]
+    pos = np.minimum(start, m)
     for k in range(levels - 1, -1, -1):
-        block = table[k][rows, np.minimum(pos, m)]
-        skip = (block < lv) & (pos < m)
-        pos = np.where(skip, pos + (1 << k), pos)
-    out: IntArray = np.minimum(pos, m).reshape(np.shape(level))
-    return out
+        skip = (flat[k][base + pos] < level) & (pos < m)
+        pos = np.minimum(pos + skip * (1 << k), m)
+    return np.asarray(pos)
 
 
 def barriers(x: FloatArray, T: float, node_values: FloatArray, cell_max: FloatArray, stall: float,
@@ -60,21 +88,82 @@ def barriers(x: FloatArray, T: float, node_values: FloatArray, cell_max: FloatAr
     farthest over the copies (conservative). +∞ / −∞ when none within one period. Every
     copy and both directions in one :func:`first_reaching` of 2K rows.
     """
+    return barrier_sets(x, T, node_values, (cell_max,), stall, eps)[0]
+
+
+def barrier_sets(x: FloatArray, T: float, node_values: FloatArray, cell_levels: tuple[FloatArray, ...],
+                 stall: float, eps: float) -> list[tuple[FloatArray, FloatArray]]:
+    """:func:`barriers` for each of several cell values (``cell_levels``, each (K, n) like
+    ``cell_max``) over the same nodes, in one :func:`first_reaching` of 2K rows each."""
     K, n = node_values.shape
-    ends = np.append(x[1:], T)
-    j = np.arange(2 * n)
-    lift = (j // n) * T
-    xs = x[j % n] + lift
-    ks = np.arange(K)[:, None]
-    vals = node_values[(ks + j // n) % K, j % n]  # (K, 2n): copy k's nodes over two periods
+    ends = np.empty(n)
+    ends[:-1], ends[-1] = x[1:], T
+    xs = np.concatenate([x + 0.0, x + T])  # the nodes over two periods, lifted
+    vals = np.concatenate([node_values, node_values[(np.arange(K) + 1) % K]], axis=1)  # copy k's nodes
     # Rightward from cell i (extended index i): first node j > i reaching the level.
     # Leftward: mirror the sequence (cell i's start is extended index n + i, lifted by −T).
-    q = np.concatenate([vals + stall * xs, (vals - stall * xs)[:, ::-1]])
-    level = np.concatenate([cell_max + stall * ends + 2.0 * eps, cell_max[(np.arange(K) + 1) % K] - stall * (x + T) + 2.0 * eps])
-    start = np.concatenate([np.broadcast_to(np.arange(1, n + 1), (K, n)),
-                            np.broadcast_to((2 * n - 1) - (n + np.arange(n)), (K, n))])
-    found = first_reaching(q, level, start)
-    jr, jl = found[:K], found[K:]
-    right = np.max(np.where(jr < 2 * n, xs[np.minimum(jr, 2 * n - 1)], np.inf), axis=0)
-    left = np.min(np.where(jl < 2 * n, xs[(2 * n - 1) - np.minimum(jl, 2 * n - 1)] - T, -np.inf), axis=0)
-    return right, left
+    rows = np.concatenate([vals + stall * xs, (vals - stall * xs)[:, ::-1]])
+    up, down = stall * ends, stall * (x + T)
+    shifted = (np.arange(K) + 1) % K  # leftward searches compare with the next copy's cells
+    level = np.concatenate([lv for c in cell_levels for lv in (c + up + 2.0 * eps, c[shifted] - down + 2.0 * eps)])
+    start = np.empty((2 * K, n), dtype=np.intp)
+    start[:K], start[K:] = np.arange(1, n + 1), n - 1 - np.arange(n)
+    found = first_reaching(np.concatenate([rows] * len(cell_levels)), level, np.concatenate([start] * len(cell_levels)))
+    m = 2 * n
+    at = np.minimum(found, m - 1)
+    out = []
+    for i in range(len(cell_levels)):
+        jr, jl = found[2 * K * i: 2 * K * i + K], found[2 * K * i + K: 2 * K * (i + 1)]
+        right = np.max(np.where(jr < m, xs[at[2 * K * i: 2 * K * i + K]], np.inf), axis=0)
+        left = np.min(np.where(jl < m, xs[(m - 1) - at[2 * K * i + K: 2 * K * (i + 1)]] - T, -np.inf), axis=0)
+        out.append((right, left))
+    return out
+
+
+def shallow_basins(values: FloatArray, depth: float) -> np.ndarray:
+    """Cells (cyclic sequence of f at cell starts) of a basin whose minimum lies less than
+    ``depth`` below the lower of its two bounding maxima, up to that rim: the real f
+    (within depth/2 of the drawn one) may have no minimum there. O(m).
+
+    >>> shallow_basins(np.array([5, 4, 3, 2.9, 2.95, 2, 1, 2, 3, 4.0]), 0.1).astype(int).tolist()
+    [0, 0, 0, 1, 1, 0, 0, 0, 0, 0]
+    """
+    return basin_cells(values, basins(values, depth))
+
+
+def basin_cells(values: FloatArray, found: list[tuple[np.ndarray, float]]) -> np.ndarray:
+    """:func:`shallow_basins` from the basins :func:`basins` found."""
+    out = np.zeros(len(values), dtype=bool)
+    for span, rim in found:
+        out[span[values[span] <= rim]] = True  # the basin below its lower rim
+    return out
+
+
+def basin_rims(values: FloatArray, depth: float) -> list[float]:
+    """The rim (the lower bounding maximum) of every shallow basin of :func:`shallow_basins`.
+
+    >>> basin_rims(np.array([5, 4, 3, 2.9, 2.95, 2, 1, 2, 3, 4.0]), 0.1)
+    [2.95]
+    """
+    return [rim for _, rim in basins(values, depth)]
+
+
+def basins(values: FloatArray, depth: float) -> list[tuple[np.ndarray, float]]:
+    """(cells from maximum to maximum, rim) of each basin shallower than ``depth``."""
+    m = len(values)
+    step = np.sign(np.concatenate([values[1:], values[:1]]) - values)
+    nz = np.nonzero(step)[0]
+    if depth <= 0.0 or len(nz) < 2:
+        return []
+    s = step[nz]
+    turn = s != np.concatenate([s[-1:], s[:-1]])  # the sign changes at nz[k]: an extremum at its start index
+    idx, kinds = nz[turn], s[turn]  # kinds +1: a minimum (f rises after it), −1: a maximum
+    if len(idx) < 2:
+        return []
+    out = []
+    for k in np.nonzero(kinds > 0)[0].tolist():
+        lo, hi = idx[k - 1], idx[(k + 1) % len(idx)]  # the maxima around minimum idx[k]
+        rim = float(min(values[lo], values[hi]))
+        if rim - values[idx[k]] < depth:
+            out.append((np.arange(lo, hi + (m if hi < lo else 0) + 1) % m, rim))
+    return out

@@ -70,16 +70,19 @@ def slopes(f: SupportPairFunction, theta: FloatArray) -> tuple[FloatArray, Float
 
 def _equations(rho: FloatArray, R: FloatArray, slopes: Sequence[float], jaw: tuple[float, float] | None,
                levels: Sequence[float] = ()) -> tuple[FloatArray, FloatArray]:
-    """(δ, k) of every threshold equation sin(x − δ) = k, shapes (m, E); a level L of f
-    itself is ρ cos x = L − R, i.e. δ = −π/2, k = (L − R)/ρ."""
-    delta = [np.zeros_like(rho) for _ in range(2 * len(slopes))] + [np.full_like(rho, -np.pi / 2) for _ in levels]
-    k = [sign * t / rho for t in slopes for sign in (1.0, -1.0)] + [(L - R) / rho for L in levels]
+    """(δ, k) of every threshold equation sin(x − δ) = k, shapes (1, E) and (m, E); a
+    level L of f itself is ρ cos x = L − R, i.e. δ = −π/2, k = (L − R)/ρ."""
+    delta = [0.0] * (2 * len(slopes)) + [-np.pi / 2] * len(levels)
+    cols = [np.array([sign * t for t in slopes for sign in (1.0, -1.0)])[None, :] / rho[:, None]]
+    if levels:
+        cols.append((np.array(levels)[None, :] - R[:, None]) / rho[:, None])
     if jaw is not None:
         mu, c = jaw
         beta, A = float(np.arctan(mu)), rho * float(np.hypot(1.0, mu))
-        delta += [np.full_like(rho, beta), np.full_like(rho, -beta)]
-        k += [(mu * R + c) / A, -(mu * R + c) / A]
-    return np.stack(delta, axis=1), np.stack(k, axis=1)
+        delta += [beta, -beta]
+        top = (mu * R + c) / A
+        cols.append(np.stack([top, -(mu * R + c) / A], axis=1))
+    return np.array(delta)[None, :], np.concatenate(cols, axis=1)
 
 
 def _point_roots(cells: np.ndarray, centres: FloatArray, radii: FloatArray, slopes: Sequence[float],

@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from algrasp.errors import NotOrientableError
-from algrasp.planning.analysis import Analysis, robust_analysis
+from algrasp.planning.analysis import Analysis, SetMemo, robust_analysis
 from algrasp.planning.deadband import profile_floor
 from algrasp.planning.physics import Physics
 
@@ -75,9 +75,15 @@ Planner = Callable[[Analysis, Any, float], Any]
 does not import the planner that reports its limits."""
 
 
-Known = dict[Physics, bool]
-"""Probes already made in one :func:`limits` call: the searches share their start (the
-given ranges, which a refused plan has already tried) and often their easy ends."""
+class Known(dict[Physics, bool]):
+    """Probes already made in one :func:`limits` call: the searches share their start (the
+    given ranges, which a refused plan has already tried) and often their easy ends; and
+    the set-valued functions the probes built (``sets``), shared by probes with an equal
+    dead band for one function."""
+
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        self.sets: SetMemo = {}
 
 
 def plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float,
@@ -86,16 +92,18 @@ def plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Plan
     (looked up in, and added to, ``known``)."""
     if known is not None and physics in known:
         return known[physics]
-    exists = _plan_exists(analysis, physics, action, planner, margin_deg)
+    exists = _plan_exists(analysis, physics, action, planner, margin_deg, None if known is None else known.sets)
     if known is not None:
         known[physics] = exists
     return exists
 
 
-def _plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float) -> bool:
+def _plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float,
+                 sets: SetMemo | None) -> bool:
     try:
         terms = None if analysis.robust is None else analysis.robust.terms
-        robust = robust_analysis(analysis.part, analysis.diameter, analysis.radius, physics, analysis.tol, terms, action)
+        robust = robust_analysis(analysis.part, analysis.diameter, analysis.radius, physics, analysis.tol, terms, action,
+                                 sets)
         planner(replace(analysis, robust=robust), action, margin_deg)
     except NotOrientableError:
         return False
@@ -135,7 +143,7 @@ def limits(analysis: Analysis, action: str, planner: Planner, names: tuple[str, 
     repeats it."""
     assert analysis.robust is not None
     physics = analysis.robust.physics
-    known: Known = {} if refused is None else {physics: not refused}
+    known = Known() if refused is None else Known({physics: not refused})
     hopeless = _hopeless(analysis, physics, action, planner, margin_deg, known, names) if refused else set()
     out: dict[str, Any] = {n: {"value": None, "bounded": True} if n in hopeless else
                            search_limit(analysis, physics, action, SEARCHES[n], planner, margin_deg, known) for n in names}

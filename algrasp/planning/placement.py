@@ -15,6 +15,7 @@ Pure: no I/O. O(n log n) in the pieces.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import replace
 
@@ -54,8 +55,9 @@ def pointwise(fs: list[TransferFunction], take_max: bool, tol_rad: float) -> Tra
     cells = [(a, b) for a, b in zip(cuts[:-1], cuts[1:]) if b - a > 0.0]
     mids = np.array([0.5 * (a + b) for a, b in cells])
     # Every function at every cell's middle in one vectorised lookup each.
-    values = np.array([F.apply(mids) for F in fs]).T.tolist()
-    ramps = np.array([F.on_ramp(mids) for F in fs]).T.tolist()
+    looked = [F.apply_on_ramp(mids) for F in fs]
+    values = np.array([v for v, _ in looked]).T.tolist()
+    ramps = np.array([r for _, r in looked]).T.tolist()
     pieces: list[TransferPiece] = []
     for (a, b), vs, rs in zip(cells, values, ramps):
         consts = [v for v, r in zip(vs, rs) if not r]
@@ -86,11 +88,20 @@ def off_centre_squeeze(squeeze: SetTransfer, push: SetTransfer, tol_rad: float) 
     """Γ after a partial push by either jaw (see module docs), of period 2π; its symmetry
     is what both the squeeze and the hull of partial pushes repeat with."""
     P = push.period
-    lo = pointwise([identity(P), push.lower, shifted(push.lower, math.pi)], False, tol_rad)
-    hi = pointwise([identity(P), push.upper, shifted(push.upper, math.pi)], True, tol_rad)
+    lo, hi = _push_hull(push, tol_rad)
     k_hull = math.lcm(_order(push.symmetry), 2)
     symmetry = 2.0 * math.pi / math.gcd(k_hull, _order(squeeze.symmetry))
     hull = SetTransfer(lo, hi, P, symmetry, (), ((0.0, P),))
     zones = tuple((a + k * squeeze.period, b + k * squeeze.period) for k in range(int(round(P / squeeze.period)))
                   for a, b in squeeze.rest_zones)
     return replace(squeeze.compose_after(hull, tol_rad), rest_zones=zones)
+
+
+@functools.lru_cache(maxsize=8)
+def _push_hull(push: SetTransfer, tol_rad: float) -> tuple[TransferFunction, TransferFunction]:
+    """The bounds of the hull of θ and the partial pushes by either jaw (module docs),
+    once per push function (identity): a limit search's probes that share the push (its
+    jaw-friction probes) share it."""
+    P = push.period
+    return (pointwise([identity(P), push.lower, shifted(push.lower, math.pi)], False, tol_rad),
+            pointwise([identity(P), push.upper, shifted(push.upper, math.pi)], True, tol_rad))

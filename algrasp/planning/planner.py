@@ -16,7 +16,7 @@ strictly and a ramp end may touch the box's top (paper Fig. 11).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -61,6 +61,8 @@ class _Lifted:
 
     lower: _Pieces
     upper: _Pieces
+    fixed: dict[int, tuple[FloatArray, FloatArray, FloatArray, FloatArray]] = field(default_factory=dict)
+    """What :func:`_candidates` reads that no box height changes, by the function's id."""
 
     @staticmethod
     def of(F: TransferFunction, upper: TransferFunction | None = None) -> _Lifted:
@@ -74,13 +76,13 @@ class _Lifted:
     def value_at(self, a: FloatArray) -> FloatArray:
         """lower(a) (a may lie anywhere inside a piece)."""
         lo = self.lower
-        i = np.searchsorted(lo.starts, a, side="right") - 1
+        i = lo.starts.searchsorted(a, side="right") - 1
         return np.where(lo.ramp[i], a, lo.values[i])
 
     def top(self, b: FloatArray) -> tuple[FloatArray, np.ndarray]:
         """sup upper([·, b)) = upper(b⁻), and whether it is attained (b⁻ on a step)."""
         up = self.upper
-        j = np.searchsorted(up.starts, b, side="left") - 1
+        j = up.starts.searchsorted(b, side="left") - 1
         on_ramp = up.ramp[j]
         return np.where(on_ramp, b, up.values[j]), ~on_ramp
 
@@ -89,7 +91,7 @@ class _Lifted:
         [lower(a), lower(a) + room]."""
         up = self.upper
         y = self.value_at(a) + room
-        j = np.searchsorted(up.keys, y, side="left")  # first piece that cannot fit
+        j = up.keys.searchsorted(y, side="left")  # first piece that cannot fit
         prev = j - 1
         partial = up.ramp[prev] & (up.ends[prev] > y)
         return np.where(partial, y, up.starts[j])
@@ -98,15 +100,28 @@ class _Lifted:
 def _candidates(F: TransferFunction, lifted: _Lifted, room: float) -> FloatArray:
     """Left ends to try: piece starts of one period, and points of ramps whose box top
     meets a step value or a ramp start (top-right placements)."""
-    base = F.pieces[0].start
-    low = lifted.lower
-    one = (low.starts >= base - ROUNDING) & (low.starts < base + F.period - ROUNDING)
-    out = [low.starts[one]]
-    tops = _unique(lifted.upper.values)
-    for s, e in zip(low.starts[one & low.ramp], low.ends[one & low.ramp]):
-        lo, hi = np.searchsorted(tops, [s + room, e + room])
-        out.append(tops[lo:hi] - room)
-    return np.concatenate(out)
+    starts, ramp_starts, ramp_ends, tops = _fixed(F, lifted)
+    if not len(ramp_starts):
+        return starts
+    lo, hi = tops.searchsorted(ramp_starts + room), tops.searchsorted(ramp_ends + room)
+    count = hi - lo
+    # tops[lo_k:hi_k] for every ramp k, in order, as one gather
+    first = count.cumsum() - count
+    idx = np.arange(int(count.sum())) + (lo - first).repeat(count)
+    return np.concatenate([starts, tops[idx] - room])
+
+
+def _fixed(F: TransferFunction, lifted: _Lifted) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """The piece starts of one period, the starts and ends of its ramps, and the distinct
+    values of the upper bound; once per function and lifting."""
+    got = lifted.fixed.get(id(F))
+    if got is None:
+        base = F.pieces[0].start
+        low = lifted.lower
+        one = (low.starts >= base - ROUNDING) & (low.starts < base + F.period - ROUNDING)
+        got = lifted.fixed[id(F)] = (low.starts[one], low.starts[one & low.ramp], low.ends[one & low.ramp],
+                                     _unique(lifted.upper.values))
+    return got
 
 
 def widest_step(F: TransferFunction) -> tuple[float, float]:
@@ -156,7 +171,7 @@ def _widest(F: TransferFunction, lifted: _Lifted, room: float) -> tuple[float, f
     """The widest [a, b) whose image fits in a box of height ``room``."""
     a = _candidates(F, lifted, room)
     b = lifted.widest_right_end(a, room)
-    k = int(np.argmax(b - a))
+    k = int((b - a).argmax())
     return float(a[k]), float(b[k])
 
 

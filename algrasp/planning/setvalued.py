@@ -31,6 +31,7 @@ vectorised passes.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -38,7 +39,7 @@ from algrasp.errors import NotOrientableError
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import SupportPairFunction
 from algrasp.geometry.tolerances import ROUNDING, Tolerances
-from algrasp.planning.barriers import barriers
+from algrasp.planning.barriers import barrier_sets, basin_cells, basins
 from algrasp.planning.edges import CURVE_GRID_RAD, crossings, slopes
 from algrasp.planning.symmetry import symmetry_period
 from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical, holding_arcs
@@ -113,23 +114,27 @@ def _nodes(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatArray
     """Cell nodes in [0, T): ``edges`` (threshold crossings), ``grid``, breakpoints (θ of
     every Gauss-map breakpoint) and extrema; and whether each is sampled on both sides:
     where f′ jumps (breakpoints, extrema) and where a permission changes (the edges: the
-    sample just past one belongs to the next cell's class). Grid nodes serve both."""
-    bp = f.hull.breakpoints
-    theta_bp = np.concatenate([np.pi / 2 - bp, 1.5 * np.pi - bp]) if f.kind == "diameter" else 1.5 * np.pi - bp
-    runs = np.array([r.start for r in f.runs])
+    sample just past one belongs to the next cell's class). Grid nodes serve both. Nodes
+    within ``ROUNDING`` are one (the first of them; a node a hair below T is node 0)."""
     # Each edge becomes a sliver [e − EDGE_RAD, e + EDGE_RAD) holding both classes.
-    guarded = np.concatenate([edges - EDGE_RAD, edges + EDGE_RAD])
-    raw = np.mod(np.concatenate([[0.0], grid, guarded, theta_bp, runs]), T)
-    flags = np.concatenate([np.zeros(1 + len(grid), dtype=bool), np.ones(len(guarded) + len(theta_bp) + len(runs), dtype=bool)])
+    raw = np.concatenate([_ZERO, grid, edges - EDGE_RAD, edges + EDGE_RAD, f.kink_thetas])
+    np.mod(raw, T, out=raw)
+    flags = np.ones(len(raw), dtype=bool)
+    flags[: 1 + len(grid)] = False
     order = np.argsort(raw, kind="stable")
     raw, flags = raw[order], flags[order]
-    group = np.concatenate([[0], np.cumsum(np.diff(raw) > ROUNDING)])
-    if T - raw[-1] <= ROUNDING:
-        group[group == group[-1]] = 0  # a node a hair below T is node 0
-    nodes = raw[np.unique(group, return_index=True)[1]]
-    kink = np.zeros(len(nodes), dtype=bool)
-    np.logical_or.at(kink, group, flags)
-    return nodes, kink
+    new = np.empty(len(raw), dtype=bool)
+    new[0] = True
+    np.greater(raw[1:] - raw[:-1], ROUNDING, out=new[1:])
+    starts = np.flatnonzero(new)
+    kink = np.logical_or.reduceat(flags, starts)
+    if T - raw[-1] <= ROUNDING and len(starts) > 1:  # the last group is node 0's
+        kink[0] |= kink[-1]
+        starts, kink = starts[:-1], kink[:-1]
+    return raw[starts], kink
+
+
+_ZERO = np.zeros(1)
 
 
 def _samples(f: SupportPairFunction, x: FloatArray, kink: np.ndarray, T: float) -> tuple[FloatArray, FloatArray]:
@@ -138,22 +143,22 @@ def _samples(f: SupportPairFunction, x: FloatArray, kink: np.ndarray, T: float) 
     f′ is continuous at grid nodes, so one evaluation there serves the cells on both sides;
     at kinks the left and right limits are evaluated apart. The end of the last cell is
     node 0 of the next copy."""
-    K = int(round(f.period / T))
-    widths = np.diff(np.append(x, T))
-    copies = np.arange(K) * T
-    right = x + _INSIDE * widths
-    left = x[kink] - _INSIDE * np.roll(widths, 1)[kink]
-    theta = np.concatenate([right, left])[:, None] + copies[None, :]
+    K, n = int(round(f.period / T)), len(x)
+    ends = np.empty(n)
+    ends[:-1], ends[-1] = x[1:], T
+    widths = ends - x
+    at_kink = np.flatnonzero(kink)
+    theta = np.concatenate([x + _INSIDE * widths, x[at_kink] - _INSIDE * widths[at_kink - 1]])[:, None] + np.arange(K) * T
     g, v = (a.reshape(theta.shape) for a in slopes(f, theta.ravel()))
-    n = len(x)
-    g_end, v_end = g[np.arange(1, n + 1) % n].copy(), v[np.arange(1, n + 1) % n].copy()
-    at_kink = np.full(n, -1)
-    at_kink[np.nonzero(kink)[0]] = n + np.arange(int(kink.sum()))
-    nxt = np.arange(1, n + 1) % n
-    jump = kink[nxt]
-    g_end[jump], v_end[jump] = g[at_kink[nxt[jump]]], v[at_kink[nxt[jump]]]
-    g_end[-1], v_end[-1] = np.roll(g_end[-1], -1), np.roll(v_end[-1], -1)
-    return np.stack([g[:n], g_end], axis=1), np.stack([v[:n], v_end], axis=1)
+    # The end of cell i: node i + 1's sample, or its left limit where node i + 1 is a kink.
+    src = np.arange(n)
+    src[at_kink] = n + np.arange(len(at_kink))
+    pick = np.empty((n, 2), dtype=np.intp)
+    pick[:, 0], pick[:-1, 1], pick[-1, 1] = np.arange(n), src[1:], src[0]
+    G, V = g[pick], v[pick]
+    if K > 1:  # the last cell ends at node 0 of the next copy
+        G[-1, 1], V[-1, 1] = np.roll(G[-1, 1], -1), np.roll(V[-1, 1], -1)
+    return G, V
 
 
 def _permissions(g: FloatArray, v: FloatArray, stall: tuple[float, float], sigma: float,
@@ -176,59 +181,15 @@ def _permissions(g: FloatArray, v: FloatArray, stall: tuple[float, float], sigma
     return np.asarray(right.any(axis=axes)), np.asarray(left.any(axis=axes)), np.asarray(rest.any(axis=axes))
 
 
-def shallow_basins(values: FloatArray, depth: float) -> np.ndarray:
-    """Cells (cyclic sequence of f at cell starts) of a basin whose minimum lies less than
-    ``depth`` below the lower of its two bounding maxima, up to that rim: the real f
-    (within depth/2 of the drawn one) may have no minimum there. O(m).
-
-    >>> shallow_basins(np.array([5, 4, 3, 2.9, 2.95, 2, 1, 2, 3, 4.0]), 0.1).astype(int).tolist()
-    [0, 0, 0, 1, 1, 0, 0, 0, 0, 0]
-    """
-    out = np.zeros(len(values), dtype=bool)
-    for span, rim in _basins(values, depth):
-        out[span[values[span] <= rim]] = True  # the basin below its lower rim
-    return out
-
-
-def basin_rims(values: FloatArray, depth: float) -> list[float]:
-    """The rim (the lower bounding maximum) of every shallow basin of :func:`shallow_basins`.
-
-    >>> basin_rims(np.array([5, 4, 3, 2.9, 2.95, 2, 1, 2, 3, 4.0]), 0.1)
-    [2.95]
-    """
-    return [rim for _, rim in _basins(values, depth)]
-
-
-def _basins(values: FloatArray, depth: float) -> list[tuple[np.ndarray, float]]:
-    """(cells from maximum to maximum, rim) of each basin shallower than ``depth``."""
-    m = len(values)
-    step = np.sign(np.diff(np.append(values, values[0])))
-    nz = np.nonzero(step)[0]
-    if depth <= 0.0 or len(nz) < 2:
-        return []
-    s = step[nz]
-    turn = s != np.roll(s, 1)  # the sign changes at nz[k]: an extremum at its start index
-    idx, kinds = nz[turn], s[turn]  # kinds +1: a minimum (f rises after it), −1: a maximum
-    if len(idx) < 2:
-        return []
-    out = []
-    for k in np.nonzero(kinds > 0)[0].tolist():
-        lo, hi = idx[k - 1], idx[(k + 1) % len(idx)]  # the maxima around minimum idx[k]
-        rim = float(min(values[lo], values[hi]))
-        if rim - values[idx[k]] < depth:
-            out.append((np.arange(lo, hi + (m if hi < lo else 0) + 1) % m, rim))
-    return out
-
-
 def _run_edges(flags: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """For each cell i (cyclic, lifted indices): the first cell of the run of True flags
     containing it, and the first False cell after it. Vectorised over three copies."""
     n = len(flags)
     idx = np.arange(-n, 2 * n)
-    f3 = np.tile(flags, 3)
+    f3 = np.concatenate([flags, flags, flags])
     big = 4 * n
-    last_false = np.maximum.accumulate(np.where(~f3, idx, -big))
-    next_false = np.minimum.accumulate(np.where(~f3, idx, big)[::-1])[::-1]
+    last_false = np.maximum.accumulate(np.where(f3, -big, idx))
+    next_false = np.minimum.accumulate(np.where(f3, big, idx)[::-1])[::-1]
     return last_false[n:2 * n] + 1, next_false[n:2 * n]
 
 
@@ -249,15 +210,15 @@ class _Cells:
         n = len(self.x)
         return np.asarray(self.x[np.mod(j, n)] + np.floor_divide(j, n) * self.T)
 
-
-def _run_limits(c: _Cells) -> tuple[FloatArray, FloatArray]:
-    """Where the run of right- (left-) movable cells containing each cell ends (starts),
-    lifted; ±∞ for a run all round the circle (only the barriers stop it)."""
-    _, right_end = _run_edges(c.right)
-    left_start, _ = _run_edges(c.left)
-    run_right = np.full(len(c.x), np.inf) if c.right.all() else c.at(right_end)
-    run_left = np.full(len(c.x), -np.inf) if c.left.all() else c.at(left_start)
-    return run_right, run_left
+    @cached_property
+    def run_limits(self) -> tuple[FloatArray, FloatArray]:
+        """Where the run of right- (left-) movable cells containing each cell ends (starts),
+        lifted; ±∞ for a run all round the circle (only the barriers stop it)."""
+        _, right_end = _run_edges(self.right)
+        left_start, _ = _run_edges(self.left)
+        run_right = np.full(len(self.x), np.inf) if self.right.all() else self.at(right_end)
+        run_left = np.full(len(self.x), -np.inf) if self.left.all() else self.at(left_start)
+        return run_right, run_left
 
 
 def _bounds(c: _Cells, tol_rad: float) -> tuple[TransferFunction, TransferFunction]:
@@ -265,32 +226,30 @@ def _bounds(c: _Cells, tol_rad: float) -> tuple[TransferFunction, TransferFuncti
     R, L, S = c.right, c.left, c.rest
     forced_left_start, _ = _run_edges(~R & ~S)
     _, forced_right_end = _run_edges(~L & ~S)
-    run_right, run_left = _run_limits(c)
+    run_right, run_left = c.run_limits
     up = np.where(R, np.minimum(run_right, c.barrier_right), np.where(S, np.nan, c.at(forced_left_start)))
     lo = np.where(L, np.maximum(run_left, c.barrier_left), np.where(S, np.nan, c.at(forced_right_end)))
     if not (np.all(np.isfinite(up[R])) and np.all(np.isfinite(lo[L]))):
         raise NotOrientableError("dead_band", "with this dead band the part may turn without end: the slopes of "
                                  "the drawing are all within the shape tolerance")
-    ends = np.append(c.x[1:], c.x[0] + c.T)
+    ends = np.concatenate([c.x[1:], [c.x[0] + c.T]])
     up, lo = _monotone(c.x, ends, up, lo, c.T)
     return _tf(c.x, ends, lo, c.T, tol_rad), _tf(c.x, ends, up, c.T, tol_rad)
 
 
 def _monotone(x: FloatArray, ends: FloatArray, up: FloatArray, lo: FloatArray, T: float) -> tuple[FloatArray, FloatArray]:
     """Raise upper (lower lower) where barriers made them dip: both must be monotone.
-    A ramp (NaN: θ itself) spans [x_i, end_i); a dipping ramp becomes a step."""
-    n = len(x)
-    lift = np.repeat(np.arange(-1, 2), n) * T
-    u3 = np.tile(up, 3) + lift
-    top = np.where(np.isnan(u3), np.tile(ends, 3) + lift, u3)
-    bottom = np.where(np.isnan(u3), np.tile(x, 3) + lift, u3)
-    before = np.concatenate([[-np.inf], np.maximum.accumulate(top)[:-1]])[n:2 * n] - 0.0
-    up = np.where(bottom[n:2 * n] < before, np.maximum(before, top[n:2 * n]), up)
-    l3 = np.tile(lo, 3) + lift
-    bot = np.where(np.isnan(l3), np.tile(x, 3) + lift, l3)
-    tp = np.where(np.isnan(l3), np.tile(ends, 3) + lift, l3)
-    after = np.concatenate([np.minimum.accumulate(bot[::-1])[::-1][1:], [np.inf]])[n:2 * n]
-    lo = np.where(tp[n:2 * n] > after, np.minimum(after, bot[n:2 * n]), lo)
+    A ramp (NaN: θ itself) spans [x_i, end_i); a dipping ramp becomes a step. Cell i is
+    compared with every cell before it over the period before (after it, over the period
+    after)."""
+    nan = np.isnan(up)
+    top, bottom = np.where(nan, ends, up), np.where(nan, x, up)
+    before = np.maximum.accumulate(np.concatenate([[top.max() - T], top[:-1] + 0.0]))
+    up = np.where(bottom + 0.0 < before, np.maximum(before, top + 0.0), up)
+    nan = np.isnan(lo)
+    top, bottom = np.where(nan, ends, lo), np.where(nan, x, lo)
+    after = np.minimum.accumulate(np.concatenate([bottom[1:] + 0.0, [bottom.min() + T]])[::-1])[::-1]
+    lo = np.where(top + 0.0 > after, np.minimum(after, bottom + 0.0), lo)
     return up, lo
 
 
@@ -298,11 +257,12 @@ def _tf(starts: FloatArray, ends: FloatArray, values: FloatArray, T: float, tol_
     """Cells → pieces, neighbours with the same value (or both ramps) merged first in
     one array pass, so only the distinct pieces become objects."""
     nan = np.isnan(values)
-    same = (nan & np.roll(nan, 1)) | (~nan & ~np.roll(nan, 1) & (np.abs(values - np.roll(values, 1)) <= tol_rad))
+    before, nan_before = np.concatenate([values[-1:], values[:-1]]), np.concatenate([nan[-1:], nan[:-1]])
+    same = (nan & nan_before) | (~nan & ~nan_before & (np.abs(values - before) <= tol_rad))
     same[0] = False
-    first = np.nonzero(~same)[0]
-    last = np.append(first[1:], len(values)) - 1
-    pieces = [TransferPiece(float(a), float(b), None if np.isnan(v) else float(v))
+    first = np.flatnonzero(~same)
+    last = np.concatenate([first[1:], [len(values)]]) - 1
+    pieces = [TransferPiece(a, b, None if v != v else v)  # v != v: NaN, a ramp
               for a, b, v in zip(starts[first].tolist(), ends[last].tolist(), values[first].tolist())]
     return TransferFunction(T, tuple(canonical(pieces, T, tol_rad)))
 
@@ -312,17 +272,17 @@ def _rest_zones(nodes: FloatArray, T: float, rest: np.ndarray, P: float) -> tupl
     [start, end) in radians; a zone wrapping past P starts below 0. Vectorised."""
     K = int(round(P / T))
     x = (nodes[None, :] + (np.arange(K) * T)[:, None]).ravel()
-    r = np.tile(rest, K)
+    r = np.concatenate([rest] * K)
     if r.all():
         return ((0.0, P),)
     if not r.any():
         return ()
-    ends = np.append(x[1:], P)
-    first = r & ~np.roll(r, 1)
-    last = r & ~np.roll(r, -1)
+    ends = np.concatenate([x[1:], [P]])
+    first = r & ~np.concatenate([r[-1:], r[:-1]])
+    last = r & ~np.concatenate([r[1:], r[:1]])
     a, b = x[first], ends[last]
     if r[0] and r[-1]:  # the zone through 0 starts at the last start and ends at the first end
-        b = np.roll(b, -1)
+        b = np.concatenate([b[1:], b[:1]])
         a[-1] -= P
     return tuple(zip(a.tolist(), b.tolist()))
 
@@ -347,15 +307,17 @@ class _Band:
 
 @dataclass(frozen=True)
 class _Pass:
-    """One classification of the cells between given nodes."""
+    """One classification of the cells between given nodes; ``near``: the barriers from
+    each cell's least f (the first pass, when the value error is positive)."""
 
     cells: _Cells
     g: FloatArray
-    v: FloatArray
-    basin: np.ndarray
+    rims: list[float]
+    near: tuple[FloatArray, FloatArray] | None
 
 
-def _classify(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatArray, band: _Band) -> _Pass:
+def _classify(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatArray, band: _Band,
+              first: bool = False) -> _Pass:
     """Nodes, samples, permissions and barriers of the cells between ``edges``, ``grid``
     and the breakpoints and extrema of f. O(c·K·log c)."""
     x, kink = _nodes(f, T, edges, grid)
@@ -363,11 +325,17 @@ def _classify(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatAr
     right, left, rest = _permissions(g, v, band.stall, band.sigma, band.jaw_friction)
     # A drawn minimum shallower than the manufacturing tolerance may be no minimum of the
     # real part (nor of the simulation's compliant contact): its basin may go either way.
-    basin = np.asarray(shallow_basins(v[:, 0, :].T.ravel(), band.shallow).reshape(v.shape[2], -1).any(axis=0))
-    right, left = right | basin, left | basin
+    starts = v[:, 0, :].T
+    flat = starts.ravel()
+    found_basins = basins(flat, band.shallow)
+    if found_basins:
+        basin = np.asarray(basin_cells(flat, found_basins).reshape(v.shape[2], -1).any(axis=0))
+        right, left = right | basin, left | basin
     # The energy bound holds for the weakest stall: every cell lowers f at least that fast.
-    br, bl = barriers(x, T, v[:, 0, :].T, v.max(axis=1).T, band.stall[0], band.err)
-    return _Pass(_Cells(x, T, right, left, rest, br, bl), g, v, basin)
+    levels = (v.max(axis=1).T, v.min(axis=1).T) if first and band.err > 0.0 else (v.max(axis=1).T,)
+    found = barrier_sets(x, T, starts, levels, band.stall[0], band.err)
+    cells = _Cells(x, T, right, left, rest, *found[0])
+    return _Pass(cells, g, [rim for _, rim in found_basins], found[1] if len(found) > 1 else None)
 
 
 def _to_refine(p: _Pass, band: _Band) -> np.ndarray:
@@ -376,14 +344,13 @@ def _to_refine(p: _Pass, band: _Band) -> np.ndarray:
     barrier any start in it can have) and, when one can, where barriers land (movable
     cells slower than s_lo + σ, where f ± s_lo·θ can climb)."""
     c = p.cells
-    none = np.zeros(len(c.x), dtype=bool)
-    if band.err <= 0.0:
-        return none
-    near_r, near_l = barriers(c.x, c.T, p.v[:, 0, :].T, p.v.min(axis=1).T, band.stall[0], band.err)
-    run_right, run_left = _run_limits(c)
+    if p.near is None:
+        return np.zeros(len(c.x), dtype=bool)
+    near_r, near_l = p.near
+    run_right, run_left = c.run_limits
     bind = (c.right & (near_r < run_right)) | (c.left & (near_l > run_left))
     if not bind.any():
-        return none
+        return bind
     slow = (np.abs(p.g).min(axis=(1, 2)) < band.stall[0] + band.sigma) & (c.right | c.left)
     return np.asarray(slow | bind)
 
@@ -396,8 +363,8 @@ def _cells_of(f: SupportPairFunction, T: float, band: _Band, tol_rad: float) -> 
     slopes_at, jaw = band.thresholds()
     tol = Tolerances(angle_rad=tol_rad)
     edges, curves = crossings(f, slopes_at, jaw, tol, CURVE_GRID_RAD)
-    first = _classify(f, T, edges, curves, band)
-    rims = basin_rims(first.v[:, 0, :].T.ravel(), band.shallow)
+    first = _classify(f, T, edges, curves, band, first=True)
+    rims = first.rims
     refine = _to_refine(first, band)
     if not rims and not refine.any():
         return first.cells
@@ -414,7 +381,7 @@ def set_transfer(f: SupportPairFunction, stall: tuple[float, float], sigma: floa
     squeeze, the largest jaw friction. ``value_tol`` judges the drawing's symmetry;
     ``value_err`` (default the same) bounds how far the real f is from the drawn one
     (the barriers: the manufacturing profile tolerance counts here); basins of f less
-    than ``shallow`` deep may be left either way (:func:`shallow_basins`). Raises
+    than ``shallow`` deep may be left either way (:func:`~algrasp.planning.barriers.shallow_basins`). Raises
     NotOrientableError when the part may turn without end. O((c + b)·K·log) for c cells
     (threshold crossings, refined grid), b breakpoints, K symmetric copies."""
     P = f.period
@@ -423,5 +390,5 @@ def set_transfer(f: SupportPairFunction, stall: tuple[float, float], sigma: floa
     cells = _cells_of(f, T, band, tol_rad)
     lower, upper = _bounds(cells, tol_rad)
     zones = _rest_zones(cells.x, T, cells.rest, T)
-    stops = [(p.value, p.value) for F in (lower, upper) for p in F.steps if p.value is not None]
-    return SetTransfer(lower, upper, P, T, _rest_zones(cells.x, T, cells.rest, P), (*zones, *stops))
+    stops = [(p.value, p.value) for F in (lower, upper) for p in F.pieces if p.value is not None]
+    return SetTransfer(lower, upper, P, T, zones if P == T else _rest_zones(cells.x, T, cells.rest, P), (*zones, *stops))

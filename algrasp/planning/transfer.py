@@ -114,6 +114,13 @@ class TransferFunction:
         k, vals = self._lookup(thetas)
         return np.where(np.isnan(vals), thetas, vals + k * self.period)
 
+    def apply_on_ramp(self, thetas: FloatArray) -> tuple[FloatArray, np.ndarray]:
+        """:meth:`apply` and :meth:`on_ramp` from one lookup (radians); O(m log n)."""
+        thetas = np.asarray(thetas, dtype=float)
+        k, vals = self._lookup(thetas)
+        ramp = np.isnan(vals)
+        return np.where(ramp, thetas, vals + k * self.period), ramp
+
     def on_ramp(self, thetas: FloatArray) -> np.ndarray:
         """Whether each θ (radians) lies on a ramp (F(θ) = θ), vectorised; O(m log n)."""
         return np.isnan(self._lookup(np.asarray(thetas, dtype=float))[1])
@@ -125,7 +132,7 @@ class TransferFunction:
         x = thetas - k * self.period
         starts, values = self._arrays
         # x ≥ starts[0]: only the top needs clamping (x may round up to base + P).
-        idx = np.minimum(np.searchsorted(starts, x, side="right") - 1, len(self.pieces) - 1)
+        idx = np.minimum(starts.searchsorted(x, side="right") - 1, len(self.pieces) - 1)
         return k, values[idx]
 
     def circle_images(self, T: float) -> list[tuple[float, float]]:
@@ -169,7 +176,7 @@ class TransferFunction:
                 continue
             if cuts_all is None:
                 cuts_all = self._lifted_starts(min(q.start for q in inner.pieces), max(q.end for q in inner.pieces))
-            i, j = np.searchsorted(cuts_all, [p.start, p.end], side="right")
+            i, j = cuts_all.searchsorted([p.start, p.end], side="right")
             inside = [c for c in cuts_all[i:j].tolist() if p.start < c < p.end]
             cuts = [p.start, *inside, p.end]
             for a, b in zip(cuts[:-1], cuts[1:]):

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from algrasp.planning.barriers import barriers, first_reaching
+from algrasp.planning.barriers import _lift, _scan, barriers, first_reaching
 
 
 def _first(q: np.ndarray, level: float, start: int) -> int:
@@ -58,3 +58,15 @@ def test_first_reaching_rows_equal_a_scan() -> None:
     got = first_reaching(q, level, start)
     assert got.tolist() == [[_first(q[r], level[r, i], start[r, i]) for i in range(11)] for r in range(3)]
     assert first_reaching(q[0], level[0], start[0]).tolist() == got[0].tolist()
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_both_searches_equal_a_scan(seed: int) -> None:
+    """The comparison of everything (small searches) and the sparse table (large ones)."""
+    rng = np.random.default_rng(seed)
+    r, m, n = 2, int(rng.integers(1, 300)), 17
+    q, level = rng.normal(size=(r, m)), rng.normal(size=(r, n)) + 1.0
+    start = rng.integers(0, m + 3, size=(r, n))
+    want = [[_first(q[i], level[i, j], start[i, j]) for j in range(n)] for i in range(r)]
+    assert _scan(q, level, start).tolist() == want
+    assert _lift(q, level, start).tolist() == want
