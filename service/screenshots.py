@@ -71,6 +71,7 @@ def _validation(pg: Any) -> list[Any]:
 def _catalogue(pg: Any) -> list[Any]:
     pg.click("button[data-page=catalogue]")
     pg.wait_for_selector("#job-submit")
+    pg.check("#job-fences")  # the fence options shown enabled
     # The jobs the service holds (ids, times, how many) are not the picture's.
     pg.evaluate("document.querySelectorAll('#jobs-table tbody tr').forEach(r => r.remove())")
     return [pg.locator("#jobs-table tbody")]

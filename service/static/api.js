@@ -79,3 +79,23 @@ export function begin(panel) {
     throw new Superseded(panel);
   };
 }
+
+// A 422's field said next to its control: `controls` maps the field's last name (e.g.
+// "fence_friction" of "body.options.fence_friction") to the id of its input; the note is
+// cleared by clearFieldErrors (called before each request of the form).
+export function markFieldError(err, controls) {
+  const name = err && err.field ? String(err.field).split(".").pop() : null;
+  const id = name && controls[name];
+  const input = id && document.getElementById(id);
+  if (!input) return;
+  input.setAttribute("aria-invalid", "true");
+  const note = Object.assign(document.createElement("span"), { className: "field-error", role: "alert" });
+  note.dataset.field = name;
+  note.textContent = err.message;
+  (input.closest("label") || input).after(note);
+}
+
+export function clearFieldErrors(form) {
+  form.querySelectorAll(".field-error").forEach((n) => n.remove());
+  form.querySelectorAll("[aria-invalid]").forEach((n) => n.removeAttribute("aria-invalid"));
+}

@@ -4,7 +4,7 @@ import { api, hasKey, setKey } from "./api.js";
 import { listRuns, showRun } from "./runs.js";
 import { setupEditor } from "./editor.js";
 import { setupFences } from "./fences.js";
-import { cancelJob, lastJob, listJobs, showJob, startJob } from "./jobs.js";
+import { cancelJob, lastJob, listJobs, setupJobForm, showJob, startJob } from "./jobs.js";
 import { analyse, drawAnalysis, importFile, loadExamples, setTheta, showThumbnails, showWarnings } from "./part.js";
 import { clearPlan, enableDrag, ensureAnalysis, makePlan, markPlanStale, play, showPlan } from "./plan.js";
 import { clearValidation, markValidationStale, playBack, runValidation, showValidation } from "./validate.js";
@@ -164,6 +164,7 @@ function wire() {
     await runValidation(state);
   }));
   $("playback-play").addEventListener("click", () => state.playback && playBack(state));
+  setupJobForm();
   $("job-form").addEventListener("submit", action("running the catalogue job", () => startJob(state)));
   $("jobs-refresh").addEventListener("click", action("loading jobs", () => listJobs(state)));
   $("job-cancel").addEventListener("click", () => state.job && state.jobActions.onCancel(state.job));

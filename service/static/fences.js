@@ -3,7 +3,7 @@
 // (fence_anim.js, from the document's images), validates on the belt in Drake (the same
 // endpoint with `validate`) and downloads the DXF/SVG drawings. The part is the Part page's.
 
-import { api, begin } from "./api.js";
+import { api, begin, clearFieldErrors, markFieldError } from "./api.js";
 import { hasImages, playFences } from "./fence_anim.js";
 
 const $ = (id) => document.getElementById(id);
@@ -22,14 +22,29 @@ function request(state) {
   };
   const w = $("belt-width").value.trim();
   if (w) body.belt_width = Number(w);
+  const e = $("fence-exit-steepness").value.trim();
+  if (e) body.exit_steepness_deg = Number(e);
   return body;
 }
+
+// The form's controls, by the name a 422's field ends with.
+const FIELDS = {
+  fence_friction: "fence-mu-lo", min_margin_deg: "fence-margin", belt_width: "belt-width",
+  exit_steepness_deg: "fence-exit-steepness", exit_turns: "fence-tip-turns", same_rail: "fence-same-rail",
+};
 
 async function design(state) {
   const current = begin("fences");
   const body = request(state);
-  const doc = await api("/v1/fences", { json: body });
-  const svg = await (await api("/v1/fences", { json: { ...body, drawing: "svg" }, raw: true })).text();
+  clearFieldErrors($("fence-form"));
+  let doc, svg;
+  try {
+    doc = await api("/v1/fences", { json: body });
+    svg = await (await api("/v1/fences", { json: { ...body, drawing: "svg" }, raw: true })).text();
+  } catch (err) {
+    markFieldError(err, FIELDS);
+    throw err;
+  }
   current($("fence-out"));
   show(state, body, doc, svg);
   $("fence-validation").hidden = true;

@@ -3,7 +3,7 @@
 // GET /v1/jobs/{id}) with per-part results, the gripper specification (GET
 // /v1/jobs/{id}/gripper) and the results zip. The job shown last is remembered for a reload.
 
-import { api, begin, download } from "./api.js";
+import { api, begin, clearFieldErrors, download, markFieldError } from "./api.js";
 import { physicsRequest } from "./physics.js";
 
 const POLL_MS = 700;
@@ -18,13 +18,62 @@ export async function startJob(state) {
   if (gripper) {
     try { options.gripper = JSON.parse(gripper); } catch { throw new Error("gripper profile: not valid JSON"); }
   }
+  Object.assign(options, fenceOptions());
   const form = new FormData();
   form.append("archive", file);
   form.append("options", JSON.stringify(options));
-  const job = await api("/v1/jobs", { form });
+  clearFieldErrors(document.getElementById("job-form"));
+  let job;
+  try {
+    job = await api("/v1/jobs", { form });
+  } catch (e) {
+    markFieldError(e, FIELDS);
+    throw e;
+  }
   state.jobIgnored = { ...state.jobIgnored, [job.id]: job.ignored || [] };
   listJobs(state).catch(() => {}); // the list shows it at once; its own errors come with its next refresh
   await showJob(state, job.id);
+}
+
+// The job options' controls, by the name a 422's field ends with.
+const FIELDS = {
+  min_margin_deg: "job-margin", gripper: "job-gripper", fences: "job-fences", fence_friction: "job-fence-mu-lo",
+  fence_min_margin_deg: "job-fence-margin", belt_width: "job-belt-width", exit_steepness_deg: "job-exit-steepness",
+  exit_turns: "job-fence-tip-turns", same_rail: "job-fence-same-rail",
+};
+
+// The fence options of POST /v1/jobs (the Fences page's, per part); none unless ticked.
+function fenceOptions() {
+  const $ = (id) => document.getElementById(id);
+  if (!$("job-fences").checked) return {};
+  const out = {
+    fences: true,
+    fence_friction: [Number($("job-fence-mu-lo").value), Number($("job-fence-mu-hi").value)],
+    exit_turns: $("job-fence-tip-turns").checked,
+    same_rail: $("job-fence-same-rail").checked,
+  };
+  for (const [key, id] of [["fence_min_margin_deg", "job-fence-margin"], ["belt_width", "job-belt-width"],
+    ["exit_steepness_deg", "job-exit-steepness"]]) {
+    const v = $(id).value.trim();
+    if (v) out[key] = Number(v);
+  }
+  return out;
+}
+
+// The fence options are enabled while "design conveyor fences" is ticked.
+export function setupJobForm() {
+  const box = document.getElementById("job-fences");
+  const sync = () => { document.getElementById("job-fence-options").disabled = !box.checked; };
+  box.addEventListener("change", sync);
+  sync();
+}
+
+// A part's fence result, compactly: the count (and the exit guide) or why refused.
+function fenceCell(f) {
+  if (!f) return null;
+  if (f.orientable === false) return `refused: ${f.message || f.reason}`;
+  const n = f.fences.length;
+  return `${n} fence${n > 1 ? "s" : ""}` + (f.exit ? `, exit guide ${Number(f.exit.steepness_deg.toPrecision(3))}°` : "");
 }
 
 const RUNNING = ["queued", "running"];
@@ -151,7 +200,9 @@ function drawJob(job, byIndex) {
     const res = (byIndex[p.index] && byIndex[p.index].result) || {};
     const why = p.error ? p.error.message : res.orientable === false ? Object.values(res.reasons || {}).join("; ") : "";
     if (p.status === "failed" || res.orientable === false) tr.className = "bad";
-    [p.index + 1, p.name, p.status, res.action, res.plan ? res.plan.steps.length : null, why].forEach((v) => cell(tr, v));
+    [p.index + 1, p.name, p.status, res.action, res.plan ? res.plan.steps.length : null, why, fenceCell(res.fences)]
+      .forEach((v) => cell(tr, v));
+    if (res.fences) tr.lastChild.dataset.fences = res.fences.orientable === false ? "refused" : String(res.fences.fences.length);
     return tr;
   });
   document.querySelector("#job-parts tbody").replaceChildren(...rows);

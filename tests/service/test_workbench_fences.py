@@ -172,3 +172,102 @@ def test_same_rail_checkbox_asks_for_the_same_rail_design(page: Any) -> None:  #
     assert [f["angle_deg"] for f in doc["fences"]] == pytest.approx([f["angle_deg"] for f in want["fences"]])
     assert [f["side"] for f in doc["fences"]] == [f["side"] for f in want["fences"]]
     assert page.locator("#fence-table tbody tr").count() == len(want["fences"])
+
+
+TRIANGLE = json.loads((ROOT / "tests" / "data" / "fences" / "triangle.json").read_text())
+PIE20 = json.loads((ROOT / "algrasp" / "examples" / "pie-20.json").read_text())
+
+
+def _count(part: dict[str, Any], **options: Any) -> int | str:
+    """The API's fence count for the part, or "refused" when it has no design."""
+    try:
+        return len(algrasp.fences(part, **options).to_dict()["fences"])
+    except algrasp.NotOrientableError:
+        return "refused"
+
+
+def test_jobs_page_sends_fence_options_and_shows_each_parts_fences(page: Any, server: Any,  # noqa: F811
+                                                                   tmp_path: Path) -> None:
+    """The Catalogue page with "design conveyor fences", same rail and exit steepness 3°: the
+    job's per-part fence results echo those options, and each part's fences cell says the count of
+    ``algrasp.fences(part, same_rail=True)`` (pie-20 and the triangle have no design with
+    alternating rails, so a job that dropped same_rail would differ)."""
+    import zipfile
+
+    parts = {"pie-20": PIE20, "tri": dict(TRIANGLE, name="tri")}
+    archive = tmp_path / "catalogue.zip"
+    with zipfile.ZipFile(archive, "w") as z:
+        for name, part in parts.items():
+            z.writestr(f"{name}.json", json.dumps(part))
+    page.click("button[data-page=catalogue]")
+    assert page.is_disabled("#job-fence-same-rail")  # the fence options wait for the checkbox
+    page.set_input_files("#job-archive", str(archive))
+    page.check("#job-fences")
+    page.check("#job-fence-same-rail")
+    page.fill("#job-exit-steepness", "3")
+    page.click("#job-submit")
+    page.wait_for_selector("#job-out[data-state=done]", timeout=180_000)
+    job_id = page.get_attribute("#job-out", "data-job")
+    with server.client() as c:  # what the job stored: each part's fence result echoes its options
+        lines = [json.loads(x) for x in c.get(f"/v1/jobs/{job_id}/results").text.splitlines()]
+    for line in lines:
+        assert line["result"]["fences"]["options"] == {"fence_friction": [0.1, 0.3], "belt_width": None,
+                                                      "min_margin_deg": 1.0, "exit_steepness_deg": 3.0,
+                                                      "exit_turns": True, "same_rail": True}
+    rows = page.locator("#job-parts tbody tr")
+    assert rows.count() == len(parts) == len(lines)
+    for i in range(rows.count()):
+        name = rows.nth(i).locator("td").nth(1).inner_text()
+        want = _count(parts[name], same_rail=True, exit_steepness_deg=3.0)
+        assert want != "refused"
+        assert rows.nth(i).locator("td[data-fences]").get_attribute("data-fences") == str(want)
+        assert rows.nth(i).locator("td").last.inner_text().startswith(f"{want} fence")
+        assert _count(parts[name], exit_steepness_deg=3.0) == "refused"  # the option made the design
+
+
+def test_jobs_page_says_a_bad_fence_option_by_its_control(page_422: Any, tmp_path: Path) -> None:
+    import zipfile
+
+    archive = tmp_path / "catalogue.zip"
+    with zipfile.ZipFile(archive, "w") as z:
+        z.writestr("tri.json", json.dumps(TRIANGLE))
+    pg = page_422
+    pg.click("button[data-page=catalogue]")
+    pg.set_input_files("#job-archive", str(archive))
+    pg.check("#job-fences")
+    pg.fill("#job-exit-steepness", "0")  # the form allows it, the API does not (0 < β_e ≤ 10°): its 422
+    pg.click("#job-submit")
+    pg.wait_for_selector("#job-form .field-error[data-field=exit_steepness_deg]")
+    assert pg.get_attribute("#job-exit-steepness", "aria-invalid") == "true"
+    assert "exit_steepness_deg" in pg.inner_text("#message")
+
+
+def test_exit_steepness_reaches_the_design_and_its_drawings(page_422: Any) -> None:
+    """Exit steepness 3°: the page's design is the API's for ``exit_steepness_deg=3`` (the
+    exit guide at 3° to the belt), and the SVG and DXF drawings are asked with it too; 0° is
+    refused by the API and said next to the control."""
+    pg = page_422
+    pg.select_option("#example", "battery-plate")
+    pg.wait_for_selector("#analysis:not([hidden])")
+    pg.click("button[data-page=fences]")
+    pg.fill("#fence-exit-steepness", "3")
+    with (pg.expect_request(lambda r: r.url.endswith("/v1/fences") and "svg" in (r.post_data or "")) as svg_req,
+          pg.expect_response(lambda r: r.url.endswith("/v1/fences") and "svg" not in (r.request.post_data or "")) as resp):
+        pg.click("#fence-btn")
+    pg.wait_for_selector("#fence-summary[data-fences]")
+    doc = resp.value.json()
+    want: dict[str, Any] = json.loads(json.dumps(algrasp.fences(PLATE, fence_friction=[0.1, 0.3], min_margin_deg=1.0,
+                                                                exit_steepness_deg=3.0).to_dict()))
+    assert doc["exit"]["steepness_deg"] == pytest.approx(3.0) == pytest.approx(want["exit"]["steepness_deg"])
+    assert doc["exit"]["length"] == pytest.approx(want["exit"]["length"])
+    assert [f["angle_deg"] for f in doc["fences"]] == pytest.approx([f["angle_deg"] for f in want["fences"]])
+    assert svg_req.value.post_data_json["exit_steepness_deg"] == 3
+    assert "exit guide at 3° to the belt" in pg.inner_text("#fence-summary")
+    with (pg.expect_request(lambda r: r.url.endswith("/v1/fences") and "dxf" in (r.post_data or "")) as dxf_req,
+          pg.expect_download()):
+        pg.click("#fence-dxf")
+    assert dxf_req.value.post_data_json["exit_steepness_deg"] == 3
+    pg.fill("#fence-exit-steepness", "0")
+    pg.click("#fence-btn")
+    pg.wait_for_selector("#fence-form .field-error[data-field=exit_steepness_deg]")
+    assert pg.get_attribute("#fence-exit-steepness", "aria-invalid") == "true"
