@@ -68,13 +68,7 @@ def collision_outline(part: Part, turn_rad: float, min_chord: float) -> tuple[Fl
             corners.append(np.array([True]))
             continue
         dense = part.hull.feature_points(i, np.linspace(f.psi0, f.psi1, max(2, int(np.ceil((f.psi1 - f.psi0) / 0.002)) + 1)))
-        keep = [0]
-        for i in range(1, len(dense) - 1):
-            chord = float(np.hypot(*(dense[i] - dense[keep[-1]])))
-            turn = (f.psi1 - f.psi0) * (i - keep[-1]) / (len(dense) - 1)
-            if turn >= turn_rad and chord >= min_chord:
-                keep.append(i)
-        keep.append(len(dense) - 1)
+        keep = _chord_ends(dense, f.psi1 - f.psi0, turn_rad, min_chord)
         for a, b in zip(keep[:-1], keep[1:]):
             seg = dense[a:b + 1]
             d = seg[-1] - seg[0]
@@ -83,6 +77,39 @@ def collision_outline(part: Part, turn_rad: float, min_chord: float) -> tuple[Fl
         pts.append(dense[keep])
         corners.append(np.zeros(len(keep), dtype=bool))
     return _space(np.concatenate(pts), np.concatenate(corners), min_chord), worst
+
+
+CHORD_WINDOW = 64
+"""Points beyond the first admissible one whose chords are measured in one numpy pass."""
+
+
+def _chord_ends(dense: FloatArray, span: float, turn_rad: float, min_chord: float) -> list[int]:
+    """Indices of ``dense`` (M, 2) kept as chord ends: from each kept point, the first
+    later point at least ``turn_rad`` of the feature's ``span`` (rad) and ``min_chord``
+    away; the first and last points always. The same indices as testing every point in
+    turn (the same float operations), with the chords of a window measured at once:
+    O(M) numpy work in passes of ``CHORD_WINDOW``."""
+    last = len(dense) - 1
+    first = 1  # the fewest points a chord spans to turn by turn_rad (the same test as per point)
+    while first < last and span * first / last < turn_rad:
+        first += 1
+    keep = [0]
+    k = 0
+    while True:
+        i = k + first
+        found = None
+        while i < last and found is None:
+            j = min(i + CHORD_WINDOW, last)
+            d = dense[i:j] - dense[k]
+            hits = np.flatnonzero(np.hypot(d[:, 0], d[:, 1]) >= min_chord)
+            found = i + int(hits[0]) if len(hits) else None
+            i = j
+        if found is None:
+            break
+        keep.append(found)
+        k = found
+    keep.append(last)
+    return keep
 
 
 def _space(pts: FloatArray, corner: np.ndarray, gap: float) -> FloatArray:
