@@ -136,7 +136,7 @@ def check_fence_options(opts: DesignOptions, fences: str = "fences") -> None:
     ``fences`` (named as ``fences`` says: the option or its flag); the checks of
     ``algrasp.api.fences``, made once for the whole job."""
     from algrasp.planning.fence_exit import exit_steepness
-    from algrasp.planning.fences import fence_rules
+    from algrasp.planning.fences import check_min_margin, fence_rules
 
     if not opts.fences:
         for name in FENCE_OPTIONS:
@@ -147,9 +147,8 @@ def check_fence_options(opts: DesignOptions, fences: str = "fences") -> None:
     exit_steepness(opts.exit_steepness_deg)
     if opts.belt_width is not None and not (math.isfinite(opts.belt_width) and opts.belt_width > 0.0):
         raise ConfigError("belt_width", f"expected a width > 0 (each part's unit), got {opts.belt_width!r}")
-    m = opts.fence_min_margin_deg
-    if m is not None and not (math.isfinite(m) and 0.0 <= m < 45.0):
-        raise ConfigError("fence_min_margin_deg", f"must be in [0, 45), got {m!r}")
+    if opts.fence_min_margin_deg is not None:
+        check_min_margin(opts.fence_min_margin_deg, "fence_min_margin_deg")
     for name in ("exit_turns", "same_rail"):
         if not isinstance(getattr(opts, name), bool):
             raise ConfigError(name, f"expected true or false, got {getattr(opts, name)!r}")

@@ -61,6 +61,12 @@ class ValidateOptions(_Strict):
 
 
 Range = float | Annotated[list[float], Field(min_length=1, max_length=2)]
+BeltWidth = Annotated[float | None, Field(gt=0.0, le=1e9)]
+"""A belt width between the rails (part units), where a fence design is asked for."""
+FenceMarginDeg = Annotated[float, Field(ge=0.0, lt=45.0)]
+"""How far every fence angle may be off (degrees; :func:`algrasp.planning.fences.check_min_margin`)."""
+ExitSteepnessDeg = Annotated[float | None, Field(gt=0.0, le=10.0)]
+"""The exit guide's angle to the belt (degrees; :func:`algrasp.planning.fence_exit.exit_steepness`)."""
 
 
 def _range_field(key: str) -> Any:
@@ -171,13 +177,13 @@ class FencesBody(ModelOptions):
     part: PartJson = Field(description="part document (conventions §5)")
     fence_friction: Range | None = Field(None, description="part–fence friction μ_f: one value or [lo, hi] "
                                          "(default [0.1, 0.3]: UHMW-PE guide rails on dry parts)")
-    belt_width: float | None = Field(None, gt=0.0, le=1e9, description="between the rails, part units "
+    belt_width: BeltWidth = Field(None, description="between the rails, part units "
                                      "(default: the least the design needs)")
-    min_margin_deg: float = Field(1.0, ge=0.0, lt=45.0, description="every fence angle may be off by this much")
+    min_margin_deg: FenceMarginDeg = Field(1.0, description="every fence angle may be off by this much")
     drawing: Literal["svg", "dxf"] | None = Field(None, description="answer the drawing of the belt and fences "
                                                    "(image/svg+xml or application/dxf, part units) instead of the document")
     tail: TailOptions | None = Field(None, description="a curved tail on the last fence")
-    exit_steepness_deg: float | None = Field(None, gt=0.0, le=10.0, description="the exit guide's angle to the belt "
+    exit_steepness_deg: ExitSteepnessDeg = Field(None, description="the exit guide's angle to the belt "
                                              "(default 2°): the claim past it is ±β_e/2 wider")
     exit_turns: bool = Field(True, description="model the turn a part takes over each fence's tip (false: Berretty "
                              "et al.'s model, the part keeps its orientation between fences)")
@@ -209,11 +215,11 @@ class JobOptions(ModelOptions):
     gripper: dict[str, Any] | None = None
     fences: bool = Field(False, description="also design conveyor fences for every part (conventions §9)")
     fence_friction: Range | None = Field(None, description="with fences: part–fence friction μ_f, one value or [lo, hi]")
-    belt_width: float | None = Field(None, gt=0.0, le=1e9, description="with fences: between the rails, in each "
+    belt_width: BeltWidth = Field(None, description="with fences: between the rails, in each "
                                      "part's unit (default: the least each design needs)")
-    fence_min_margin_deg: float | None = Field(None, ge=0.0, lt=45.0, description="with fences: every fence angle "
+    fence_min_margin_deg: FenceMarginDeg | None = Field(None, description="with fences: every fence angle "
                                                "may be off by this much (default min_margin_deg, at least 1°)")
-    exit_steepness_deg: float | None = Field(None, gt=0.0, le=10.0, description="with fences: the exit guide's "
+    exit_steepness_deg: ExitSteepnessDeg = Field(None, description="with fences: the exit guide's "
                                              "angle to the belt (default 2°)")
     exit_turns: bool = Field(True, description="with fences: model the turn a part takes over each fence's tip "
                              "(false: Berretty et al.'s model)")

@@ -45,7 +45,7 @@ from algrasp.planning.planner import GUARD_RAD, PRECISE_RAD
 from algrasp.planning.plans import _edge_tilt
 
 __all__ = ["DEFAULT_FENCE_FRICTION", "DEFAULT_MIN_MARGIN_DEG", "DEFAULT_RULES", "FenceDesign", "FenceRules", "Push",
-           "design_fences", "fence_rules", "friction_limit", "on_belt", "push_of", "turned"]
+           "check_min_margin", "design_fences", "fence_rules", "friction_limit", "on_belt", "push_of", "turned"]
 
 BEAM = 4
 """Arcs kept per fence angle and level (the narrowest)."""
@@ -126,6 +126,16 @@ LengthOf = Callable[[FenceDesign], float]
 """The total fence length of a design (part units): the layout's, injected by the caller."""
 
 
+MAX_MIN_MARGIN_DEG = 45.0
+"""A fence margin must be below 45° (a fence's whole admissible range is under 80°)."""
+
+
+def check_min_margin(min_margin_deg: float, name: str = "min_margin_deg") -> None:
+    """ConfigError (``name``) unless 0 ≤ ``min_margin_deg`` < 45 (degrees)."""
+    if not (np.isfinite(min_margin_deg) and 0.0 <= min_margin_deg < MAX_MIN_MARGIN_DEG):
+        raise ConfigError(name, f"must be in [0, {MAX_MIN_MARGIN_DEG:g}), got {min_margin_deg!r}")
+
+
 def design_fences(analysis: Analysis, rules: FenceRules = DEFAULT_RULES, min_margin_deg: float = DEFAULT_MIN_MARGIN_DEG,
                   length: LengthOf | None = None) -> FenceDesign:
     """The fewest fences orienting the part (see module docs), ties by ``length`` then margin.
@@ -137,8 +147,7 @@ def design_fences(analysis: Analysis, rules: FenceRules = DEFAULT_RULES, min_mar
         when no admissible sequence of at most ``MAX_FENCES`` does (with ``limits``:
         the largest fence friction under which one would, if any).
     """
-    if not (np.isfinite(min_margin_deg) and 0.0 <= min_margin_deg < 45.0):
-        raise ConfigError("min_margin_deg", f"must be in [0, 45), got {min_margin_deg}")
+    check_min_margin(min_margin_deg)
     push = push_of(analysis)
     found = _search(analysis, push, rules, to_rad(min_margin_deg), length)
     if found is not None:

@@ -110,9 +110,7 @@ class TransferFunction:
 
     def apply(self, thetas: FloatArray) -> FloatArray:
         """F over an array of θ (radians), vectorised; O(m log n)."""
-        thetas = np.asarray(thetas, dtype=float)
-        k, vals = self._lookup(thetas)
-        return np.where(np.isnan(vals), thetas, vals + k * self.period)
+        return self.apply_on_ramp(thetas)[0]
 
     def apply_on_ramp(self, thetas: FloatArray) -> tuple[FloatArray, np.ndarray]:
         """:meth:`apply` and :meth:`on_ramp` from one lookup (radians); O(m log n)."""
