@@ -19,7 +19,6 @@ Pure: no I/O.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 from numpy.polynomial import legendre  # at import, not on first use inside the first analysis
@@ -97,21 +96,24 @@ def mean_radius(part: Part) -> float:
     return float(total / part.area)
 
 
-@lru_cache(maxsize=1)
-def _gauss6() -> tuple[FloatArray, FloatArray]:
-    """6-point Gauss-Legendre nodes and weights on [0, 1], built once (leggauss solves an
-    eigenproblem: a third of :func:`mean_radius`'s time when built per call)."""
-    t, w = legendre.leggauss(6)
+def _gauss_nodes(k: int) -> tuple[FloatArray, FloatArray]:
+    """k-point Gauss-Legendre nodes and weights on [0, 1] (read-only)."""
+    t, w = legendre.leggauss(k)
     t, w = 0.5 * (t + 1.0), 0.5 * w
     t.setflags(write=False)
     w.setflags(write=False)
     return t, w
 
 
+_GAUSS6 = _gauss_nodes(6)
+"""6-point nodes and weights, built at import (leggauss solves an eigenproblem: a third
+of :func:`mean_radius`'s time per call, and the first call's in a fresh process)."""
+
+
 def _distance_integral(pts: FloatArray) -> float:
     """⅓ ∮ |p| (x dy − y dx) over the closed polyline ``pts`` (N, 2)."""
     d = np.roll(pts, -1, axis=0) - pts
-    t, w = _gauss6()
+    t, w = _GAUSS6
     p = pts[:, None, :] + d[:, None, :] * t[None, :, None]
     rho = np.hypot(p[..., 0], p[..., 1])
     cross = p[..., 0] * d[:, None, 1] - p[..., 1] * d[:, None, 0]

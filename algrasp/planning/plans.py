@@ -318,8 +318,6 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0, l
         raise ConfigError("action", f"expected squeeze or push_grasp, got {action!r}")
     if analysis.robust is None:
         return replace(plan_once(analysis, action, min_margin_deg), analysis=analysis)
-    from algrasp.planning import limits as lim
-
     try:
         plan = plan_once(analysis, action, min_margin_deg)
     except NotOrientableError as e:
@@ -328,6 +326,8 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0, l
         raise NotOrientableError(e.reason, e.message, search=_refusal_limits(analysis, action, e.message, min_margin_deg)) from None
     if limits in ("none", "refusal"):
         return replace(plan, analysis=analysis)
+    from algrasp.planning import limits as lim  # imported only when a search runs (cold start)
+
     wanted = lim.HEADLINE if limits == "headline" else tuple(lim.SEARCHES)
     return replace(plan, analysis=analysis, limits=lim.limits(analysis, action, plan_once, wanted, min_margin_deg, refused=False))
 
