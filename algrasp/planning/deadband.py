@@ -112,7 +112,7 @@ of :func:`mean_radius`'s time per call, and the first call's in a fresh process)
 
 def _distance_integral(pts: FloatArray) -> float:
     """⅓ ∮ |p| (x dy − y dx) over the closed polyline ``pts`` (N, 2)."""
-    d = np.roll(pts, -1, axis=0) - pts
+    d = np.concatenate([pts[1:], pts[:1]]) - pts
     t, w = _GAUSS6
     p = pts[:, None, :] + d[:, None, :] * t[None, :, None]
     rho = np.hypot(p[..., 0], p[..., 1])

@@ -81,7 +81,7 @@ def _equations(rho: FloatArray, R: FloatArray, slopes: Sequence[float], jaw: tup
         beta, A = float(np.arctan(mu)), rho * float(np.hypot(1.0, mu))
         delta += [beta, -beta]
         top = (mu * R + c) / A
-        cols.append(np.stack([top, -(mu * R + c) / A], axis=1))
+        cols += [top[:, None], (-(mu * R + c) / A)[:, None]]
     return np.array(delta)[None, :], np.concatenate(cols, axis=1)
 
 
@@ -97,7 +97,8 @@ def _point_roots(cells: np.ndarray, centres: FloatArray, radii: FloatArray, slop
     delta, k = _equations(rho, R, slopes, jaw, levels)
     real = np.abs(k) <= 1.0
     s = np.arcsin(np.clip(k, -1.0, 1.0))
-    x = np.stack([delta + s, delta + np.pi - s], axis=2)  # (m, E, 2)
+    x = np.empty((*s.shape, 2))  # (m, E, 2)
+    x[..., 0], x[..., 1] = delta + s, delta + np.pi - s
     psi = phi0[:, None, None] + x
     psi = a[:, None, None] + np.mod(psi - a[:, None, None], TWO_PI)  # the root in [a, a + 2π)
     keep = real[:, :, None] & (psi < b[:, None, None])

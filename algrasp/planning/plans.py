@@ -490,8 +490,8 @@ def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SA
     inner = cuts[cuts <= c1]
     pts = np.concatenate([np.linspace(c0, c1, samples), inner - PROBE_RAD, inner, inner + PROBE_RAD])
     pts = np.clip(pts, c0, c1) + a1
-    lo = np.append(pts, c0 + a1)
-    hi = np.append(pts, c1 + a1)
+    lo = np.concatenate([pts, [c0 + a1]])
+    hi = np.concatenate([pts, [c1 + a1]])
     lo, hi = replace(plan, steps=plan.steps[1:]).run_set(lo, hi)
     mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
     want = np.array(plan.final_orientations)

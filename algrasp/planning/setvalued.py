@@ -157,7 +157,7 @@ def _samples(f: SupportPairFunction, x: FloatArray, kink: np.ndarray, T: float) 
     pick[:, 0], pick[:-1, 1], pick[-1, 1] = np.arange(n), src[1:], src[0]
     G, V = g[pick], v[pick]
     if K > 1:  # the last cell ends at node 0 of the next copy
-        G[-1, 1], V[-1, 1] = np.roll(G[-1, 1], -1), np.roll(V[-1, 1], -1)
+        G[-1, 1], V[-1, 1] = np.concatenate([G[-1, 1, 1:], G[-1, 1, :1]]), np.concatenate([V[-1, 1, 1:], V[-1, 1, :1]])
     return G, V
 
 

@@ -91,7 +91,7 @@ class TransferFunction:
         ramp = np.isnan(values)
         lift = (np.arange(LIFTS.start, LIFTS.stop) * self.period)[:, None]
         out = ((starts + lift).ravel(), (np.array([p.end for p in self.pieces]) + lift).ravel(),
-               (np.where(ramp, starts, values) + lift).ravel(), np.tile(ramp, len(LIFTS)))
+               (np.where(ramp, starts, values) + lift).ravel(), np.concatenate([ramp] * len(LIFTS)))
         for a in out:
             a.flags.writeable = False
         return out
