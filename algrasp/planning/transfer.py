@@ -116,6 +116,8 @@ class TransferFunction:
     def apply_on_ramp(self, thetas: FloatArray) -> tuple[FloatArray, np.ndarray]:
         """:meth:`apply` and :meth:`on_ramp` from one lookup (radians); O(m log n)."""
         thetas = np.asarray(thetas, dtype=float)
+        if len(self.pieces) == 1 and self.pieces[0].value is None:  # the identity: no lookup
+            return thetas.copy(), np.ones(thetas.shape, dtype=bool)
         out, vals = self._lookup(thetas)
         ramp = np.isnan(vals)
         out *= self.period  # in place: the lift offset k·P, then the step's value, θ on ramps
