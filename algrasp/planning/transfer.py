@@ -174,21 +174,37 @@ class TransferFunction:
 
     def compose_after(self, inner: TransferFunction, tol_rad: float) -> TransferFunction:
         """self ∘ inner (inner acts first), over inner's period (Appendix C).
-        O((n + m) log n): self's starts are lifted once and cut each ramp by search."""
-        out: list[TransferPiece] = []
+        O((n + m) log n): self's starts are lifted once and cut each ramp by search; self
+        is evaluated at every step value and every cut cell's middle in one pass."""
+        cells: list[tuple[float, float, bool]] = []  # [a, b) and whether inner steps there
+        probes: list[float] = []  # where self is read: the step's value, or the cell's middle
         cuts_all = None  # made for the first ramp of inner: steps need none
         for p in inner.pieces:
             if p.value is not None:
-                out.append(TransferPiece(p.start, p.end, self(p.value)))
+                cells.append((p.start, p.end, True))
+                probes.append(p.value)
                 continue
             if cuts_all is None:
                 cuts_all = self._lifted_starts(min(q.start for q in inner.pieces), max(q.end for q in inner.pieces))
             i, j = bisect.bisect_right(cuts_all, p.start), bisect.bisect_right(cuts_all, p.end)
             cuts = [p.start, *(c for c in cuts_all[i:j] if p.start < c < p.end), p.end]
             for a, b in zip(cuts[:-1], cuts[1:]):
-                q, off = self.piece_at(0.5 * (a + b))  # the middle: no rounding at boundaries
-                out.append(TransferPiece(a, b, None if q.value is None else q.value + off))
+                cells.append((a, b, False))
+                probes.append(0.5 * (a + b))  # the middle: no rounding at boundaries
+        values = self.values_at(probes)
+        out = [TransferPiece(a, b, (x if step else None) if v != v else v)  # v != v: NaN, on a ramp of self
+               for (a, b, step), x, v in zip(cells, probes, values)]
         return TransferFunction(inner.period, tuple(canonical(out, inner.period, tol_rad)))
+
+    def values_at(self, thetas: list[float]) -> list[float]:
+        """For each θ (radians): the value of the step holding it, lifted (NaN on a ramp),
+        exactly as :meth:`piece_at` finds the piece and its lift; one vectorised pass."""
+        th = np.array(thetas, dtype=float)
+        starts, values = self._arrays
+        # + 0.0: no −0.0 lift (math.floor's int 0 lifts by +0.0).
+        off = (np.floor((th - self.pieces[0].start) / self.period) + 0.0) * self.period
+        i = np.maximum(starts.searchsorted(th - off, side="right") - 1, 0)
+        return (values[i] + off).tolist()  # type: ignore[no-any-return]
 
     def _lifted_starts(self, a: float, b: float) -> list[float]:
         """Every piece start lifted over [a, b] (with a period to spare), sorted."""
