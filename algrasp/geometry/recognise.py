@@ -150,7 +150,7 @@ def _polyline_error(loop: Sequence[Segment], tol: Tolerances) -> tuple[float, fl
     small = turns <= tol.tessellation_turn_rad
     keep = _long_runs(small, tol.tessellation_min_run)
     # Segment j joins vertices j − 1 and j: a chord of the curve when both are tessellated.
-    chord = keep & np.roll(keep, 1)
+    chord = keep & np.concatenate([keep[-1:], keep[:-1]])
     if not chord.any():
         return 0.0, 0.0, 0
     seg_len = np.array([math.hypot(s.end[0] - s.start[0], s.end[1] - s.start[1]) if isinstance(s, Line) else 0.0
@@ -209,9 +209,9 @@ def _signed_turns(loop: Sequence[Segment]) -> FloatArray:
     is_line = np.array([isinstance(seg, Line) for seg in loop])
     nan = (math.nan, math.nan)
     d = np.array([(seg.end[0] - seg.start[0], seg.end[1] - seg.start[1]) if isinstance(seg, Line) else nan for seg in loop])
-    e = np.roll(d, -1, axis=0)
+    e = np.concatenate([d[1:], d[:1]])  # the next segment's (np.roll, without its overhead)
     turns = np.arctan2(d[:, 0] * e[:, 1] - d[:, 1] * e[:, 0], np.sum(d * e, axis=1))
-    return np.asarray(np.where(is_line & np.roll(is_line, -1), turns, np.nan))
+    return np.asarray(np.where(is_line & np.concatenate([is_line[1:], is_line[:1]]), turns, np.nan))
 
 
 def _run_list(flags: np.ndarray, min_run: int) -> list[list[int]]:

@@ -39,7 +39,8 @@ def first_reaching(q: FloatArray, level: FloatArray, start: IntArray) -> IntArra
     every row at once), O(r·n log m) to query."""
     q2 = np.atleast_2d(np.asarray(q, dtype=float))
     lv = np.atleast_2d(np.asarray(level, dtype=float))
-    st = np.broadcast_to(np.atleast_2d(np.asarray(start, dtype=np.intp)), lv.shape)
+    st = np.atleast_2d(np.asarray(start, dtype=np.intp))
+    st = st if st.shape == lv.shape else np.broadcast_to(st, lv.shape)
     r, m = q2.shape
     out = _scan(q2, lv, st) if r * lv.shape[1] * m <= SCAN_SIZE else _lift(q2, lv, st)
     return out.reshape(np.shape(level))
@@ -49,9 +50,10 @@ def _scan(q: FloatArray, level: FloatArray, start: IntArray) -> IntArray:
     """:func:`first_reaching` by comparing every level with every value: (r, n, m + 1)
     flags, the last column a sentinel that always reaches."""
     r, m = q.shape
-    hit = np.ones((r, level.shape[1], m + 1), dtype=bool)
+    hit = np.empty((r, level.shape[1], m + 1), dtype=bool)
     np.greater_equal(q[:, None, :], level[:, :, None], out=hit[:, :, :m])
     hit[:, :, :m] &= np.arange(m) >= start[:, :, None]
+    hit[:, :, m] = True
     return np.asarray(hit.argmax(axis=2))
 
 
@@ -99,25 +101,30 @@ def barrier_sets(x: FloatArray, T: float, node_values: FloatArray, cell_levels: 
     ends = np.empty(n)
     ends[:-1], ends[-1] = x[1:], T
     xs = np.concatenate([x + 0.0, x + T])  # the nodes over two periods, lifted
-    vals = np.concatenate([node_values, node_values[(np.arange(K) + 1) % K]], axis=1)  # copy k's nodes
+    shifted = (np.arange(K) + 1) % K  # copy k's next copy (leftward searches compare with its cells)
+    vals = np.concatenate([node_values, node_values if K == 1 else node_values[shifted]], axis=1)
     # Rightward from cell i (extended index i): first node j > i reaching the level.
     # Leftward: mirror the sequence (cell i's start is extended index n + i, lifted by −T).
-    rows = np.concatenate([vals + stall * xs, (vals - stall * xs)[:, ::-1]])
-    up, down = stall * ends, stall * (x + T)
-    shifted = (np.arange(K) + 1) % K  # leftward searches compare with the next copy's cells
-    level = np.concatenate([lv for c in cell_levels for lv in (c + up + 2.0 * eps, c[shifted] - down + 2.0 * eps)])
+    sx = stall * xs
+    rows = np.concatenate([vals + sx, (vals - sx)[:, ::-1]])
+    up, down, e2 = stall * ends, stall * (x + T), 2.0 * eps
+    level = np.concatenate([lv for c in cell_levels for lv in (c + up + e2, (c if K == 1 else c[shifted]) - down + e2)])
     start = np.empty((2 * K, n), dtype=np.intp)
     start[:K], start[K:] = np.arange(1, n + 1), n - 1 - np.arange(n)
-    found = first_reaching(np.concatenate([rows] * len(cell_levels)), level, np.concatenate([start] * len(cell_levels)))
-    m = 2 * n
+    L = len(cell_levels)
+    found = first_reaching(rows if L == 1 else np.concatenate([rows] * L), level,
+                           start if L == 1 else np.concatenate([start] * L))
+    return [_farthest(found[2 * K * i: 2 * K * (i + 1)], xs, T) for i in range(L)]
+
+
+def _farthest(found: IntArray, xs: FloatArray, T: float) -> tuple[FloatArray, FloatArray]:
+    """The right and left barriers from one level's :func:`first_reaching` rows (K rightward,
+    then K leftward, over the 2n lifted nodes ``xs``): the farthest over the copies."""
+    K, m = len(found) // 2, len(xs)
     at = np.minimum(found, m - 1)
-    out = []
-    for i in range(len(cell_levels)):
-        jr, jl = found[2 * K * i: 2 * K * i + K], found[2 * K * i + K: 2 * K * (i + 1)]
-        right = np.max(np.where(jr < m, xs[at[2 * K * i: 2 * K * i + K]], np.inf), axis=0)
-        left = np.min(np.where(jl < m, xs[(m - 1) - at[2 * K * i + K: 2 * K * (i + 1)]] - T, -np.inf), axis=0)
-        out.append((right, left))
-    return out
+    right = np.where(found[:K] < m, xs[at[:K]], np.inf)
+    left = np.where(found[K:] < m, xs[(m - 1) - at[K:]] - T, -np.inf)
+    return (right[0], left[0]) if K == 1 else (np.max(right, axis=0), np.min(left, axis=0))
 
 
 def shallow_basins(values: FloatArray, depth: float) -> np.ndarray:

@@ -19,7 +19,6 @@ Pure: no I/O.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 from numpy.polynomial import legendre  # at import, not on first use inside the first analysis
@@ -97,34 +96,37 @@ def mean_radius(part: Part) -> float:
     return float(total / part.area)
 
 
-@lru_cache(maxsize=1)
-def _gauss6() -> tuple[FloatArray, FloatArray]:
-    """6-point Gauss-Legendre nodes and weights on [0, 1], built once (leggauss solves an
-    eigenproblem: a third of :func:`mean_radius`'s time when built per call)."""
-    t, w = legendre.leggauss(6)
+def _gauss_nodes(k: int) -> tuple[FloatArray, FloatArray]:
+    """k-point Gauss-Legendre nodes and weights on [0, 1] (read-only)."""
+    t, w = legendre.leggauss(k)
     t, w = 0.5 * (t + 1.0), 0.5 * w
     t.setflags(write=False)
     w.setflags(write=False)
     return t, w
 
 
+_GAUSS6 = _gauss_nodes(6)
+"""6-point nodes and weights, built at import (leggauss solves an eigenproblem: a third
+of :func:`mean_radius`'s time per call, and the first call's in a fresh process)."""
+
+
 def _distance_integral(pts: FloatArray) -> float:
     """⅓ ∮ |p| (x dy − y dx) over the closed polyline ``pts`` (N, 2)."""
-    d = np.roll(pts, -1, axis=0) - pts
-    t, w = _gauss6()
+    d = np.concatenate([pts[1:], pts[:1]]) - pts
+    t, w = _GAUSS6
     p = pts[:, None, :] + d[:, None, :] * t[None, :, None]
     rho = np.hypot(p[..., 0], p[..., 1])
     cross = p[..., 0] * d[:, None, 1] - p[..., 1] * d[:, None, 0]
     return float(np.sum(rho * cross * w) / 3.0)
 
 
-def profile_floor(part: Part, physics: Physics) -> float:
+def profile_floor(part: Part, physics: Physics, size: float | None = None) -> float:
     """The manufacturing floor of σ (part units per radian): the given profile tolerance,
-    or ISO 2768-1 class f for the part's size."""
+    or ISO 2768-1 class f for the part's size (its :func:`nominal_size`, when known)."""
     if physics.profile_tolerance is not None:
         return physics.profile_tolerance
     mm_per_unit = 1e3 * meters_per_unit(part.units)
-    return iso_2768_f_mm(nominal_size(part) * mm_per_unit) / mm_per_unit
+    return iso_2768_f_mm((nominal_size(part) if size is None else size) * mm_per_unit) / mm_per_unit
 
 
 _NOMINAL_DIRECTIONS = 90
@@ -141,23 +143,24 @@ def nominal_size(part: Part) -> float:
 
 @dataclass(frozen=True)
 class PartTerms:
-    """What the dead band takes from the part alone (not from the physics): r̄ (part units)
-    and the drawing's own error. Computed once per analysis and reused by the probes of a
-    limit search, which vary only the physics."""
+    """What the dead band takes from the part alone (not from the physics): r̄ and the
+    nominal size (part units) and the drawing's own error. Computed once per analysis and
+    reused by the probes of a limit search, which vary only the physics."""
 
     mean_radius: float
     error: DrawingError
+    nominal_size: float
 
 
 def part_terms(part: Part, tol: Tolerances) -> PartTerms:
     """:class:`PartTerms` of the part. O(n)."""
-    return PartTerms(mean_radius(part), drawing_error(part.boundary, tol))
+    return PartTerms(mean_radius(part), drawing_error(part.boundary, tol), nominal_size(part))
 
 
 def dead_band(part: Part, physics: Physics, tol: Tolerances, terms: PartTerms) -> DeadBand:
     """The part's dead band under the physics ranges, given its own terms. O(1)."""
     rbar, err = terms.mean_radius, terms.error
-    floor = profile_floor(part, physics)
+    floor = profile_floor(part, physics, terms.nominal_size)
     sigma = max(err.slope, floor) if physics.shape_tolerance is None else max(physics.shape_tolerance, floor)
     eps_c = COM_TOLERANCE_REL * part.size if physics.com_tolerance is None else physics.com_tolerance
     # Symmetry is judged on the drawing (its own error; a measured σ bounds position at ~3°

@@ -81,26 +81,45 @@ def _equations(rho: FloatArray, R: FloatArray, slopes: Sequence[float], jaw: tup
         beta, A = float(np.arctan(mu)), rho * float(np.hypot(1.0, mu))
         delta += [beta, -beta]
         top = (mu * R + c) / A
-        cols.append(np.stack([top, -(mu * R + c) / A], axis=1))
+        cols += [top[:, None], (-(mu * R + c) / A)[:, None]]
     return np.array(delta)[None, :], np.concatenate(cols, axis=1)
 
 
-def _point_roots(cells: np.ndarray, centres: FloatArray, radii: FloatArray, slopes: Sequence[float],
-                 jaw: tuple[float, float] | None, levels: Sequence[float]) -> FloatArray:
-    """θ of every threshold crossing on the point-like cells (rows: near, far, ψ_a, ψ_b)."""
+@dataclass(frozen=True, eq=False)
+class _Contacts:
+    """The point-like contact cells that can cross a threshold (concentric contacts, where
+    f is constant, cannot): per cell the distance ρ and direction φ0 between the two
+    contacts' centres, the sum R of their radii, and the cell's normal range [a, b) (ψ,
+    radians). What :func:`_point_roots` reads that no threshold changes."""
+
+    rho: FloatArray
+    R: FloatArray
+    phi0: FloatArray
+    a: FloatArray
+    b: FloatArray
+
+
+def _contacts(cells: np.ndarray, centres: FloatArray, radii: FloatArray) -> _Contacts:
+    """:class:`_Contacts` of the point-like cells (rows: near, far, ψ_a, ψ_b)."""
     near, far = cells[:, 0].astype(np.intp), cells[:, 1].astype(np.intp)
     delta_xy = centres[near] - centres[far]
     rho = np.hypot(delta_xy[:, 0], delta_xy[:, 1])
-    R = radii[near] + radii[far]
-    live = rho > 0.0  # concentric contacts: f is constant, its slope crosses nothing
-    rho, R, phi0, a, b = rho[live], R[live], np.arctan2(delta_xy[live, 1], delta_xy[live, 0]), cells[live, 2], cells[live, 3]
-    delta, k = _equations(rho, R, slopes, jaw, levels)
+    live = rho > 0.0
+    return _Contacts(rho[live], (radii[near] + radii[far])[live], np.arctan2(delta_xy[live, 1], delta_xy[live, 0]),
+                     cells[live, 2], cells[live, 3])
+
+
+def _point_roots(c: _Contacts, slopes: Sequence[float], jaw: tuple[float, float] | None,
+                 levels: Sequence[float]) -> FloatArray:
+    """θ of every threshold crossing on the point-like cells."""
+    delta, k = _equations(c.rho, c.R, slopes, jaw, levels)
     real = np.abs(k) <= 1.0
     s = np.arcsin(np.clip(k, -1.0, 1.0))
-    x = np.stack([delta + s, delta + np.pi - s], axis=2)  # (m, E, 2)
-    psi = phi0[:, None, None] + x
-    psi = a[:, None, None] + np.mod(psi - a[:, None, None], TWO_PI)  # the root in [a, a + 2π)
-    keep = real[:, :, None] & (psi < b[:, None, None])
+    x = np.empty((*s.shape, 2))  # (m, E, 2)
+    x[..., 0], x[..., 1] = delta + s, delta + np.pi - s
+    psi = c.phi0[:, None, None] + x
+    psi = c.a[:, None, None] + np.mod(psi - c.a[:, None, None], TWO_PI)  # the root in [a, a + 2π)
+    keep = real[:, :, None] & (psi < c.b[:, None, None])
     return np.asarray(np.pi / 2 - psi[keep])
 
 
@@ -163,7 +182,7 @@ def crossings(f: SupportPairFunction, slopes: Sequence[float], jaw: tuple[float,
     crosses nothing below 0)."""
     grid = _grid(f, tol, grid_rad)
     positive = tuple(t for t in slopes if t > 0.0)
-    exact = _point_roots(grid.point_cells, grid.centres, grid.radii, positive, jaw, levels)
+    exact = _point_roots(grid.contacts, positive, jaw, levels)
     if not len(grid.theta):
         return exact, grid.theta
     return np.concatenate([exact, _curve_roots(f, grid, positive, jaw, levels)]), grid.theta
@@ -171,13 +190,11 @@ def crossings(f: SupportPairFunction, slopes: Sequence[float], jaw: tuple[float,
 
 @dataclass(frozen=True, eq=False)
 class _Grid:
-    """What :func:`crossings` reads of f that no threshold changes: the contact cells
-    (point-like ones with the centres and radii of their contacts) and, on the curve
-    cells, the grid θ, its cells and f′ and f there. Read-only arrays."""
+    """What :func:`crossings` reads of f that no threshold changes: the point-like contact
+    cells' geometry (:class:`_Contacts`) and, on the curve cells, the grid θ, its cells
+    and f′ and f there. Read-only arrays."""
 
-    point_cells: FloatArray
-    centres: FloatArray
-    radii: FloatArray
+    contacts: _Contacts
     theta: FloatArray
     cell: np.ndarray
     slope: FloatArray
@@ -198,7 +215,8 @@ def _grid(f: SupportPairFunction, tol: Tolerances, grid_rad: float) -> _Grid:
     curved = curve[near] | curve[far]
     theta, cell = _curve_grid(cells[curved], grid_rad)
     slope, value = slopes(f, theta) if len(theta) else (np.zeros(0), np.zeros(0))
-    out = _Grid(cells[~curved], centres, radii, theta, cell, slope, value)
-    for a in (out.point_cells, out.centres, out.radii, out.theta, out.cell, out.slope, out.value):
+    contacts = _contacts(cells[~curved], centres, radii)
+    out = _Grid(contacts, theta, cell, slope, value)
+    for a in (contacts.rho, contacts.R, contacts.phi0, contacts.a, contacts.b, out.theta, out.cell, out.slope, out.value):
         a.setflags(write=False)
     return out

@@ -157,7 +157,7 @@ def _samples(f: SupportPairFunction, x: FloatArray, kink: np.ndarray, T: float) 
     pick[:, 0], pick[:-1, 1], pick[-1, 1] = np.arange(n), src[1:], src[0]
     G, V = g[pick], v[pick]
     if K > 1:  # the last cell ends at node 0 of the next copy
-        G[-1, 1], V[-1, 1] = np.roll(G[-1, 1], -1), np.roll(V[-1, 1], -1)
+        G[-1, 1], V[-1, 1] = np.concatenate([G[-1, 1, 1:], G[-1, 1, :1]]), np.concatenate([V[-1, 1, 1:], V[-1, 1, :1]])
     return G, V
 
 
@@ -181,16 +181,22 @@ def _permissions(g: FloatArray, v: FloatArray, stall: tuple[float, float], sigma
     return np.asarray(right.any(axis=axes)), np.asarray(left.any(axis=axes)), np.asarray(rest.any(axis=axes))
 
 
-def _run_edges(flags: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _run_starts(flags: np.ndarray) -> np.ndarray:
     """For each cell i (cyclic, lifted indices): the first cell of the run of True flags
-    containing it, and the first False cell after it. Vectorised over three copies."""
+    containing it (i + 1 where flags[i] is False). Vectorised over three copies."""
     n = len(flags)
-    idx = np.arange(-n, 2 * n)
     f3 = np.concatenate([flags, flags, flags])
-    big = 4 * n
-    last_false = np.maximum.accumulate(np.where(f3, -big, idx))
-    next_false = np.minimum.accumulate(np.where(f3, big, idx)[::-1])[::-1]
-    return last_false[n:2 * n] + 1, next_false[n:2 * n]
+    last_false = np.maximum.accumulate(np.where(f3, -4 * n, np.arange(-n, 2 * n)))
+    return np.asarray(last_false[n:2 * n] + 1)
+
+
+def _run_ends(flags: np.ndarray) -> np.ndarray:
+    """For each cell i (cyclic, lifted indices): the first False cell after it (i itself
+    where flags[i] is False). Vectorised over three copies."""
+    n = len(flags)
+    f3 = np.concatenate([flags, flags, flags])
+    next_false = np.minimum.accumulate(np.where(f3, 4 * n, np.arange(-n, 2 * n))[::-1])[::-1]
+    return np.asarray(next_false[n:2 * n])
 
 
 @dataclass(frozen=True)
@@ -214,8 +220,7 @@ class _Cells:
     def run_limits(self) -> tuple[FloatArray, FloatArray]:
         """Where the run of right- (left-) movable cells containing each cell ends (starts),
         lifted; ±∞ for a run all round the circle (only the barriers stop it)."""
-        _, right_end = _run_edges(self.right)
-        left_start, _ = _run_edges(self.left)
+        right_end, left_start = _run_ends(self.right), _run_starts(self.left)
         run_right = np.full(len(self.x), np.inf) if self.right.all() else self.at(right_end)
         run_left = np.full(len(self.x), -np.inf) if self.left.all() else self.at(left_start)
         return run_right, run_left
@@ -224,8 +229,7 @@ class _Cells:
 def _bounds(c: _Cells, tol_rad: float) -> tuple[TransferFunction, TransferFunction]:
     """Lower and upper step/ramp functions from per-cell permissions and barriers."""
     R, L, S = c.right, c.left, c.rest
-    forced_left_start, _ = _run_edges(~R & ~S)
-    _, forced_right_end = _run_edges(~L & ~S)
+    forced_left_start, forced_right_end = _run_starts(~R & ~S), _run_ends(~L & ~S)
     run_right, run_left = c.run_limits
     up = np.where(R, np.minimum(run_right, c.barrier_right), np.where(S, np.nan, c.at(forced_left_start)))
     lo = np.where(L, np.maximum(run_left, c.barrier_left), np.where(S, np.nan, c.at(forced_right_end)))

@@ -79,6 +79,8 @@ def _extremum_orders(f: SupportPairFunction, value_tol: float) -> np.ndarray:
     value = np.array([e.value for e in f.extrema])
     # The lowest and highest extrema (np.median would import numpy.ma on first use).
     order = np.argsort(value, kind="stable")
+    if _none_at(f, float(theta[order[0]]), float(value[order[0]]), ks, value_tol):
+        return ks[:0]
     pick = order if len(order) <= EXTREMA_TESTED else np.concatenate([order[:EXTREMA_TESTED // 2], order[-(EXTREMA_TESTED // 2):]])
     # The lowest and the highest extremum first: they rule out most orders at an eighth of
     # the cost; the survivors are then tried at every picked extremum (the same test).
@@ -88,6 +90,20 @@ def _extremum_orders(f: SupportPairFunction, value_tol: float) -> np.ndarray:
         if not len(ks):
             break
     return np.asarray(ks)
+
+
+SCREEN_SLACK = ROUNDING
+"""Relative slack (to f's value) by which every order must fail at the lowest extremum
+for :func:`_none_at` to rule them all out: far above the rounding of one evaluation of
+f, so the test it saves would have failed them too."""
+
+
+def _none_at(f: SupportPairFunction, theta: float, value: float, ks: np.ndarray, value_tol: float) -> bool:
+    """Whether every order k fails at one extremum (θ, f(θ)) by more than the slack: then
+    :func:`_extremum_orders` allows none (a part without symmetry, at half the cost of
+    trying two extrema; the lowest, where f rises on both sides). O(len(ks))."""
+    shifted = f.values(theta + f.period / ks)
+    return bool(np.all(np.abs(shifted - value) > value_tol + SCREEN_SLACK * abs(value)))
 
 
 SCREEN_HARMONICS = 64

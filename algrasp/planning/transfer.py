@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import bisect
 import math
+import operator
 from dataclasses import dataclass
 from functools import cached_property
 from typing import NamedTuple
@@ -90,7 +91,7 @@ class TransferFunction:
         ramp = np.isnan(values)
         lift = (np.arange(LIFTS.start, LIFTS.stop) * self.period)[:, None]
         out = ((starts + lift).ravel(), (np.array([p.end for p in self.pieces]) + lift).ravel(),
-               (np.where(ramp, starts, values) + lift).ravel(), np.tile(ramp, len(LIFTS)))
+               (np.where(ramp, starts, values) + lift).ravel(), np.concatenate([ramp] * len(LIFTS)))
         for a in out:
             a.flags.writeable = False
         return out
@@ -115,9 +116,14 @@ class TransferFunction:
     def apply_on_ramp(self, thetas: FloatArray) -> tuple[FloatArray, np.ndarray]:
         """:meth:`apply` and :meth:`on_ramp` from one lookup (radians); O(m log n)."""
         thetas = np.asarray(thetas, dtype=float)
-        k, vals = self._lookup(thetas)
+        if len(self.pieces) == 1 and self.pieces[0].value is None:  # the identity: no lookup
+            return thetas.copy(), np.ones(thetas.shape, dtype=bool)
+        out, vals = self._lookup(thetas)
         ramp = np.isnan(vals)
-        return np.where(ramp, thetas, vals + k * self.period), ramp
+        out *= self.period  # in place: the lift offset k·P, then the step's value, θ on ramps
+        out += vals
+        np.copyto(out, thetas, where=ramp)
+        return out, ramp
 
     def on_ramp(self, thetas: FloatArray) -> np.ndarray:
         """Whether each θ (radians) lies on a ramp (F(θ) = θ), vectorised; O(m log n)."""
@@ -125,12 +131,15 @@ class TransferFunction:
 
     def _lookup(self, thetas: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Lift offsets (in periods) and step values (NaN on ramps) of each θ."""
-        base = self.pieces[0].start
-        k = np.floor((thetas - base) / self.period)
-        x = thetas - k * self.period
         starts, values = self._arrays
+        k, x = np.empty_like(thetas), np.empty_like(thetas)  # in place (0-d arrays too)
+        np.subtract(thetas, starts[0], out=k)
+        k /= self.period
+        np.floor(k, out=k)
+        np.multiply(k, self.period, out=x)
+        np.subtract(thetas, x, out=x)
         # x ≥ starts[0]: only the top needs clamping (x may round up to base + P).
-        idx = np.minimum(starts.searchsorted(x, side="right") - 1, len(self.pieces) - 1)
+        idx = np.minimum(starts.searchsorted(x, side="right") - 1, len(starts) - 1)
         return k, values[idx]
 
     def circle_images(self, T: float) -> list[tuple[float, float]]:
@@ -165,35 +174,49 @@ class TransferFunction:
 
     def compose_after(self, inner: TransferFunction, tol_rad: float) -> TransferFunction:
         """self ∘ inner (inner acts first), over inner's period (Appendix C).
-        O((n + m) log n): self's starts are lifted once and cut each ramp by search."""
-        out: list[TransferPiece] = []
+        O((n + m) log n): self's starts are lifted once and cut each ramp by search; self
+        is evaluated at every step value and every cut cell's middle in one pass."""
+        cells: list[tuple[float, float, bool]] = []  # [a, b) and whether inner steps there
+        probes: list[float] = []  # where self is read: the step's value, or the cell's middle
         cuts_all = None  # made for the first ramp of inner: steps need none
         for p in inner.pieces:
             if p.value is not None:
-                out.append(TransferPiece(p.start, p.end, self(p.value)))
+                cells.append((p.start, p.end, True))
+                probes.append(p.value)
                 continue
             if cuts_all is None:
                 cuts_all = self._lifted_starts(min(q.start for q in inner.pieces), max(q.end for q in inner.pieces))
-            i, j = cuts_all.searchsorted([p.start, p.end], side="right")
-            inside = [c for c in cuts_all[i:j].tolist() if p.start < c < p.end]
-            cuts = [p.start, *inside, p.end]
+            i, j = bisect.bisect_right(cuts_all, p.start), bisect.bisect_right(cuts_all, p.end)
+            cuts = [p.start, *(c for c in cuts_all[i:j] if p.start < c < p.end), p.end]
             for a, b in zip(cuts[:-1], cuts[1:]):
-                q, off = self.piece_at(0.5 * (a + b))  # the middle: no rounding at boundaries
-                out.append(TransferPiece(a, b, None if q.value is None else q.value + off))
+                cells.append((a, b, False))
+                probes.append(0.5 * (a + b))  # the middle: no rounding at boundaries
+        values = self.values_at(probes)
+        out = [TransferPiece(a, b, (x if step else None) if v != v else v)  # v != v: NaN, on a ramp of self
+               for (a, b, step), x, v in zip(cells, probes, values)]
         return TransferFunction(inner.period, tuple(canonical(out, inner.period, tol_rad)))
 
-    def _lifted_starts(self, a: float, b: float) -> FloatArray:
+    def values_at(self, thetas: list[float]) -> list[float]:
+        """For each θ (radians): the value of the step holding it, lifted (NaN on a ramp),
+        exactly as :meth:`piece_at` finds the piece and its lift; one vectorised pass."""
+        th = np.array(thetas, dtype=float)
+        starts, values = self._arrays
+        # + 0.0: no −0.0 lift (math.floor's int 0 lifts by +0.0).
+        off = (np.floor((th - self.pieces[0].start) / self.period) + 0.0) * self.period
+        i = np.maximum(starts.searchsorted(th - off, side="right") - 1, 0)
+        return (values[i] + off).tolist()  # type: ignore[no-any-return]
+
+    def _lifted_starts(self, a: float, b: float) -> list[float]:
         """Every piece start lifted over [a, b] (with a period to spare), sorted."""
-        base = self.pieces[0].start
-        k0 = int(np.floor((a - base) / self.period)) - 1
-        k1 = int(np.ceil((b - base) / self.period)) + 1
-        starts = np.array(self.starts)
-        return np.sort((starts[None, :] + (np.arange(k0, k1 + 1) * self.period)[:, None]).ravel())
+        base, P = self.pieces[0].start, self.period
+        k0 = math.floor((a - base) / P) - 1
+        k1 = math.ceil((b - base) / P) + 1
+        return sorted(s + float(k) * P for k in range(k0, k1 + 1) for s in self.starts)
 
 
 def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> list[TransferPiece]:
     """Merge neighbouring ramps and equal-valued steps (also across the wrap); put the
-    first start in [0, period) and sort."""
+    first start in [0, period) and sort. O(n log n), in plain Python (n is small)."""
     merged: list[TransferPiece] = []
     for p in pieces:
         if merged and _same_kind(merged[-1], p, tol_rad):
@@ -203,20 +226,26 @@ def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> lis
     if len(merged) > 1 and _same_kind(merged[-1], merged[0].shifted(period), tol_rad):
         last = merged.pop()
         merged[0] = TransferPiece(last.start - period, merged[0].end, None if last.value is None else last.value - period)
+    top = period - tol_rad
     out = []
     for p in merged:
-        k = math.floor(p.start / period + ROUNDING) if p.start >= 0 else math.floor(p.start / period)
-        q = p.shifted(-k * period)
-        if q.start >= period - tol_rad:
-            q = q.shifted(-period)
-        out.append(q)
-    return sorted(out, key=lambda q: q.start)
+        start = p.start
+        k = math.floor(start / period + ROUNDING) if start >= 0 else math.floor(start / period)
+        if k:
+            p = p.shifted(-k * period)
+        out.append(p.shifted(-period) if p.start >= top else p)
+    out.sort(key=_START)
+    return out
+
+
+_START = operator.itemgetter(0)
 
 
 def _same_kind(a: TransferPiece, b: TransferPiece, tol: float) -> bool:
-    if a.value is None and b.value is None:
-        return True
-    return a.value is not None and b.value is not None and abs(a.value - b.value) <= tol
+    av, bv = a.value, b.value
+    if av is None:
+        return bv is None
+    return bv is not None and abs(av - bv) <= tol
 
 
 def from_runs(runs: list[Run], period: float, tol_rad: float) -> TransferFunction:
