@@ -12,7 +12,8 @@ import pytest
 from algrasp.errors import NotOrientableError
 from algrasp.geometry.part import load_part
 from algrasp.planning.analysis import Analysis, analyse_part
-from algrasp.planning.plans import Plan, _clusters, make_plan, verify
+from algrasp.planning.plans import Plan, make_plan, verify
+from algrasp.planning.verification import _clusters
 from algrasp.testing import shapes
 
 GRID = 36000  # 0.01° grid for the independent simulation

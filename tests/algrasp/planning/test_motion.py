@@ -31,7 +31,7 @@ def test_every_start_stays_within_each_steps_image(name: str, action: str, exact
     starts = np.linspace(0.0, 2 * math.pi, 721)[:-1]
     for k in range(1, len(p.steps) + 1):
         if p.bounds is None:
-            from algrasp.planning.plans import _through
+            from algrasp.planning.verification import through as _through
 
             lo = hi = _through(p.transfer, p.steps[:k], starts)
         else:

@@ -1,0 +1,132 @@
+"""Verification of plans (conventions §5, §7): a plan's claimed final orientations are
+checked by running its actions from every start, exactly where the transfer function
+allows and densely on its ramps. Pure: no I/O; angles in radians."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from algrasp.geometry.angles import signed_diff
+from algrasp.geometry.curves import FloatArray
+from algrasp.geometry.tolerances import PROBE_RAD
+from algrasp.planning.transfer import TransferFunction
+
+if TYPE_CHECKING:
+    from algrasp.planning.plans import Plan, PlanStep
+
+FINAL_CLUSTER_RAD = 1e-6
+"""Final orientations closer than this are one orientation in verification."""
+VERIFY_SAMPLES = 3600
+
+
+def through(F: TransferFunction, steps: tuple[PlanStep, ...], phi: FloatArray) -> FloatArray:
+    """World orientations after ``steps`` of the exact model from ``phi`` (radians)."""
+    for s in steps:
+        phi = F.apply(phi - s.gripper_angle) + s.gripper_angle
+    return phi
+
+
+def verify(plan: Plan, samples: int = VERIFY_SAMPLES) -> bool:
+    """True when the plan leaves exactly 360/T final orientations, the reported ones.
+
+    The first action sends each step interval to the step's value and leaves each ramp
+    where it is, so its outcomes from the whole circle are every step value over a turn —
+    exactly, with no sampling — and, on its ramps only, a dense set of ``samples``
+    orientations plus every breakpoint (and its neighbours) of every action. Each outcome
+    is run through the remaining actions. O(nN log n) for n pieces and N actions when F
+    has no ramp, O((s + nN) N log n) with s samples when it has.
+    """
+    F = plan.transfer
+    a1 = plan.steps[0].gripper_angle
+    turns = [k * F.period for k in range(round(2 * np.pi / F.period))]
+    steps = F.steps
+    phi = np.array([(p.value + t) + a1 for p in steps for t in turns])  # type: ignore[operator]
+    if len(steps) < len(F.pieces):  # ramps: orientations on them are not collapsed
+        grid = np.linspace(0.0, 2 * np.pi, samples, endpoint=False)
+        starts = F.starts_array
+        shifts = np.array([s.gripper_angle for s in plan.steps])[:, None, None]
+        probes = np.array([-PROBE_RAD, 0.0, PROBE_RAD])[None, :, None]
+        lifted = np.concatenate([starts, starts + F.period])[None, None, :]
+        x = np.concatenate([grid, (lifted + shifts + probes).ravel()])
+        phi = np.concatenate([phi, x[F.on_ramp(x - a1)]])
+    final = np.sort(np.mod(through(F, plan.steps[1:], phi), 2 * np.pi))
+    clusters = _clusters(final)
+    want = np.array(plan.final_orientations)
+    if len(clusters) != len(want):
+        return False
+    off = np.abs(signed_diff(clusters[:, None], want))
+    return bool((off.min(axis=1) <= FINAL_CLUSTER_RAD).all())
+
+
+def _clusters(sorted_angles: FloatArray) -> FloatArray:
+    """Means (radians, [0, 2π)) of runs of sorted angles closer than FINAL_CLUSTER_RAD,
+    the last run joined to the first across 2π. O(m), one pass in plain floats."""
+    xs = sorted_angles.tolist()
+    if not xs:
+        return np.zeros(0)
+    sums, counts = [xs[0]], [1]
+    for prev, x in zip(xs, xs[1:]):
+        if x - prev > FINAL_CLUSTER_RAD:
+            sums.append(x)
+            counts.append(1)
+        else:
+            sums[-1] += x
+            counts[-1] += 1
+    means = [s / c for s, c in zip(sums, counts)]
+    if len(means) > 1 and xs[0] + 2 * np.pi - xs[-1] <= FINAL_CLUSTER_RAD:
+        last, n_last = means.pop() - 2 * np.pi, counts.pop()
+        means[0] = (means[0] * counts[0] + last * n_last) / (counts[0] + n_last)
+    out: FloatArray = np.mod(np.array(means), 2 * np.pi)
+    return out
+
+
+def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SAMPLES) -> bool:
+    """Set semantics. The first action leaves the part in one of its outcomes, all inside
+    the circular hull ``circle`` (checked); from there, a dense set of orientations of
+    that arc, every piece boundary of the bounds inside it (and its neighbours) and the
+    arc as a whole are run through the remaining actions: the hull of where each can
+    end must lie within ``final_uncertainty`` of a claimed final orientation."""
+    assert plan.bounds is not None
+    S = plan.bounds
+    T = S.symmetry
+    c0, c1 = circle
+    out = np.array(S.outcomes)
+    # An outcome starting a rounding error before c0 must not wrap to the far end.
+    rel = np.mod(out[:, 0] - c0 + FINAL_CLUSTER_RAD, T) - FINAL_CLUSTER_RAD
+    if np.any(rel + (out[:, 1] - out[:, 0]) > c1 - c0 + FINAL_CLUSTER_RAD):
+        return False
+    a1 = plan.steps[0].gripper_angle
+    starts = np.array([p.start for p in S.lower.pieces] + [p.start for p in S.upper.pieces])
+    cuts = c0 + np.mod(starts - c0, T)
+    inner = cuts[cuts <= c1]
+    pts = np.concatenate([np.linspace(c0, c1, samples), inner - PROBE_RAD, inner, inner + PROBE_RAD])
+    pts = np.clip(pts, c0, c1) + a1
+    lo = np.concatenate([pts, [c0 + a1]])
+    hi = np.concatenate([pts, [c1 + a1]])
+    lo, hi = _run_rest(plan, lo, hi)
+    mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
+    want = np.array(plan.final_orientations)
+    off = np.min(np.abs(signed_diff(mid[:, None], want)), axis=1)
+    return bool(np.all(off + half <= plan.final_uncertainty + FINAL_CLUSTER_RAD))
+
+
+def _run_rest(plan: Plan, lo: FloatArray, hi: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """:meth:`Plan.run_set` of every action after the first: the second over every
+    sample, the later ones over each run of equal neighbouring values once (the samples
+    are sorted and the bounds monotone, so their images repeat in runs), expanded back.
+    The same values, elementwise; O(m) for the second action, O(runs) for each later one."""
+    lo, hi = replace(plan, steps=plan.steps[1:2]).run_set(lo, hi)
+    (lo_runs, lo_at), (hi_runs, hi_at) = _runs(lo), _runs(hi)
+    lo_runs, hi_runs = replace(plan, steps=plan.steps[2:]).run_set(lo_runs, hi_runs)
+    return lo_runs[lo_at], hi_runs[hi_at]
+
+
+def _runs(a: FloatArray) -> tuple[FloatArray, np.ndarray]:
+    """The first value of each run of equal neighbours in ``a`` and the run of each entry."""
+    new = np.empty(len(a), dtype=bool)
+    new[:1] = True
+    np.not_equal(a[1:], a[:-1], out=new[1:])
+    return a[new], np.cumsum(new) - 1
