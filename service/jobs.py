@@ -166,9 +166,8 @@ class JobRunner:
         batch = todo[len(todo) - min(len(todo), max(free, 0)):][::-1]
         del todo[len(todo) - len(batch):]
         held = [idx for g in inflight.values() for idx, _, _ in g]
-        claimed = set(self.store.claim(job_id, [idx for idx, _ in batch] + held, self.cfg.holder, LEASE_S))
-        batch = [(idx, doc) for idx, doc in batch if idx in claimed]  # the rest: another instance has them
-        run_ids = self.store.assign_run_ids(job_id, [idx for idx, _ in batch], new_run_id)
+        run_ids = self.store.dispatch(job_id, [idx for idx, _ in batch], held, self.cfg.holder, LEASE_S, new_run_id)
+        batch = [(idx, doc) for idx, doc in batch if idx in run_ids]  # the rest: another instance has them
         for group in self._chunks(job_id, batch, run_ids, left=len(batch) + len(todo)):
             inflight[self._submit(options, group)] = group
         done, _ = cf.wait(inflight, timeout=0.5, return_when=cf.FIRST_COMPLETED)
