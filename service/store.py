@@ -18,6 +18,7 @@ from sqlalchemy import (
     JSON,
     Float,
     ForeignKey,
+    Index,
     Integer,
     String,
     Table,
@@ -77,7 +78,9 @@ class JobRow(Base):
 
 class PartRow(Base):
     __tablename__ = "job_parts"
-    __table_args__ = (UniqueConstraint("job_id", "idx"),)
+    # (job_id, status): progress counts read this index, not the rows (whose documents
+    # and results lie before and after the status: SQLite would read their pages too).
+    __table_args__ = (UniqueConstraint("job_id", "idx"), Index("ix_job_parts_job_status", "job_id", "status", "idx"))
     id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
     job_id: Mapped[str] = mapped_column(ForeignKey("jobs.id"), index=True)
     idx: Mapped[int] = mapped_column(Integer)
@@ -396,8 +399,8 @@ def _run_row(job_id: str | None, run: dict[str, Any]) -> RunRow:
 
 
 def _add_missing_columns(engine: Any) -> None:
-    """Columns added since a database was created (``owner``), added in place: a store
-    made by an older version opens, its rows owned by no key (admin keys see them)."""
+    """Columns and indexes added since a database was created (``owner``), added in place:
+    a store made by an older version opens, its rows owned by no key (admin keys see them)."""
     from sqlalchemy import inspect, text
 
     added = {"runs": {"owner": "VARCHAR(40)"}, "jobs": {"owner": "VARCHAR(40)"},
@@ -408,6 +411,8 @@ def _add_missing_columns(engine: Any) -> None:
             for name, kind in columns.items():
                 if name not in have[table]:
                     conn.execute(text(f"ALTER TABLE {table} ADD COLUMN {name} {kind}"))
+        for index in _PARTS.indexes:  # indexes added since (create_all makes only missing tables)
+            index.create(conn, checkfirst=True)
 
 
 def _sqlite_pragmas(conn: Any, _record: Any) -> None:
