@@ -30,6 +30,8 @@ from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import orjson
+
 from algrasp.geometry.angles import to_deg
 from algrasp.io.record.schemas import TOPICS
 
@@ -102,6 +104,38 @@ def _storage_error(directory: Path, err: OSError) -> Exception:
                         f"{err.strerror or type(err).__name__} (disk full or read-only?)", 30.0)
 
 
+_ORJSON_OPTIONS = orjson.OPT_SERIALIZE_NUMPY | orjson.OPT_NON_STR_KEYS
+"""numpy scalars and arrays as numbers and lists; non-string keys as strings (as ``json``)."""
+
+
+def json_bytes(payload: dict[str, Any]) -> bytes:
+    """A message's JSON (UTF-8, no spaces) by orjson: every number reads back to the same
+    float as ``json.dumps`` wrote it (both print the shortest repr that round-trips;
+    only the exponent's form differs, ``1e-5`` for ``1e-05``), ~20× faster on the 100 Hz
+    trajectories that are most of a plan's bytes. NaN and infinities raise ValueError as
+    ``json.dumps(allow_nan=False)`` does (orjson would write null). O(size)."""
+    if not _finite(payload):
+        json.dumps(payload, allow_nan=False)  # raises, naming the value
+    return orjson.dumps(payload, option=_ORJSON_OPTIONS)
+
+
+def _finite(value: Any) -> bool:
+    """Whether no float in ``value`` (dicts, lists, tuples) is NaN or infinite: a list of
+    numbers is summed in C (a non-finite sum is checked item by item: it may overflow)."""
+    if isinstance(value, float):
+        return math.isfinite(value)
+    if isinstance(value, dict):
+        return all(_finite(v) for v in value.values())
+    if isinstance(value, (list, tuple)):
+        try:
+            if math.isfinite(sum(value)):
+                return True
+        except (TypeError, OverflowError):  # not all numbers; an int too large for a float
+            pass
+        return all(_finite(v) for v in value)
+    return True
+
+
 class RunRecorder:
     """Context manager writing one run; ``path`` is the final record path."""
 
@@ -163,7 +197,7 @@ class RunRecorder:
     def write(self, topic: str, payload: dict[str, Any], log_time_ns: int | None = None) -> None:
         """A JSON message on one of the channels of ``schemas.TOPICS``."""
         t = time.time_ns() if log_time_ns is None else log_time_ns
-        self._writer.add_message(self._channel(topic), t, json.dumps(payload, allow_nan=False).encode(), t)
+        self._writer.add_message(self._channel(topic), t, json_bytes(payload), t)
 
     def finish(self, error: BaseException | None = None) -> Path:
         """Write ``/run``, close, and rename to the final name (also after a user error,
