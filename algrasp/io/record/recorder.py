@@ -136,6 +136,21 @@ def _finite(value: Any) -> bool:
     return True
 
 
+@cache
+def _json_schema(topic: str) -> bytes:
+    """The JSON schema of a topic as a record stores it (built once per process)."""
+    return json.dumps(TOPICS[topic]).encode()
+
+
+@cache
+def _proto_schema(cls: Any) -> bytes:
+    """A protobuf message class's file descriptor set, as ``mcap_protobuf`` registers it
+    (built once per process: it walks every descriptor the message depends on)."""
+    from mcap_protobuf.schema import build_file_descriptor_set
+
+    return bytes(build_file_descriptor_set(cls).SerializeToString())
+
+
 class RunRecorder:
     """Context manager writing one run; ``path`` is the final record path."""
 
@@ -182,16 +197,14 @@ class RunRecorder:
 
     def _channel(self, topic: str) -> int:
         if topic not in self._channels:
-            schema = TOPICS[topic]
-            sid = self._writer.register_schema(schema["title"], "jsonschema", json.dumps(schema).encode())
+            sid = self._writer.register_schema(TOPICS[topic]["title"], "jsonschema", _json_schema(topic))
             self._channels[topic] = self._writer.register_channel(topic, "json", sid)
         return self._channels[topic]
 
     def _proto_channel(self, topic: str, cls: Any) -> int:
         if topic not in self._channels:
-            from mcap_protobuf.schema import register_schema
-
-            self._channels[topic] = self._writer.register_channel(topic, "protobuf", register_schema(self._writer, cls))
+            sid = self._writer.register_schema(cls.DESCRIPTOR.full_name, "protobuf", _proto_schema(cls))
+            self._channels[topic] = self._writer.register_channel(topic, "protobuf", sid)
         return self._channels[topic]
 
     def write(self, topic: str, payload: dict[str, Any], log_time_ns: int | None = None) -> None:
