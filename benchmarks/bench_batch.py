@@ -1,8 +1,10 @@
 """Batch fixture design of a generated catalogue (random polygons, rectangles, regular
 polygons, pies, Bezier blobs, disks with flats, and disks and Reuleaux triangles that
 cannot be oriented) with ``algrasp batch`` on the local pool. Prints wall time,
-throughput in parts per minute and peak memory (resident set of the batch process and
-of its largest worker), without validation and with Drake samples.
+throughput in parts per minute, CPU per part (the batch process's and the workers': on a
+shared machine the figures that other load does not inflate) and peak memory (resident
+set of the batch process and of its largest worker), without validation and with Drake
+samples.
 
 Targets: 10,000 parts without validation ≤ 5 min on 2 cores (issue 21), ≤ 1 min on the
 robust model, optimised (issue 34: measured with ``--limits none``, the catalogue screen,
@@ -46,6 +48,13 @@ def catalogue(n: int) -> list[dict[str, Any]]:
     return [dict(makers[i % len(makers)](i), name=f"part-{i:03d}", units="mm") for i in range(n)]
 
 
+def _cpu() -> tuple[float, float]:
+    """CPU seconds (user + system) of this process and of its reaped children (the pool's
+    workers, reaped when the batch shuts its pool down)."""
+    me, kids = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return me.ru_utime + me.ru_stime, kids.ru_utime + kids.ru_stime
+
+
 def run(parts: list[dict[str, Any]], samples: int, workers: int, limits: str = "headline") -> None:
     with tempfile.TemporaryDirectory() as tmp:
         cat = Path(tmp) / "catalogue"
@@ -53,10 +62,12 @@ def run(parts: list[dict[str, Any]], samples: int, workers: int, limits: str = "
         for p in parts:
             (cat / f"{p['name']}.json").write_text(json.dumps(p))
         out = Path(tmp) / "out"
+        cpu0 = _cpu()
         t0 = time.perf_counter()
         code = algrasp(["batch", str(cat), "--out", str(out), "--workers", str(workers), "--validate-samples", str(samples),
                         "--record-dir", str(Path(tmp) / "logs"), "--limits", limits])
         wall = time.perf_counter() - t0
+        own, workers_cpu = (b - a for a, b in zip(cpu0, _cpu()))
         spec = json.loads((out / "gripper_spec.json").read_text())
         agreements = [json.loads(x)["result"]["validation"]["agreement"] for x in (out / "results.jsonl").read_text().splitlines()
                       if samples and json.loads(x)["status"] == "done" and json.loads(x)["result"].get("validation")]
@@ -67,6 +78,9 @@ def run(parts: list[dict[str, Any]], samples: int, workers: int, limits: str = "
               f"({wall / 60:.2f} min), {60 * len(parts) / wall:.1f} parts/min; oriented {spec['oriented']}, "
               f"not oriented {len(spec['not_oriented'])}{extra}; peak RSS {peak_self:.0f} MiB (batch process), "
               f"{peak_worker:.0f} MiB (largest worker)")
+        print(f"   CPU per part: {1000 * own / len(parts):.2f} ms in the batch process (reading, dispatch, store, "
+              f"reports), {1000 * workers_cpu / len(parts):.2f} ms in the workers (the machine's other load does "
+              "not count here, unlike in the wall time)")
         print("   report.md head:")
         print("   " + "\n   ".join((out / "report.md").read_text().splitlines()[:16]))
 

@@ -166,10 +166,9 @@ class JobRunner:
         batch = todo[len(todo) - min(len(todo), max(free, 0)):][::-1]
         del todo[len(todo) - len(batch):]
         held = [idx for g in inflight.values() for idx, _, _ in g]
-        claimed = set(self.store.claim(job_id, [idx for idx, _ in batch] + held, self.cfg.holder, LEASE_S))
-        batch = [(idx, doc) for idx, doc in batch if idx in claimed]  # the rest: another instance has them
-        run_ids = self.store.assign_run_ids(job_id, [idx for idx, _ in batch], new_run_id)
-        for group in self._chunks(job_id, batch, run_ids):
+        run_ids = self.store.dispatch(job_id, [idx for idx, _ in batch], held, self.cfg.holder, LEASE_S, new_run_id)
+        batch = [(idx, doc) for idx, doc in batch if idx in run_ids]  # the rest: another instance has them
+        for group in self._chunks(job_id, batch, run_ids, left=len(batch) + len(todo)):
             inflight[self._submit(options, group)] = group
         done, _ = cf.wait(inflight, timeout=0.5, return_when=cf.FIRST_COMPLETED)
         step = _Step()
@@ -183,13 +182,18 @@ class JobRunner:
         self._report(job_id)
         return step.paused
 
-    def _chunks(self, job_id: str, batch: list[tuple[int, dict[str, Any]]], run_ids: dict[int, str]) -> list[list[Item]]:
-        """Chunks of at most ``cfg.chunk`` parts, each with its run id; parts of a lost chunk alone."""
+    def _chunks(self, job_id: str, batch: list[tuple[int, dict[str, Any]]], run_ids: dict[int, str],
+                left: int | None = None) -> list[list[Item]]:
+        """Chunks of at most ``cfg.chunk`` parts, each with its run id; parts of a lost chunk
+        alone. ``left``: the parts still to send, these included (default: these)."""
         items = [(idx, doc, run_ids[idx]) for idx, doc in batch]
         alone = [[it] for it in items if (job_id, it[0]) in self._solo]
         rest = [it for it in items if (job_id, it[0]) not in self._solo]
-        # A small batch is spread over every worker, not sent as one chunk to one of them.
-        size = max(1, min(self.cfg.chunk, -(-len(rest) // max(1, self.executor.capacity()))))
+        # The last parts of a job are spread over every worker, not sent as one chunk to one
+        # of them; before that, full chunks (sized by what is left to send, not by the room
+        # one finished chunk made in the window: that shrank every chunk to one part).
+        spread = len(rest) if left is None else max(len(rest), left - len(alone))
+        size = max(1, min(self.cfg.chunk, -(-spread // max(1, self.executor.capacity()))))
         return alone + [rest[i:i + size] for i in range(0, len(rest), size)]
 
     def _submit(self, options: dict[str, Any], group: list[Item]) -> cf.Future[Any]:

@@ -18,6 +18,7 @@ from sqlalchemy import (
     JSON,
     Float,
     ForeignKey,
+    Index,
     Integer,
     String,
     Table,
@@ -31,7 +32,8 @@ from sqlalchemy import (
     select,
     update,
 )
-from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column, sessionmaker
+from sqlalchemy.engine import Connection
+from sqlalchemy.orm import DeclarativeBase, Mapped, Session, mapped_column, sessionmaker
 
 UNFINISHED = ("queued", "running")
 
@@ -76,7 +78,9 @@ class JobRow(Base):
 
 class PartRow(Base):
     __tablename__ = "job_parts"
-    __table_args__ = (UniqueConstraint("job_id", "idx"),)
+    # (job_id, status): progress counts read this index, not the rows (whose documents
+    # and results lie before and after the status: SQLite would read their pages too).
+    __table_args__ = (UniqueConstraint("job_id", "idx"), Index("ix_job_parts_job_status", "job_id", "status", "idx"))
     id: Mapped[int] = mapped_column(Integer, primary_key=True, autoincrement=True)
     job_id: Mapped[str] = mapped_column(ForeignKey("jobs.id"), index=True)
     idx: Mapped[int] = mapped_column(Integer)
@@ -214,13 +218,27 @@ class Store:
         one part at once (on PostgreSQL the second UPDATE waits for the first and re-reads)."""
         if not idxs:
             return []
+        with self.engine.begin() as conn:
+            return self._claim(conn, job_id, idxs, holder, lease_s)
+
+    def _claim(self, conn: Connection, job_id: str, idxs: list[int], holder: str, lease_s: float) -> list[int]:
         now = time.time()
-        with self._session.begin() as s:
-            free = (PartRow.claimed_by.is_(None)) | (PartRow.claimed_by == holder) | (PartRow.claimed_until < now)
-            s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx.in_(idxs), PartRow.status == "pending", free)
-                      .values(claimed_by=holder, claimed_until=now + lease_s), execution_options=_NO_SYNC)
-            return sorted(int(i) for i in s.scalars(select(PartRow.idx).where(
-                PartRow.job_id == job_id, PartRow.idx.in_(idxs), PartRow.status == "pending", PartRow.claimed_by == holder)))
+        args = {"b_job": job_id, "b_idxs": idxs, "b_holder": holder, "b_now": now, "b_until": now + lease_s}
+        if self.engine.dialect.update_returning:  # the parts it holds now: those the UPDATE touched
+            return sorted(int(i) for i in conn.execute(_CLAIM.returning(_PARTS.c.idx), args).scalars())
+        conn.execute(_CLAIM, args)
+        return sorted(int(i) for i in conn.execute(_HELD, args).scalars())
+
+    def dispatch(self, job_id: str, idxs: list[int], held: list[int], holder: str, lease_s: float,
+                 make: Callable[[], str]) -> dict[int, str]:
+        """:meth:`claim` of ``idxs`` (parts to send) and ``held`` (parts in flight: their
+        lease renewed), then :meth:`assign_run_ids` of the claimed ``idxs``, in one
+        transaction. Returns the run id of each part of ``idxs`` that may be sent."""
+        if not idxs and not held:
+            return {}
+        with self.engine.begin() as conn:
+            claimed = set(self._claim(conn, job_id, idxs + held, holder, lease_s))
+            return _assign(conn, job_id, [i for i in idxs if i in claimed], make)
 
     def claimable(self, job_id: str, holder: str) -> list[tuple[int, dict[str, Any], int, str | None]]:
         """``(index, document, attempts so far, run id given at an earlier dispatch)`` of
@@ -243,14 +261,8 @@ class Store:
         lost worker or a server restart — records under one id: one record, one run row."""
         if not idxs:
             return {}
-        with self._session.begin() as s:
-            have = dict(s.execute(select(PartRow.idx, PartRow.run_id)
-                                  .where(PartRow.job_id == job_id, PartRow.idx.in_(idxs))).all())
-            out = {i: have.get(i) or make() for i in idxs}
-            fresh = [{"b_job": job_id, "b_idx": i, "b_run": out[i]} for i in idxs if not have.get(i)]
-            if fresh:
-                s.execute(_SET_RUN_ID, fresh)
-            return out
+        with self.engine.begin() as conn:
+            return _assign(conn, job_id, idxs, make)
 
     def finish_parts(self, job_id: str, outcomes: list[Outcome], tried: Sequence[int] = ()) -> None:
         """Several parts' outcomes and their runs in one transaction (all or none), with
@@ -259,14 +271,14 @@ class Store:
         if not outcomes and not tried:
             return
         now = time.time()
-        with self._session.begin() as s:
-            _count(s, job_id, list(tried))
-            owner = s.scalar(select(JobRow.owner).where(JobRow.id == job_id))
-            _put_runs(s, [{"job_id": job_id, "created_at": time.time(), **o.run, "owner": owner}
-                          for o in outcomes if o.run is not None])
+        with self.engine.begin() as conn:
+            _count(conn, job_id, list(tried))
+            owner = conn.execute(_OWNER, {"b_job": job_id}).scalar()
+            _put_runs(conn, [{"job_id": job_id, "created_at": time.time(), **o.run, "owner": owner}
+                             for o in outcomes if o.run is not None])
             if outcomes:
-                s.execute(_FINISH, [{"b_job": job_id, "b_idx": o.idx, "b_status": o.status, "b_result": o.result,
-                                     "b_error": o.error, "b_run": o.run_id, "b_at": now} for o in outcomes])
+                conn.execute(_FINISH, [{"b_job": job_id, "b_idx": o.idx, "b_status": o.status, "b_result": o.result,
+                                        "b_error": o.error, "b_run": o.run_id, "b_at": now} for o in outcomes])
 
     def cancel_pending(self, job_id: str) -> int:
         with self._session.begin() as s:
@@ -329,15 +341,39 @@ _FINISH = update(_PARTS).where(_ONE_PART, _PARTS.c.status == "pending").values(
 (a Core statement: the ORM's per-row update and session synchronisation cost the batch
 process ~5 ms a part)."""
 _SET_RUN_ID = update(_PARTS).where(_ONE_PART).values(run_id=bindparam("b_run"))
+_SOME_PARTS = (_PARTS.c.job_id == bindparam("b_job")) & _PARTS.c.idx.in_(bindparam("b_idxs", expanding=True))
+_FREE = (_PARTS.c.claimed_by.is_(None) | (_PARTS.c.claimed_by == bindparam("b_holder"))
+         | (_PARTS.c.claimed_until < bindparam("b_now")))
+_CLAIM = update(_PARTS).where(_SOME_PARTS, _PARTS.c.status == "pending", _FREE).values(
+    claimed_by=bindparam("b_holder"), claimed_until=bindparam("b_until"))
+_HELD = select(_PARTS.c.idx).where(_SOME_PARTS, _PARTS.c.status == "pending", _PARTS.c.claimed_by == bindparam("b_holder"))
+_RUN_IDS = select(_PARTS.c.idx, _PARTS.c.run_id).where(_SOME_PARTS)
+_COUNT = update(_PARTS).where(_SOME_PARTS).values(attempts=_PARTS.c.attempts + 1)
+_OWNER = select(JobRow.__table__.c.owner).where(JobRow.__table__.c.id == bindparam("b_job"))
+_KNOWN_RUNS = select(_RUNS.c.run_id).where(_RUNS.c.run_id.in_(bindparam("b_runs", expanding=True)))
+"""The statements of a dispatch step, built once (building a statement cost the batch
+process more than running it)."""
 
 
-def _put_runs(s: Any, rows: list[dict[str, Any]]) -> None:
+def _assign(conn: Connection, job_id: str, idxs: list[int], make: Callable[[], str]) -> dict[int, str]:
+    """:meth:`Store.assign_run_ids` in the transaction of ``conn``."""
+    if not idxs:
+        return {}
+    have = dict(conn.execute(_RUN_IDS, {"b_job": job_id, "b_idxs": idxs}).all())
+    out = {i: have.get(i) or make() for i in idxs}
+    fresh = [{"b_job": job_id, "b_idx": i, "b_run": out[i]} for i in idxs if not have.get(i)]
+    if fresh:
+        conn.execute(_SET_RUN_ID, fresh)
+    return out
+
+
+def _put_runs(s: Connection | Session, rows: list[dict[str, Any]]) -> None:
     """Insert run rows, or overwrite every given column of those already stored (a part
     dispatched again records under its run id): what ``Session.merge`` did row by row,
     in one query and at most two executemanys."""
     if not rows:
         return
-    have = set(s.scalars(select(RunRow.run_id).where(RunRow.run_id.in_([r["run_id"] for r in rows]))))
+    have = set(s.execute(_KNOWN_RUNS, {"b_runs": [r["run_id"] for r in rows]}).scalars())
     new = [r for r in rows if r["run_id"] not in have]
     if new:
         s.execute(insert(_RUNS), new)
@@ -345,10 +381,10 @@ def _put_runs(s: Any, rows: list[dict[str, Any]]) -> None:
         s.execute(update(_RUNS).where(_RUNS.c.run_id == r["run_id"]).values(**r))
 
 
-def _count(s: Any, job_id: str, idxs: list[int]) -> None:
+def _count(s: Connection | Session, job_id: str, idxs: list[int]) -> None:
+    """One more attempt for each part of ``idxs``."""
     if idxs:
-        s.execute(update(PartRow).where(PartRow.job_id == job_id, PartRow.idx.in_(idxs)).values(attempts=PartRow.attempts + 1),
-                  execution_options=_NO_SYNC)
+        s.execute(_COUNT, {"b_job": job_id, "b_idxs": idxs})
 
 
 def _run_dict(r: RunRow) -> dict[str, Any]:
@@ -363,8 +399,8 @@ def _run_row(job_id: str | None, run: dict[str, Any]) -> RunRow:
 
 
 def _add_missing_columns(engine: Any) -> None:
-    """Columns added since a database was created (``owner``), added in place: a store
-    made by an older version opens, its rows owned by no key (admin keys see them)."""
+    """Columns and indexes added since a database was created (``owner``), added in place:
+    a store made by an older version opens, its rows owned by no key (admin keys see them)."""
     from sqlalchemy import inspect, text
 
     added = {"runs": {"owner": "VARCHAR(40)"}, "jobs": {"owner": "VARCHAR(40)"},
@@ -375,6 +411,8 @@ def _add_missing_columns(engine: Any) -> None:
             for name, kind in columns.items():
                 if name not in have[table]:
                     conn.execute(text(f"ALTER TABLE {table} ADD COLUMN {name} {kind}"))
+        for index in _PARTS.indexes:  # indexes added since (create_all makes only missing tables)
+            index.create(conn, checkfirst=True)
 
 
 def _sqlite_pragmas(conn: Any, _record: Any) -> None:

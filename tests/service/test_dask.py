@@ -124,6 +124,13 @@ def test_a_small_catalogue_is_spread_over_the_workers() -> None:
     runner = JobRunner(None, TwoWorkers(), RunnerConfig.for_workers("/tmp", 1, 10.0, 2, 8))  # type: ignore[arg-type]
     chunks = runner._chunks("job", [(i, {}) for i in range(5)], {i: f"run{i}" for i in range(5)})
     assert sorted(len(c) for c in chunks) == [2, 3]
+    # Mid-job, the room one finished chunk made (8 parts) goes out as one full chunk: with
+    # 100 parts still to send, splitting it over both workers would halve every chunk in
+    # turn, down to one part per dispatch. The job's last parts are spread again.
+    eight = [(i, {}) for i in range(8)]
+    ids = {i: f"run{i}" for i in range(8)}
+    assert [len(c) for c in runner._chunks("job", eight, ids, left=100)] == [8]
+    assert sorted(len(c) for c in runner._chunks("job", eight[:5], ids, left=5)) == [2, 3]
 
 
 def test_a_dask_worker_killed_mid_job_loses_nothing(tmp_path: Path, scheduler: str) -> None:
