@@ -1,0 +1,177 @@
+"""The fence's friction in the fence push (conventions §9). Pure: no I/O; angles in radians.
+
+A part pushed along a fence slides along the wall (the fence is admissible only then), so
+the wall's reaction lies on the edge of its friction cone: N(n − s μ t) in the jaw frame
+(t the wall's direction (cos α, sin α), n = (−sin α, cos α) into the part), with s = +1 on
+the right rail (the part slides along +t, downstream) and s = −1 on the left (along −t).
+With r(θ) the part's radius function relative to the jaw (θ = φ − α), the contact point
+relative to the centre of mass is c = (−r′(θ), −r(θ)) in (t, n), so the moment of the
+reaction is N(c × n − s μ c × t) = −N (r′ + s μ r): the part turns towards smaller θ
+where r′ + s μ r > 0 and towards larger θ where it is < 0 (μ = 0: down r, §3). By
+Mason's voting theorem this sense holds whether the contact slides or sticks: the fence's
+push direction relative to the belt, 90° − β from n on the side of −s t, lies outside
+the friction cone (β < 90° − atan μ) on the side of the sliding edge, so it votes with it.
+
+So the equilibria are the zeros of (ln r)′ + s μ: the balance on a sharp vertex moves by
+exactly s atan μ (r = ρ cos(θ − θ_v)), on a rounded corner (radius R about a centre at ρ
+from the centre of mass) by more, s (atan μ + asin(μ R / (ρ √(1 + μ²)))); an edge flush
+on the fence (a kink of r) stays stable where it was while μ is below the kink's slopes;
+a smooth minimum (the part resting on a curved piece) moves. As s μ grows every zero
+where (ln r)′ falls moves up and every zero where it rises moves down, monotonically
+(comparison of 1-d flows), so over μ ∈ [μ_lo, μ_hi] the push at μ lies between the
+pushes at the two ends. :func:`fence_tilt` writes the push at μ as the frictionless
+one after a monotone map of its input and with its rests moved:
+``p_μ(θ) = p(m_μ(θ)) + o`` where m_μ maps each basin of p_μ linearly onto the basin of p
+whose rest survives in it (a rest that friction makes vanish — the part rolls off an edge
+whose kink is below μ — gives its basin to its neighbour) and o is how far that rest
+moved (0 on a kink). A :class:`Tilt` per rail holds the envelope over μ sampled in the
+range, ``m_lo ≤ m_μ ≤ m_hi`` and ``o ∈ [o_lo, o_hi]``, so that
+``p(m_lo(θ)) + o_lo ≤ p_μ(θ) ≤ p(m_hi(θ)) + o_hi``
+(:meth:`~algrasp.planning.fence_model.Push.image`, which takes the robust bounds for p).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from algrasp.geometry.angles import TWO_PI, to_rad
+from algrasp.geometry.curves import FloatArray
+from algrasp.geometry.functions import SupportPairFunction
+
+TILT_GRID_RAD = to_rad(0.01)
+"""Spacing of the radius-function samples the equilibria and maps are found on."""
+TILT_PAD_RAD = 2.0 * TILT_GRID_RAD
+"""The maps and every nonzero rest shift are widened by this either way (zeros lie between samples)."""
+FRICTION_SAMPLES = 5
+"""μ values sampled over the fence friction range (its ends included) for the envelope."""
+
+
+@dataclass(frozen=True, eq=False)
+class Tilt:
+    """The friction's effect on one rail (radians): the input maps m_lo ≤ m_μ ≤ m_hi,
+    sampled at ``grid`` over one turn (lifted: m(θ + 2π) = m(θ) + 2π, non-decreasing),
+    and the rests' shift o ∈ [o_lo, o_hi] (0 for rests on kinks). Without ``grid``: no tilt."""
+
+    grid: FloatArray | None = None
+    m_lo: FloatArray | None = None
+    m_hi: FloatArray | None = None
+    o_lo: float = 0.0
+    o_hi: float = 0.0
+    shifts: tuple[float, float] = field(default=(0.0, 0.0))
+    """The least and largest shift of a surviving basin boundary (radians, for reports)."""
+
+    def maps(self, theta: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """(m_lo(θ), m_hi(θ)) for an array of lifted θ (radians); O(m log n)."""
+        theta = np.asarray(theta, dtype=float)
+        if self.grid is None or self.m_lo is None or self.m_hi is None:
+            return theta, theta
+        k = np.floor(theta / TWO_PI) * TWO_PI
+        x = theta - k
+        return _interp(x, self.grid, self.m_lo) + k, _interp(x, self.grid, self.m_hi) + k
+
+
+def _interp(x: FloatArray, grid: FloatArray, values: FloatArray) -> FloatArray:
+    """A lifted map sampled on ``grid`` ⊂ [0, 2π) at x ∈ [0, 2π), linear between samples."""
+    return np.interp(x, np.append(grid, TWO_PI), np.append(values, values[0] + TWO_PI))
+
+
+NO_TILT = (Tilt(), Tilt())
+
+
+def equilibria(g: FloatArray, theta: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Zeros of the sampled rate function g (radians⁻¹, at ``theta`` + half a step, cyclic):
+    (unstable, stable) θ, sorted, where g falls through 0 and where it rises through 0. O(n)."""
+    pos = g > 0.0
+    nxt = np.roll(pos, -1)
+    at = np.roll(theta, -1)
+    return np.sort(at[pos & ~nxt]), np.sort(at[~pos & nxt])
+
+
+def _lifted_near(values: FloatArray, x: FloatArray, side: str) -> tuple[FloatArray, np.ndarray]:
+    """The first of ``values`` (sorted, one turn) at or above x (``side`` "left") or at or
+    below it ("right"), lifted by whole turns next to x, and its index (radians)."""
+    n = len(values)
+    k = np.floor(x / TWO_PI) * TWO_PI
+    j = np.searchsorted(values, x - k, side=side) - (0 if side == "left" else 1)
+    return values[j % n] + TWO_PI * (j // n) + k, j % n
+
+
+def input_map(rate: FloatArray, theta: FloatArray, mu_s: float) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """m_μ on ``theta`` (lifted values) for the signed friction s μ (``mu_s`` ≠ 0), the
+    rests' shifts and the surviving boundaries' shifts (radians): each basin of
+    (ln r)′ + s μ is mapped linearly onto the frictionless basin whose rest is the first
+    at or beyond its own rest in the sense rests move (−s); a run of new basins sharing
+    one (friction made a new rest) shares it, split at that rest. O(n log n)."""
+    u0, s0 = equilibria(rate, theta)
+    u, s = equilibria(rate + mu_s, theta)
+    if len(u) == 0:  # no rest at all: the part may spin on; a whole turn either way
+        return theta - TWO_PI, theta + TWO_PI, np.zeros(1)
+    n = len(u)
+    lo = u  # basin c runs from u[c] to u[c] + gap, its rest the first stable zero past u[c]
+    hi = np.append(u[1:], u[0] + TWO_PI)
+    rest, _ = _lifted_near(s, lo, "left")
+    orig, j = _lifted_near(s0, rest, "left" if mu_s > 0 else "right")
+    olo, _ = _lifted_near(u0, orig, "right")
+    ohi, _ = _lifted_near(u0, orig, "left")
+    same_before, same_after = j == np.roll(j, 1), j == np.roll(j, -1)
+    if n == 1:
+        same_before = same_after = np.zeros(1, dtype=bool)
+    tlo = np.where(same_before, orig, olo)
+    thi = np.where(same_after, orig, ohi)
+    c = np.searchsorted(u, theta, side="right") - 1  # -1: the last basin, a turn back
+    x = np.where(c < 0, theta + TWO_PI, theta)
+    c = c % n
+    m = tlo[c] + (x - lo[c]) * (thi[c] - tlo[c]) / (hi[c] - lo[c]) - (x - theta)
+    survived = ~same_before
+    return m, orig - rest, np.concatenate([(lo - olo)[survived], (hi - ohi)[~same_after]])
+
+
+def rail_tilt(rate: FloatArray, theta: FloatArray, sense: int, friction: tuple[float, float]) -> Tilt:
+    """The :class:`Tilt` of one rail (``sense`` s = +1 right, −1 left) over μ ∈ ``friction``
+    (``FRICTION_SAMPLES`` values) from the sampled (ln r)′ (``rate``, at ``theta`` + half
+    a step). O(k n log n)."""
+    maps, rests, bounds = [theta], [np.zeros(1)], [np.zeros(1)]
+    if friction[0] > 0.0:
+        maps, rests, bounds = [], [], []
+    for mu in np.linspace(friction[0], friction[1], FRICTION_SAMPLES):
+        if mu > 0.0:
+            m, o, b = input_map(rate, theta, sense * float(mu))
+            maps.append(m)
+            rests.append(o)
+            bounds.append(b)
+    o_all, b_all = np.concatenate(rests), np.concatenate(bounds)
+    o_lo, o_hi = float(o_all.min()), float(o_all.max())
+    return Tilt(theta, np.min(maps, axis=0) - TILT_PAD_RAD, np.max(maps, axis=0) + TILT_PAD_RAD,
+                o_lo - TILT_PAD_RAD if o_lo < 0.0 else 0.0, o_hi + TILT_PAD_RAD if o_hi > 0.0 else 0.0,
+                (float(b_all.min()), float(b_all.max())))
+
+
+def fence_tilt(radius: SupportPairFunction, friction: tuple[float, float]) -> tuple[Tilt, Tilt]:
+    """(right, left) :class:`Tilt` of a part with radius function r (about its centre of
+    mass) over the fence friction range μ ∈ [μ_lo, μ_hi]: the zeros of (ln r)′ + s μ
+    against those of (ln r)′, r sampled every ``TILT_GRID_RAD``. O(k n log n) for n samples
+    and k = ``FRICTION_SAMPLES``.
+
+    >>> from algrasp.planning.analysis import analyse_document
+    >>> square = analyse_document({"name": "s", "boundary": [[0, 0], [2, 0], [2, 2], [0, 2]]})
+    >>> right, left = fence_tilt(square.radius, (0.1, 0.3))
+    >>> [round(math.degrees(x), 2) for x in right.shifts + left.shifts]  # ± atan μ at the vertices
+    [5.71, 16.7, -16.7, -5.71]
+    >>> right.o_lo, right.o_hi  # rests on edges (kinks) do not move
+    (0.0, 0.0)
+    """
+    if friction[1] == 0.0:
+        return NO_TILT
+    theta = np.arange(0.0, TWO_PI, TILT_GRID_RAD)
+    lr = np.log(radius.values(theta))
+    rate = (np.roll(lr, -1) - lr) / TILT_GRID_RAD
+    rate[-1] = (lr[0] - lr[-1]) / (TWO_PI - theta[-1])
+    return rail_tilt(rate, theta, 1, friction), rail_tilt(rate, theta, -1, friction)
+
+
+def vertex_shift(mu: float) -> float:
+    """The shift of a sharp vertex's balance, atan μ (radians)."""
+    return math.atan(mu)
