@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Literal
 
 import numpy as np
 
@@ -53,14 +54,16 @@ FRICTION_SAMPLES = 5
 class Tilt:
     """The friction's effect on one rail (radians): the input maps m_lo ≤ m_μ ≤ m_hi,
     sampled at ``grid`` over one turn (lifted: m(θ + 2π) = m(θ) + 2π, non-decreasing),
-    and the rests' shift o ∈ [o_lo, o_hi] (0 for rests on kinks). Without ``grid``: no tilt."""
+    and each frictionless rest's (``rests``, one turn) shift o ∈ [o_lo, o_hi] (0 for a
+    rest on a kink). Without ``grid``: no tilt."""
 
     grid: FloatArray | None = None
     m_lo: FloatArray | None = None
     m_hi: FloatArray | None = None
-    o_lo: float = 0.0
-    o_hi: float = 0.0
-    shifts: tuple[float, float] = field(default=(0.0, 0.0))
+    rests: FloatArray = field(default_factory=lambda: np.zeros(1))
+    o_lo: FloatArray = field(default_factory=lambda: np.zeros(1))
+    o_hi: FloatArray = field(default_factory=lambda: np.zeros(1))
+    shifts: tuple[float, float] = (0.0, 0.0)
     """The least and largest shift of a surviving basin boundary (radians, for reports)."""
 
     def maps(self, theta: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -71,6 +74,29 @@ class Tilt:
         k = np.floor(theta / TWO_PI) * TWO_PI
         x = theta - k
         return _interp(x, self.grid, self.m_lo) + k, _interp(x, self.grid, self.m_hi) + k
+
+    def rest_shift(self, a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """How far the ends of image arcs [a, b] (lifted, radians) may move: the least o_lo
+        and the largest o_hi of the rests within ``REST_MATCH_RAD`` of the arc (all rests'
+        when none is). O(m k) for k rests."""
+        a, b = np.asarray(a, dtype=float)[..., None], np.asarray(b, dtype=float)[..., None]
+        v = (self.rests[None, :] + TWO_PI * np.arange(-2, 4)[:, None]).ravel()
+        lo, hi = np.tile(self.o_lo, 6), np.tile(self.o_hi, 6)
+        inside = (v >= a - REST_MATCH_RAD) & (v <= b + REST_MATCH_RAD)
+        some = inside.any(axis=-1)
+        olo = np.where(some, np.where(inside, lo, np.inf).min(axis=-1), self.o_lo.min())
+        ohi = np.where(some, np.where(inside, hi, -np.inf).max(axis=-1), self.o_hi.max())
+        return olo, ohi
+
+    @property
+    def moves_rests(self) -> bool:
+        """Whether some rest moves with the friction (a smooth minimum of r)."""
+        return bool(np.any(self.o_lo != 0.0) or np.any(self.o_hi != 0.0))
+
+
+REST_MATCH_RAD = to_rad(5.0)
+"""An image end this close to a frictionless rest is that rest (the robust bands move a
+rest's image by less: the largest claimable uncertainty, ±5°)."""
 
 
 def _interp(x: FloatArray, grid: FloatArray, values: FloatArray) -> FloatArray:
@@ -90,7 +116,7 @@ def equilibria(g: FloatArray, theta: FloatArray) -> tuple[FloatArray, FloatArray
     return np.sort(at[pos & ~nxt]), np.sort(at[~pos & nxt])
 
 
-def _lifted_near(values: FloatArray, x: FloatArray, side: str) -> tuple[FloatArray, np.ndarray]:
+def _lifted_near(values: FloatArray, x: FloatArray, side: Literal["left", "right"]) -> tuple[FloatArray, np.ndarray]:
     """The first of ``values`` (sorted, one turn) at or above x (``side`` "left") or at or
     below it ("right"), lifted by whole turns next to x, and its index (radians)."""
     n = len(values)
@@ -101,14 +127,14 @@ def _lifted_near(values: FloatArray, x: FloatArray, side: str) -> tuple[FloatArr
 
 def input_map(rate: FloatArray, theta: FloatArray, mu_s: float) -> tuple[FloatArray, FloatArray, FloatArray]:
     """m_μ on ``theta`` (lifted values) for the signed friction s μ (``mu_s`` ≠ 0), the
-    rests' shifts and the surviving boundaries' shifts (radians): each basin of
+    rests' shifts (2, k: the frictionless rest's index, the shift) and the surviving boundaries' shifts (radians): each basin of
     (ln r)′ + s μ is mapped linearly onto the frictionless basin whose rest is the first
     at or beyond its own rest in the sense rests move (−s); a run of new basins sharing
     one (friction made a new rest) shares it, split at that rest. O(n log n)."""
     u0, s0 = equilibria(rate, theta)
     u, s = equilibria(rate + mu_s, theta)
     if len(u) == 0:  # no rest at all: the part may spin on; a whole turn either way
-        return theta - TWO_PI, theta + TWO_PI, np.zeros(1)
+        return theta - TWO_PI, theta + TWO_PI, np.zeros((2, 0))
     n = len(u)
     lo = u  # basin c runs from u[c] to u[c] + gap, its rest the first stable zero past u[c]
     hi = np.append(u[1:], u[0] + TWO_PI)
@@ -126,26 +152,27 @@ def input_map(rate: FloatArray, theta: FloatArray, mu_s: float) -> tuple[FloatAr
     c = c % n
     m = tlo[c] + (x - lo[c]) * (thi[c] - tlo[c]) / (hi[c] - lo[c]) - (x - theta)
     survived = ~same_before
-    return m, orig - rest, np.concatenate([(lo - olo)[survived], (hi - ohi)[~same_after]])
+    return m, np.stack([j, rest - orig]), np.concatenate([(lo - olo)[survived], (hi - ohi)[~same_after]])
 
 
 def rail_tilt(rate: FloatArray, theta: FloatArray, sense: int, friction: tuple[float, float]) -> Tilt:
     """The :class:`Tilt` of one rail (``sense`` s = +1 right, −1 left) over μ ∈ ``friction``
     (``FRICTION_SAMPLES`` values) from the sampled (ln r)′ (``rate``, at ``theta`` + half
     a step). O(k n log n)."""
-    maps, rests, bounds = [theta], [np.zeros(1)], [np.zeros(1)]
-    if friction[0] > 0.0:
-        maps, rests, bounds = [], [], []
+    _, rests = equilibria(rate, theta)
+    o_lo, o_hi = np.zeros(len(rests)), np.zeros(len(rests))
+    maps, bounds = ([theta], [np.zeros(1)]) if friction[0] == 0.0 else ([], [])
     for mu in np.linspace(friction[0], friction[1], FRICTION_SAMPLES):
         if mu > 0.0:
             m, o, b = input_map(rate, theta, sense * float(mu))
             maps.append(m)
-            rests.append(o)
             bounds.append(b)
-    o_all, b_all = np.concatenate(rests), np.concatenate(bounds)
-    o_lo, o_hi = float(o_all.min()), float(o_all.max())
-    return Tilt(theta, np.min(maps, axis=0) - TILT_PAD_RAD, np.max(maps, axis=0) + TILT_PAD_RAD,
-                o_lo - TILT_PAD_RAD if o_lo < 0.0 else 0.0, o_hi + TILT_PAD_RAD if o_hi > 0.0 else 0.0,
+            j = o[0].astype(int)
+            np.minimum.at(o_lo, j, o[1])
+            np.maximum.at(o_hi, j, o[1])
+    b_all = np.concatenate(bounds)
+    return Tilt(theta, np.min(maps, axis=0) - TILT_PAD_RAD, np.max(maps, axis=0) + TILT_PAD_RAD, rests,
+                np.where(o_lo < 0.0, o_lo - TILT_PAD_RAD, 0.0), np.where(o_hi > 0.0, o_hi + TILT_PAD_RAD, 0.0),
                 (float(b_all.min()), float(b_all.max())))
 
 
@@ -160,8 +187,8 @@ def fence_tilt(radius: SupportPairFunction, friction: tuple[float, float]) -> tu
     >>> right, left = fence_tilt(square.radius, (0.1, 0.3))
     >>> [round(math.degrees(x), 2) for x in right.shifts + left.shifts]  # ± atan μ at the vertices
     [5.71, 16.7, -16.7, -5.71]
-    >>> right.o_lo, right.o_hi  # rests on edges (kinks) do not move
-    (0.0, 0.0)
+    >>> right.moves_rests  # rests on edges (kinks) do not move
+    False
     """
     if friction[1] == 0.0:
         return NO_TILT
@@ -170,8 +197,3 @@ def fence_tilt(radius: SupportPairFunction, friction: tuple[float, float]) -> tu
     rate = (np.roll(lr, -1) - lr) / TILT_GRID_RAD
     rate[-1] = (lr[0] - lr[-1]) / (TWO_PI - theta[-1])
     return rail_tilt(rate, theta, 1, friction), rail_tilt(rate, theta, -1, friction)
-
-
-def vertex_shift(mu: float) -> float:
-    """The shift of a sharp vertex's balance, atan μ (radians)."""
-    return math.atan(mu)

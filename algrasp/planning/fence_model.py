@@ -20,8 +20,8 @@ import numpy as np
 from algrasp.errors import ConfigError, NotOrientableError
 from algrasp.geometry.angles import to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
-from algrasp.geometry.tolerances import ROUNDING, SYMMETRY_TOL_RAD
 from algrasp.geometry.functions import SupportPairFunction
+from algrasp.geometry.tolerances import ROUNDING, SYMMETRY_TOL_RAD
 from algrasp.planning.analysis import Analysis, robust_analysis
 from algrasp.planning.fence_friction import NO_TILT, Tilt, fence_tilt
 from algrasp.planning.transfer import TransferFunction
@@ -61,17 +61,19 @@ class Push:
             return self
         return replace(self, friction=friction, tilt=fence_tilt(self.radius, friction))
 
-    def _rail(self, alpha: FloatArray | float) -> tuple[np.ndarray, FloatArray, FloatArray]:
-        """Whether each world fence angle α is on the right rail, and its rests' shift [o_lo, o_hi]."""
-        right = np.asarray(alpha, dtype=float) < 0.5 * np.pi
-        r, left = self.tilt
-        return right, np.where(right, r.o_lo, left.o_lo), np.where(right, r.o_hi, left.o_hi)
-
     def circle_at(self, alpha: FloatArray | float) -> tuple[FloatArray, FloatArray]:
         """The arc (relative to a fence at world angle α, lifted) every orientation lands in
-        after it: ``circle`` widened by its rail's rest shifts (radians, arrays like α)."""
-        _, o_lo, o_hi = self._rail(alpha)
-        return self.circle[0] + o_lo, self.circle[1] + o_hi
+        after it: ``circle`` widened by the rests' shifts on its rail (radians, arrays like α)."""
+        lo, hi = np.broadcast_arrays(np.full(np.shape(alpha), self.circle[0]), np.full(np.shape(alpha), self.circle[1]))
+        return self._moved(lo, hi, alpha)
+
+    def _moved(self, a: FloatArray, b: FloatArray, alpha: FloatArray | float) -> tuple[FloatArray, FloatArray]:
+        """Image arcs [a, b] with their ends moved by the rests' shifts on α's rail."""
+        if self.tilt is NO_TILT:
+            return a, b
+        right = np.asarray(alpha, dtype=float) < 0.5 * np.pi
+        (rl, rh), (ll, lh) = self.tilt[0].rest_shift(a, b), self.tilt[1].rest_shift(a, b)
+        return a + np.where(right, rl, ll), b + np.where(right, rh, lh)
 
     def image(self, lo: FloatArray, hi: FloatArray,
               alpha: FloatArray | float | None = None) -> tuple[FloatArray, FloatArray]:
@@ -79,15 +81,16 @@ class Push:
         fence at world angle α, which sets the rail and so the friction's tilt:
         ``lower(m_lo(lo)) + o_lo``, ``upper(m_hi(hi)) + o_hi``; None: no tilt), lo moved to [0, T)."""
         lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
-        o_lo: FloatArray | float = 0.0
-        o_hi: FloatArray | float = 0.0
-        if alpha is not None and self.tilt is not NO_TILT:
-            right, o_lo, o_hi = self._rail(alpha)
+        tilted = alpha is not None and self.tilt is not NO_TILT
+        if tilted:
+            right = np.asarray(alpha, dtype=float) < 0.5 * np.pi
             (rl, _), (_, rh) = self.tilt[0].maps(lo), self.tilt[0].maps(hi)
             (ll, _), (_, lh) = self.tilt[1].maps(lo), self.tilt[1].maps(hi)
             lo, hi = np.where(right, rl, ll), np.where(right, rh, lh)
         k = np.floor(lo / self.symmetry) * self.symmetry
-        a, b = self.lower.apply(lo - k) + o_lo, self.upper.apply(hi - k) + o_hi
+        a, b = self.lower.apply(lo - k) + k, self.upper.apply(hi - k) + k
+        if tilted:
+            a, b = self._moved(a, b, alpha)  # type: ignore[arg-type]
         k2 = np.floor(a / self.symmetry) * self.symmetry
         return a - k2, b - k2
 
