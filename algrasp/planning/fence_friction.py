@@ -32,7 +32,6 @@ range, ``m_lo ≤ m_μ ≤ m_hi`` and ``o ∈ [o_lo, o_hi]``, so that
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -185,7 +184,7 @@ def fence_tilt(radius: SupportPairFunction, friction: tuple[float, float]) -> tu
     >>> from algrasp.planning.analysis import analyse_document
     >>> square = analyse_document({"name": "s", "boundary": [[0, 0], [2, 0], [2, 2], [0, 2]]})
     >>> right, left = fence_tilt(square.radius, (0.1, 0.3))
-    >>> [round(math.degrees(x), 2) for x in right.shifts + left.shifts]  # ± atan μ at the vertices
+    >>> [round(float(to_deg(x)), 2) for x in right.shifts + left.shifts]  # ± atan μ at the vertices
     [5.71, 16.7, -16.7, -5.71]
     >>> right.moves_rests  # rests on edges (kinks) do not move
     False
