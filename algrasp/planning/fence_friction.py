@@ -181,6 +181,7 @@ def fence_tilt(radius: SupportPairFunction, friction: tuple[float, float]) -> tu
     against those of (ln r)′, r sampled every ``TILT_GRID_RAD``. O(k n log n) for n samples
     and k = ``FRICTION_SAMPLES``.
 
+    >>> from algrasp.geometry.angles import to_deg
     >>> from algrasp.planning.analysis import analyse_document
     >>> square = analyse_document({"name": "s", "boundary": [[0, 0], [2, 0], [2, 2], [0, 2]]})
     >>> right, left = fence_tilt(square.radius, (0.1, 0.3))
