@@ -75,17 +75,18 @@ class Tilt:
         return _interp(x, self.grid, self.m_lo) + k, _interp(x, self.grid, self.m_hi) + k
 
     def rest_shift(self, a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """How far the ends of image arcs [a, b] (lifted, radians) may move: the least o_lo
-        and the largest o_hi of the rests within ``REST_MATCH_RAD`` of the arc (all rests'
-        when none is). O(m k) for k rests."""
+        """How far the ends of image arcs [a, b] (lifted, radians) may move (≤ 0, ≥ 0): a
+        rest v within ``REST_MATCH_RAD`` (M) of the arc moves its image by o_v, so the
+        lower end by min(0, o_lo,v + max(0, v − a − M)) over them (its own end's rest by
+        all of o_lo,v, an inner rest only as far as its image may pass a), the upper end
+        likewise. O(m k) for k rests."""
         a, b = np.asarray(a, dtype=float)[..., None], np.asarray(b, dtype=float)[..., None]
         v = (self.rests[None, :] + TWO_PI * np.arange(-2, 4)[:, None]).ravel()
         lo, hi = np.tile(self.o_lo, 6), np.tile(self.o_hi, 6)
         inside = (v >= a - REST_MATCH_RAD) & (v <= b + REST_MATCH_RAD)
-        some = inside.any(axis=-1)
-        olo = np.where(some, np.where(inside, lo, np.inf).min(axis=-1), self.o_lo.min())
-        ohi = np.where(some, np.where(inside, hi, -np.inf).max(axis=-1), self.o_hi.max())
-        return olo, ohi
+        down = np.where(inside, lo + np.maximum(0.0, v - a - REST_MATCH_RAD), 0.0).min(axis=-1)
+        up = np.where(inside, hi - np.maximum(0.0, b - v - REST_MATCH_RAD), 0.0).max(axis=-1)
+        return np.minimum(down, 0.0), np.maximum(up, 0.0)
 
     @property
     def moves_rests(self) -> bool:

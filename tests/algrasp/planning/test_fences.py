@@ -152,10 +152,11 @@ def _cases() -> dict[str, tuple[dict[str, object], object]]:
     }
 
 
-FRICTION = {"bracket": (0.0, 0.03)}
+FRICTION = {"bracket": (0.0, 0.03), "pie": (0.0, 0.1)}
 """Fence friction ranges other than the default: the bracket's centre of mass lies 2.4° past
 the end of one edge, so on the left rail a fence friction above tan 2.4° = 0.042 makes
-that edge a rest (a new equilibrium of r′ − μ r) and no design exists."""
+that edge a rest (a new equilibrium of r′ − μ r) and no design exists; pie-20's rest on
+its arc (a smooth minimum of r) moves with the friction (±18.4° at 0.3)."""
 
 
 @pytest.mark.parametrize("name", ["bracket", "pie", "fig11", "triangle"])
