@@ -5,8 +5,9 @@ The belt moves along world +x. Fence i is a wall at world angle α_i that acts o
 as the gripper's lower jaw L at α_i, so passing it maps the world orientation φ to
 ``p(φ − α_i) + α_i`` (p the push function: exact, or the set-valued push of §7 on a belt,
 :func:`on_belt`), tilted by the fence's friction on its rail
-(:mod:`~algrasp.planning.fence_friction`; :meth:`Push.image` with the fence's angle). A part slides along a fence only when the fence's steepness β (its angle
-to the belt direction) satisfies ``β_min ≤ β < 90° − atan μ_f`` for the largest part–fence
+(:mod:`~algrasp.planning.fence_friction`; :meth:`Push.image` with the fence's angle).
+A part slides along a fence only when the fence's steepness β (its angle to the belt
+direction) satisfies ``β_min ≤ β < 90° − atan μ_f`` for the largest part–fence
 friction μ_f; a fence on the right rail (y = 0) has α = β, one on the left rail (y = W)
 α = 180° − β.
 """
