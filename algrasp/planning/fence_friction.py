@@ -33,6 +33,7 @@ range, ``m_lo ≤ m_μ ≤ m_hi`` and ``o ∈ [o_lo, o_hi]``, so that
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Literal
 
 import numpy as np
@@ -66,13 +67,33 @@ class Tilt:
     """The least and largest shift of a surviving basin boundary (radians, for reports)."""
 
     def maps(self, theta: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """(m_lo(θ), m_hi(θ)) for an array of lifted θ (radians); O(m log n)."""
+        """(m_lo(θ), m_hi(θ)) for an array of lifted θ (radians); O(m)."""
+        return self.map_lo(theta), self.map_hi(theta)
+
+    def map_lo(self, theta: FloatArray) -> FloatArray:
+        """m_lo(θ) for an array of lifted θ (radians), linear between samples; O(m)."""
+        return self._map(theta, 0)
+
+    def map_hi(self, theta: FloatArray) -> FloatArray:
+        """m_hi(θ) for an array of lifted θ (radians), linear between samples; O(m)."""
+        return self._map(theta, 1)
+
+    @cached_property
+    def _extended(self) -> tuple[FloatArray, FloatArray]:
+        """m_lo and m_hi with one more sample a turn on (at 2π)."""
+        assert self.m_lo is not None and self.m_hi is not None
+        return np.append(self.m_lo, self.m_lo[0] + TWO_PI), np.append(self.m_hi, self.m_hi[0] + TWO_PI)
+
+    def _map(self, theta: FloatArray, which: int) -> FloatArray:
         theta = np.asarray(theta, dtype=float)
-        if self.grid is None or self.m_lo is None or self.m_hi is None:
-            return theta, theta
+        if self.grid is None:
+            return theta
         k = np.floor(theta / TWO_PI) * TWO_PI
-        x = theta - k
-        return _interp(x, self.grid, self.m_lo) + k, _interp(x, self.grid, self.m_hi) + k
+        f = (theta - k) / TILT_GRID_RAD
+        i = np.minimum(np.floor(f).astype(int), len(self.grid) - 1)
+        w = f - i
+        m = self._extended[which]
+        return m[i] * (1.0 - w) + m[i + 1] * w + k
 
     def rest_shift(self, a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray]:
         """How far the ends of image arcs [a, b] (lifted, radians) may move (≤ 0, ≥ 0): a
@@ -97,11 +118,6 @@ class Tilt:
 REST_MATCH_RAD = to_rad(5.0)
 """An image end this close to a frictionless rest is that rest (the robust bands move a
 rest's image by less: the largest claimable uncertainty, ±5°)."""
-
-
-def _interp(x: FloatArray, grid: FloatArray, values: FloatArray) -> FloatArray:
-    """A lifted map sampled on ``grid`` ⊂ [0, 2π) at x ∈ [0, 2π), linear between samples."""
-    return np.interp(x, np.append(grid, TWO_PI), np.append(values, values[0] + TWO_PI))
 
 
 NO_TILT = (Tilt(), Tilt())

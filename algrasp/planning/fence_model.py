@@ -15,6 +15,7 @@ friction μ_f; a fence on the right rail (y = 0) has α = β, one on the left ra
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -71,11 +72,21 @@ class Push:
 
     def _moved(self, a: FloatArray, b: FloatArray, alpha: FloatArray | float) -> tuple[FloatArray, FloatArray]:
         """Image arcs [a, b] with their ends moved by the rests' shifts on α's rail."""
-        if self.tilt is NO_TILT:
+        if self.tilt is NO_TILT or not (self.tilt[0].moves_rests or self.tilt[1].moves_rests):
             return a, b
+        return self._per_rail(alpha, lambda t: t.rest_shift(a, b), a, b, add=True)
+
+    def _per_rail(self, alpha: FloatArray | float, f: Callable[[Tilt], tuple[FloatArray, FloatArray]],
+                  lo: FloatArray, hi: FloatArray, add: bool = False) -> tuple[FloatArray, FloatArray]:
+        """``f`` of the rail of each α (one rail's only when all α share it), added to
+        (lo, hi) with ``add``."""
         right = np.asarray(alpha, dtype=float) < 0.5 * np.pi
-        (rl, rh), (ll, lh) = self.tilt[0].rest_shift(a, b), self.tilt[1].rest_shift(a, b)
-        return a + np.where(right, rl, ll), b + np.where(right, rh, lh)
+        if right.all() or not right.any():
+            x, y = f(self.tilt[0] if right.all() else self.tilt[1])
+        else:
+            (rx, ry), (lx, ly) = f(self.tilt[0]), f(self.tilt[1])
+            x, y = np.where(right, rx, lx), np.where(right, ry, ly)
+        return (lo + x, hi + y) if add else (x, y)
 
     def image(self, lo: FloatArray, hi: FloatArray,
               alpha: FloatArray | float | None = None) -> tuple[FloatArray, FloatArray]:
@@ -85,10 +96,7 @@ class Push:
         lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
         tilted = alpha is not None and self.tilt is not NO_TILT
         if tilted:
-            right = np.asarray(alpha, dtype=float) < 0.5 * np.pi
-            (rl, _), (_, rh) = self.tilt[0].maps(lo), self.tilt[0].maps(hi)
-            (ll, _), (_, lh) = self.tilt[1].maps(lo), self.tilt[1].maps(hi)
-            lo, hi = np.where(right, rl, ll), np.where(right, rh, lh)
+            lo, hi = self._per_rail(alpha, lambda t: (t.map_lo(lo), t.map_hi(hi)), lo, hi)  # type: ignore[arg-type]
         k = np.floor(lo / self.symmetry) * self.symmetry
         a, b = self.lower.apply(lo - k) + k, self.upper.apply(hi - k) + k
         if tilted:
