@@ -46,6 +46,8 @@ TILT_GRID_RAD = to_rad(0.01)
 """Spacing of the radius-function samples the equilibria and maps are found on."""
 TILT_PAD_RAD = 2.0 * TILT_GRID_RAD
 """The maps and every nonzero rest shift are widened by this either way (zeros lie between samples)."""
+REST_STILL_RAD = 1.5 * TILT_GRID_RAD
+"""A rest found within this of where it was has not moved (a kink's zero may fall one sample over)."""
 FRICTION_SAMPLES = 5
 """μ values sampled over the fence friction range (its ends included) for the envelope."""
 
@@ -137,7 +139,8 @@ def _lifted_near(values: FloatArray, x: FloatArray, side: Literal["left", "right
     below it ("right"), lifted by whole turns next to x, and its index (radians)."""
     n = len(values)
     k = np.floor(x / TWO_PI) * TWO_PI
-    j = np.searchsorted(values, x - k, side=side) - (0 if side == "left" else 1)
+    slack = -0.5 * TILT_GRID_RAD if side == "left" else 0.5 * TILT_GRID_RAD  # samples equal up to rounding are equal
+    j = np.searchsorted(values, x - k + slack, side=side) - (0 if side == "left" else 1)
     return values[j % n] + TWO_PI * (j // n) + k, j % n
 
 
@@ -184,9 +187,10 @@ def rail_tilt(rate: FloatArray, theta: FloatArray, sense: int, friction: tuple[f
             maps.append(m)
             bounds.append(b)
             j = o[0].astype(int)
-            np.minimum.at(o_lo, j, o[1])
-            np.maximum.at(o_hi, j, o[1])
-    b_all = np.concatenate(bounds)
+            shift = np.where(np.abs(o[1]) <= REST_STILL_RAD, 0.0, o[1])
+            np.minimum.at(o_lo, j, shift)
+            np.maximum.at(o_hi, j, shift)
+    b_all = np.concatenate([*bounds, np.zeros(1)])  # 0: no surviving boundary (one rest keeps every basin)
     return Tilt(theta, np.min(maps, axis=0) - TILT_PAD_RAD, np.max(maps, axis=0) + TILT_PAD_RAD, rests,
                 np.where(o_lo < 0.0, o_lo - TILT_PAD_RAD, 0.0), np.where(o_hi > 0.0, o_hi + TILT_PAD_RAD, 0.0),
                 (float(b_all.min()), float(b_all.max())))
