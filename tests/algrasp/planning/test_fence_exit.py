@@ -87,8 +87,8 @@ def test_exit_model_designs_hold_past_the_guide_by_brute_force(vertices: list[li
 
 def _berretty_breaks(design: FenceDesign, vertices: list[list[float]]) -> bool:
     part = _exact_part(vertices)
-    return any(_miss_deg(_run(part, design.angles, frac), design.final_orientations, design.symmetry) > 1.0
-               for frac in _fracs(len(design.angles), 7))
+    return any(_miss_deg(_run(part, design.angles, frac, float(mu)), design.final_orientations, design.symmetry) > 1.0
+               for frac in _fracs(len(design.angles), 7) for mu in mus(design.rules))
 
 
 def test_berretty_designs_do_not_survive_the_tip_turn() -> None:
@@ -149,15 +149,19 @@ def test_refusals_with_tip_turns_hold_by_brute_force(name: str) -> None:
     designs. Past a fence's tip the part's world orientation is s + [0, β] on the right
     rail (s + 180° − [0, β] on the left) whatever β: the next fence sees it shifted by
     180° − β' only, widened by β."""
+    from dataclasses import replace
+
     from algrasp.errors import NotOrientableError
-    from tests.algrasp.planning.test_fences import BERRETTY, _cases
+    from algrasp.planning.fence_model import fence_rules
+    from tests.algrasp.planning.test_fences import BERRETTY, FRICTION, _cases
 
     doc, model = _cases()[name]
     analysis = analyse_document(doc, EXACT)
     part = model(analysis.part.center_of_mass)  # type: ignore[operator]
+    rules = fence_rules(list(FRICTION.get(name, BERRETTY.friction)))  # pie-20: none over 0.1–0.3 (its arc rest moves)
     with pytest.raises(NotOrientableError, match="tip is modelled"):
-        design_fences(analysis)
-    assert design_fences(analysis, BERRETTY).angles
+        design_fences(analysis, rules)
+    assert design_fences(analysis, replace(BERRETTY, friction=rules.friction)).angles
     assert _fewest_reachable(part, turns=False) == 1
     assert _fewest_reachable(part, turns=True) >= 2
 

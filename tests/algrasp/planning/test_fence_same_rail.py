@@ -99,29 +99,36 @@ def test_alternating_refusal_names_the_same_rail_design() -> None:
     assert "the next fence, on the other rail, sees its outcomes shifted by 180° − β only" in err.value.message
 
 
-HALF_DISK = {"name": "halfdisk", "units": "mm", "boundary": [
-    {"type": "line", "start": [-15, 0], "end": [15, 0]},
-    {"type": "arc", "center": [0, 0], "radius": 15, "start_deg": 0, "end_deg": 180}]}
-"""Refused in the real cell's robust model with tip turns whether or not fences may share a
-rail, and designed in Berretty et al.'s model either way."""
+ROUNDED = {"name": "rounded-40x20-r4", "units": "mm", "boundary": [
+    {"type": "line", "start": [4, 0], "end": [36, 0]},
+    {"type": "arc", "center": [36, 4], "radius": 4, "start_deg": -90, "end_deg": 0},
+    {"type": "line", "start": [40, 4], "end": [40, 16]},
+    {"type": "arc", "center": [36, 16], "radius": 4, "start_deg": 0, "end_deg": 90},
+    {"type": "line", "start": [36, 20], "end": [4, 20]},
+    {"type": "arc", "center": [4, 16], "radius": 4, "start_deg": 90, "end_deg": 180},
+    {"type": "line", "start": [0, 16], "end": [0, 4]},
+    {"type": "arc", "center": [4, 4], "radius": 4, "start_deg": 180, "end_deg": 270}]}
+"""The bench's 40 × 20 mm rectangle with R 4 corners: refused in the real cell's robust
+model with tip turns and the fence friction whether or not fences may share a rail (its
+short ends stop being rests at μ_f ≈ 0.3), designed in Berretty et al.'s model either way."""
 REAL = DEFAULT_PHYSICS.to_dict()
 """The real cell's physics (conventions §8), not the suite's ideal one."""
 
 
 @pytest.mark.parametrize("same_rail", [False, True])
 def test_tip_turn_refusal_says_what_the_next_fence_sees(same_rail: bool) -> None:
-    """The half-disk's refusal describes the mode it was searched in: alternating fences
+    """The rounded rectangle's refusal describes the mode it was searched in: alternating fences
     (the next on the other rail) or, with ``same_rail``, fences on either rail (the next on
     the same rail shifted by its own steepness); it never offers ``--same-rail`` when on,
     nor (no same-rail design either) when off."""
     import algrasp
 
     with pytest.raises(NotOrientableError) as err:
-        algrasp.fences(HALF_DISK, physics=REAL, same_rail=same_rail)
+        algrasp.fences(ROUNDED, physics=REAL, same_rail=same_rail)
     msg, limits = err.value.message, err.value.limits or {}
     assert err.value.reason == "no_fence_design" and limits["berretty_design"] is True
     assert limits["same_rail_design"] is False
-    assert algrasp.fences(HALF_DISK, physics=REAL, same_rail=same_rail, exit_turns=False).design.angles  # Berretty's model has one
+    assert algrasp.fences(ROUNDED, physics=REAL, same_rail=same_rail, exit_turns=False).design.angles  # Berretty's model has one
     assert "a design exists (exit_turns false, --no-exit-turns)" in msg
     assert "--same-rail" not in msg and "same_rail" not in msg
     if same_rail:
@@ -135,14 +142,15 @@ def test_tip_turn_refusal_says_what_the_next_fence_sees(same_rail: bool) -> None
         assert "on the same rail" not in msg
 
 
-def test_tail_keeps_the_same_rail_reach(layouts: dict[str, tuple[FenceLayout, brute.ExactPart]]) -> None:
+def test_tail_keeps_the_same_rail_reach() -> None:
     """Pie-20's last two fences share a rail: a tail may shorten the last one only while it
     still reaches 2a + s_N cos β_N past the one before, which a wider belt does not change
     (so the refusal does not offer one); a small tail that keeps it is accepted."""
     from algrasp.errors import ConfigError
     from optimisation.fence_layout import with_tail
 
-    out, _ = layouts["pie"]
+    doc, _ = _cases()["pie"]  # frictionless fences: a design whose last two fences share a rail
+    out = plan_fences(analyse_document(doc, EXACT), fence_rules([0.0, 0.0]), same_rail=True)
     assert out.design.sides[-1] == out.design.sides[-2]
     with pytest.raises(ConfigError, match="smaller radius or sweep$"):
         with_tail(out, 5.0)

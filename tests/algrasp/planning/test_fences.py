@@ -152,6 +152,9 @@ def _cases() -> dict[str, tuple[dict[str, object], object]]:
     }
 
 
+ROBUST_FRICTION = {"triangle": (0.1, 0.15)}
+"""The robust triangle's range: with the shape and centre-of-mass bands it has a design up
+to μ_f,hi = 0.188 only."""
 FRICTION = {"pie": (0.0, 0.1)}
 """Fence friction ranges other than the default: pie-20's rest on its arc (a smooth
 minimum of r) moves with the friction (±18.4° at 0.3) and no design holds over 0.1–0.3."""
@@ -179,7 +182,7 @@ def test_robust_designs_hold_by_brute_force_and_margins(name: str) -> None:
     sets the world frame, as the last gripper angle of a plan does)."""
     doc, model = _cases()[name]
     analysis = analyse_document(doc, Model(physics=DEFAULT_PHYSICS))
-    design = design_fences(analysis, replace(BERRETTY, friction=FRICTION.get(name, BERRETTY.friction)))
+    design = design_fences(analysis, replace(BERRETTY, friction=ROBUST_FRICTION.get(name, BERRETTY.friction)))
     _admissible(design, design.rules)
     part = model(analysis.part.center_of_mass)  # type: ignore[operator]
     tol = math.degrees(design.final_uncertainty) + 0.01
