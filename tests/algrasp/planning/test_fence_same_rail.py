@@ -149,8 +149,8 @@ def test_tail_keeps_the_same_rail_reach() -> None:
     from algrasp.errors import ConfigError
     from optimisation.fence_layout import with_tail
 
-    doc, _ = _cases()["pie"]  # frictionless fences: a design whose last two fences share a rail
-    out = plan_fences(analyse_document(doc, EXACT), fence_rules([0.0, 0.0]), same_rail=True)
+    doc, _ = _cases()["pie"]  # with the fence friction up to 0.15 its last two fences share a rail
+    out = plan_fences(analyse_document(doc, EXACT), fence_rules([0.0, 0.15]), same_rail=True)
     assert out.design.sides[-1] == out.design.sides[-2]
     with pytest.raises(ConfigError, match="smaller radius or sweep$"):
         with_tail(out, 5.0)
