@@ -109,12 +109,14 @@ def _editor(pg: Any) -> list[Any]:
 
 
 def _fences(pg: Any) -> list[Any]:
-    """The battery plate's robust fence design (the tips' turns modelled, an exit guide):
+    """The battery plate's robust fence design (the tips' turns modelled, an exit guide;
+    consecutive fences on one rail: with the fence friction it has no alternating design):
     the API's drawing, the table, the part played along the belt from 200°."""
     pg.click("button[data-page=part]")
     pg.select_option("#example", "battery-plate")
     pg.wait_for_selector("#plot-d canvas")
     pg.click("button[data-page=fences]")
+    pg.check("#fence-same-rail")
     pg.click("#fence-btn")
     pg.wait_for_selector("#fence-summary[data-fences]", timeout=120_000)
     pg.wait_for_selector("#fence-final[data-final-range]", timeout=30_000)

@@ -82,15 +82,15 @@ def exit_guide(analysis: Analysis, design: FenceDesign, steepness: float) -> Exi
     """The exit guide of ``design`` at steepness β_e (radians), or None when the guide's
     push does not bring the arc the part arrives in back to one orientation (the last
     fence is then the claim's end, widened by its own steepness). O(1) arc pushes."""
-    push = push_of(analysis)
+    push = push_of(analysis, design.rules.friction)
     a_n, side = design.angles[-1], design.sides[-1]
     alpha = float(guide_angle(a_n, steepness))
     if len(design.angles) == 1:  # from every start: the first fence's image of the circle
-        lo, hi = np.array([push.circle[0]]), np.array([push.circle[1]])
+        lo, hi = (np.atleast_1d(x) for x in push.circle_at(a_n))
     else:
-        lo, hi = push.image(np.array([design.inputs[-1][0]]), np.array([design.inputs[-1][1]]))
+        lo, hi = push.image(np.array([design.inputs[-1][0]]), np.array([design.inputs[-1][1]]), a_n)
     lo, hi = to_guide(lo, hi, a_n, alpha)
-    glo, ghi = push.image(lo, hi)
+    glo, ghi = push.image(lo, hi, alpha)
     goal = EXACT_GOAL_RAD if push.exact else 2.0 * MAX_UNCERTAINTY_RAD
     if float(ghi[0] - glo[0]) > goal:
         return None

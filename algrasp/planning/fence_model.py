@@ -4,8 +4,10 @@ admissible, and a fence design with its margins. Pure: no I/O; angles in radians
 The belt moves along world +x. Fence i is a wall at world angle α_i that acts on the part
 as the gripper's lower jaw L at α_i, so passing it maps the world orientation φ to
 ``p(φ − α_i) + α_i`` (p the push function: exact, or the set-valued push of §7 on a belt,
-:func:`on_belt`). A part slides along a fence only when the fence's steepness β (its angle
-to the belt direction) satisfies ``β_min ≤ β < 90° − atan μ_f`` for the largest part–fence
+:func:`on_belt`), tilted by the fence's friction on its rail
+(:mod:`~algrasp.planning.fence_friction`; :meth:`Push.image` with the fence's angle).
+A part slides along a fence only when the fence's steepness β (its angle to the belt
+direction) satisfies ``β_min ≤ β < 90° − atan μ_f`` for the largest part–fence
 friction μ_f; a fence on the right rail (y = 0) has α = β, one on the left rail (y = W)
 α = 180° − β.
 """
@@ -13,6 +15,7 @@ friction μ_f; a fence on the right rail (y = 0) has α = β, one on the left ra
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -20,8 +23,10 @@ import numpy as np
 from algrasp.errors import ConfigError, NotOrientableError
 from algrasp.geometry.angles import to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
+from algrasp.geometry.functions import SupportPairFunction
 from algrasp.geometry.tolerances import ROUNDING, SYMMETRY_TOL_RAD
 from algrasp.planning.analysis import Analysis, robust_analysis
+from algrasp.planning.fence_friction import NO_TILT, Tilt, fence_tilt
 from algrasp.planning.transfer import TransferFunction
 
 EXIT_STEEPNESS_RAD = to_rad(2.0)
@@ -39,19 +44,63 @@ MARGIN_STEPS_RAD = to_rad(np.arange(0.25, 10.01, 0.25))
 
 @dataclass(frozen=True, eq=False)
 class Push:
-    """The push function as a fence sees it: bounds of its images, the symmetry period T
-    and the arc (relative, lifted) every orientation lands in after one fence."""
+    """The push function as a fence sees it: bounds of its images, the symmetry period T,
+    the arc (relative, lifted) every orientation lands in after one frictionless fence,
+    and the fence friction's :class:`~algrasp.planning.fence_friction.Tilt` per rail
+    (right, left) for the friction range ``friction`` (radius function ``radius``)."""
 
     lower: TransferFunction
     upper: TransferFunction
     symmetry: float
     circle: tuple[float, float]
     exact: bool
+    radius: SupportPairFunction | None = None
+    friction: tuple[float, float] = (0.0, 0.0)
+    tilt: tuple[Tilt, Tilt] = NO_TILT
 
-    def image(self, lo: FloatArray, hi: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """Hull of the images of the closed arcs [lo, hi] (radians, lifted), lo moved to [0, T)."""
+    def with_friction(self, friction: tuple[float, float]) -> Push:
+        """This push with the tilt of the fence friction range ``friction`` (itself when unchanged)."""
+        if friction == self.friction or self.radius is None:
+            return self
+        return replace(self, friction=friction, tilt=fence_tilt(self.radius, friction))
+
+    def circle_at(self, alpha: FloatArray | float) -> tuple[FloatArray, FloatArray]:
+        """The arc (relative to a fence at world angle α, lifted) every orientation lands in
+        after it: ``circle`` widened by the rests' shifts on its rail (radians, arrays like α)."""
+        lo, hi = np.broadcast_arrays(np.full(np.shape(alpha), self.circle[0]), np.full(np.shape(alpha), self.circle[1]))
+        return self._moved(lo, hi, alpha)
+
+    def _moved(self, a: FloatArray, b: FloatArray, alpha: FloatArray | float) -> tuple[FloatArray, FloatArray]:
+        """Image arcs [a, b] with their ends moved by the rests' shifts on α's rail."""
+        if self.tilt is NO_TILT or not (self.tilt[0].moves_rests or self.tilt[1].moves_rests):
+            return a, b
+        return self._per_rail(alpha, lambda t: t.rest_shift(a, b), a, b, add=True)
+
+    def _per_rail(self, alpha: FloatArray | float, f: Callable[[Tilt], tuple[FloatArray, FloatArray]],
+                  lo: FloatArray, hi: FloatArray, add: bool = False) -> tuple[FloatArray, FloatArray]:
+        """``f`` of the rail of each α (one rail's only when all α share it), added to
+        (lo, hi) with ``add``."""
+        right = np.asarray(alpha, dtype=float) < 0.5 * np.pi
+        if right.all() or not right.any():
+            x, y = f(self.tilt[0] if right.all() else self.tilt[1])
+        else:
+            (rx, ry), (lx, ly) = f(self.tilt[0]), f(self.tilt[1])
+            x, y = np.where(right, rx, lx), np.where(right, ry, ly)
+        return (lo + x, hi + y) if add else (x, y)
+
+    def image(self, lo: FloatArray, hi: FloatArray,
+              alpha: FloatArray | float | None = None) -> tuple[FloatArray, FloatArray]:
+        """Hull of the images of the closed arcs [lo, hi] (radians, lifted, relative to a
+        fence at world angle α, which sets the rail and so the friction's tilt:
+        ``lower(m_lo(lo)) + o_lo``, ``upper(m_hi(hi)) + o_hi``; None: no tilt), lo moved to [0, T)."""
+        lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+        tilted = alpha is not None and self.tilt is not NO_TILT
+        if tilted:
+            lo, hi = self._per_rail(alpha, lambda t: (t.map_lo(lo), t.map_hi(hi)), lo, hi)  # type: ignore[arg-type]
         k = np.floor(lo / self.symmetry) * self.symmetry
-        a, b = self.lower.apply(lo - k), self.upper.apply(hi - k)
+        a, b = self.lower.apply(lo - k) + k, self.upper.apply(hi - k) + k
+        if tilted:
+            a, b = self._moved(a, b, alpha)  # type: ignore[arg-type]
         k2 = np.floor(a / self.symmetry) * self.symmetry
         return a - k2, b - k2
 
@@ -70,9 +119,10 @@ def on_belt(analysis: Analysis) -> Analysis:
     return replace(analysis, robust=robust)
 
 
-def push_of(analysis: Analysis) -> Push:
+def push_of(analysis: Analysis, friction: tuple[float, float] | None = None) -> Push:
     """The exact push (``--exact``) or the set-valued one of the robust model (§7) on the
-    belt (:func:`on_belt`).
+    belt (:func:`on_belt`), tilted by the fence friction range ``friction`` (None: the
+    default, ``DEFAULT_FENCE_FRICTION``; :mod:`~algrasp.planning.fence_friction`).
 
     Raises NotOrientableError (``no_step``, ``dead_band``) when no fence can orient the part."""
     analysis = on_belt(analysis)
@@ -80,14 +130,15 @@ def push_of(analysis: Analysis) -> Push:
     if not p.steps:
         raise NotOrientableError("no_step", "the push function has no step (constant radius about the centre of "
                                  "mass, e.g. a disk): no fence can orient the part")
+    mu = DEFAULT_FENCE_FRICTION if friction is None else (float(friction[0]), float(friction[1]))
     if analysis.robust is None:
         T = p.symmetry_period(SYMMETRY_TOL_RAD)
-        return Push(p, p, T, p.circle_images(T)[0], True)
+        return Push(p, p, T, p.circle_images(T)[0], True, analysis.radius).with_friction(mu)
     S = analysis.robust.push
     if S is None or not S.orientable:
         raise NotOrientableError("dead_band", analysis.robust.reasons.get("push") or "with the dead band every "
                                  "orientation may stay where it is: no fence can orient the part")
-    return Push(S.lower, S.upper, S.symmetry, S.circle_images()[0], False)
+    return Push(S.lower, S.upper, S.symmetry, S.circle_images()[0], False, analysis.radius).with_friction(mu)
 
 
 @dataclass(frozen=True)
@@ -188,7 +239,7 @@ class FenceDesign:
         for i, a in enumerate(self.angles):
             if i > 0:
                 lo, hi = leave(lo, hi, self.angles[i - 1], self.rules.exit_turns)
-            lo, hi = push.image(lo - a, hi - a)
+            lo, hi = push.image(lo - a, hi - a, a)
             lo, hi = lo + a, hi + a
         return lo, hi
 
@@ -241,16 +292,16 @@ def collapse_width(push: Push, angles: FloatArray, exit_steepness: float | None 
     fence over its tip (:func:`leave`, with ``turns``). With ``exit_steepness`` the wider
     of the arc on the last fence and the arc the exit guide pushes the part back into
     (the last fence's tip turns it by at most β_N first); without, the arc on the last fence."""
-    lo = np.full(angles.shape[0], push.circle[0])
-    hi = np.full(angles.shape[0], push.circle[1])
+    lo, hi = push.circle_at(angles[:, 0])
     for i in range(1, angles.shape[1]):
         lo, hi = leave(lo, hi, angles[:, i - 1], turns)
         shift = angles[:, i - 1] - angles[:, i]
-        lo, hi = push.image(lo + shift, hi + shift)
+        lo, hi = push.image(lo + shift, hi + shift, angles[:, i])
     if exit_steepness is None:
         return np.asarray(hi - lo)
     last = angles[:, -1]
-    glo, ghi = push.image(*to_guide(lo, hi, last, guide_angle(last, exit_steepness)))
+    guide = guide_angle(last, exit_steepness)
+    glo, ghi = push.image(*to_guide(lo, hi, last, guide), guide)
     return np.asarray(np.maximum(hi - lo, ghi - glo))
 
 

@@ -31,21 +31,22 @@ def fence_motion(analysis: Analysis, design: FenceDesign, exit_angle: float | No
     of the robust model, the exact function otherwise) at each fence's angle, the turn
     over each tip between fences where ``design.rules.exit_turns``; with ``exit_angle``
     (the exit guide's world angle, radians) one more ``after`` entry: the last tip's turn,
-    the guide's push and its own tip's turn. O(n · N)."""
+    the guide's push and its own tip's turn. Every push is tilted by the fence friction
+    (:meth:`Push.image` with the fence's angle); ``images`` are the frictionless push's. O(n · N)."""
     belt = on_belt(analysis)
     bounds = None if belt.robust is None else belt.robust.push
     steps = tuple(SimpleNamespace(gripper_angle=float(a)) for a in design.angles)
-    if not design.rules.exit_turns and exit_angle is None:
-        return motion(SimpleNamespace(bounds=bounds, transfer=belt.push, steps=steps))
     first = motion(SimpleNamespace(bounds=bounds, transfer=belt.push, steps=steps[:1]))  # the images, fence 1's arcs
-    push = push_of(analysis)
-    after = [first.after[0]]
+    push = push_of(analysis, design.rules.friction)
+    a0 = design.angles[0]
+    lo, hi = _ends(first.after[0], -a0)
+    after = [_world_image(push, lo, hi, a0)]  # every start: the rests, moved by the friction where they move
     for prev, a in zip(design.angles, design.angles[1:]):
         lo, hi = leave(*_ends(after[-1]), prev, design.rules.exit_turns)
         after.append(_world_image(push, lo - a, hi - a, a))
     if exit_angle is not None:
         last = design.angles[-1]
-        lo, hi = push.image(*to_guide(*_ends(after[-1], -last), last, exit_angle))
+        lo, hi = push.image(*to_guide(*_ends(after[-1], -last), last, exit_angle), exit_angle)
         after.append(merged_arcs(*periodic_copies(*exit_turn(lo + exit_angle, hi + exit_angle, exit_angle), push.symmetry)))
     return Motion(first.period, first.images, tuple(after))
 
@@ -58,5 +59,5 @@ def _ends(arcs: tuple[tuple[float, float], ...], shift: float = 0.0) -> tuple[np
 def _world_image(push: Push, lo: np.ndarray, hi: np.ndarray, alpha: float) -> tuple[tuple[float, float], ...]:
     """The push's image of the arcs [lo, hi] (relative to a fence at α) as world arcs with
     every symmetric copy (the image lands in one period)."""
-    glo, ghi = push.image(lo, hi)
+    glo, ghi = push.image(lo, hi, alpha)
     return merged_arcs(*periodic_copies(glo + alpha, ghi + alpha, push.symmetry))

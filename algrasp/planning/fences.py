@@ -77,7 +77,8 @@ def _first_level(push: Push, rules: FenceRules) -> _Level:
     alpha = np.concatenate([rules.grid(0), rules.grid(1)])
     side = np.repeat([0, 1], [len(rules.grid(0)), len(rules.grid(1))])
     n = len(alpha)
-    return _Level(np.full(n, push.circle[0]), np.full(n, push.circle[1]), alpha, side, np.full(n, -1))
+    lo, hi = push.circle_at(alpha)
+    return _Level(np.asarray(lo, dtype=float), np.asarray(hi, dtype=float), alpha, side, np.full(n, -1))
 
 
 def _next_level(push: Push, rules: FenceRules, level: _Level) -> _Level:
@@ -89,7 +90,7 @@ def _next_level(push: Push, rules: FenceRules, level: _Level) -> _Level:
         grid = rules.grid(nxt)
         shift = level.alpha[idx, None] - grid[None, :]
         lo0, hi0 = leave(level.lo[idx], level.hi[idx], level.alpha[idx], rules.exit_turns)
-        lo, hi = push.image(lo0[:, None] + shift, hi0[:, None] + shift)
+        lo, hi = push.image(lo0[:, None] + shift, hi0[:, None] + shift, grid[None, :])
         cols = np.broadcast_to(grid[None, :], lo.shape)
         parts.append((lo.ravel(), hi.ravel(), cols.ravel(), np.full(lo.size, nxt), np.repeat(idx, len(grid))))
     lo, hi, alpha, side, parent = (np.concatenate(x) for x in zip(*parts))
@@ -148,7 +149,7 @@ def design_fences(analysis: Analysis, rules: FenceRules = DEFAULT_RULES, min_mar
         the largest fence friction under which one would, if any).
     """
     check_min_margin(min_margin_deg)
-    push = push_of(analysis)
+    push = push_of(analysis, rules.friction)
     found = _search(analysis, push, rules, to_rad(min_margin_deg), length)
     if found is not None:
         return found
@@ -165,6 +166,7 @@ def _search(analysis: Analysis, push: Push, rules: FenceRules, margin: float,
     """Breadth-first over levels; the first level holding a design with every margin ≥
     ``margin`` and an uncertainty a design may claim."""
     goal = _goal(push)
+    push = push.with_friction(rules.friction)
     levels = [_first_level(push, rules)]
     while True:
         last = levels[-1]
@@ -250,12 +252,12 @@ def turned(analysis: Analysis, push: Push, rules: FenceRules, design: FenceDesig
 def _design(analysis: Analysis, push: Push, rules: FenceRules, angles: list[float], held: list[float]) -> FenceDesign:
     """The design of a fence sequence with its margins ``held``: inputs, final orientations, uncertainty."""
     inputs = [(0.0, 2.0 * np.pi)]
-    lo, hi = np.array([push.circle[0]]), np.array([push.circle[1]])
+    lo, hi = (np.atleast_1d(x) for x in push.circle_at(angles[0]))
     for a0, a1 in zip(angles[:-1], angles[1:]):
         lo, hi = leave(lo, hi, a0, rules.exit_turns)
         lo, hi = lo + a0 - a1, hi + a0 - a1
         inputs.append((float(lo[0]), float(hi[0])))
-        lo, hi = push.image(lo, hi)
+        lo, hi = push.image(lo, hi, a1)
     T = push.symmetry
     mid = 0.5 * float(lo[0] + hi[0]) + angles[-1]
     finals = tuple(sorted(float(np.mod(mid + i * T, 2 * np.pi)) for i in range(int(round(2 * np.pi / T)))))

@@ -322,11 +322,13 @@ def belt_config(physics: Physics, fence_friction: tuple[float, float], reach_m: 
 
 def validate_fences(part: Part, layout: FenceLayout, physics: Physics, samples: int = 3, seed: int = 0,
                     tolerance_deg: float = TOLERANCE_DEG, record: bool = False,
-                    base: SimConfig = DEFAULT_SIM) -> BeltValidation:
+                    base: SimConfig = DEFAULT_SIM, wall_friction: float | None = None) -> BeltValidation:
     """Simulate ``layout`` (designed for ``part``) from ``samples`` seeded starts, in
-    process. Raises SimulationError when Drake cannot simulate the part."""
+    process, with the part–wall μ ``wall_friction`` (None: the middle of the design's
+    fence friction range). Raises SimulationError when Drake cannot simulate the part."""
     reach_m = part_geometry(part, base).reach_m
-    cfg, v = belt_config(physics, layout.design.rules.friction, reach_m, base)
+    walls = layout.design.rules.friction if wall_friction is None else (wall_friction, wall_friction)
+    cfg, v = belt_config(physics, walls, reach_m, base)
     sim = BeltSim(part, layout, cfg, v)
     rng = np.random.default_rng(seed)
     phi0 = rng.uniform(0.0, 2 * math.pi, samples)

@@ -44,13 +44,18 @@ class Flow:
     """Quasi-static descent on f with stall threshold s, tabulated on a grid over 2π.
 
     With jaw friction μ (a squeeze: two contacts f apart) the part also rests where
-    |f′| ≤ μ·f + s: the friction couple μ·F·f against the squeeze couple F·f′."""
+    |f′| ≤ μ·f + s: the friction couple μ·F·f against the squeeze couple F·f′. With
+    ``wall_friction`` s μ (a fence the part slides along) it descends on f′ + s μ f."""
 
-    def __init__(self, f, stall: float, jaw_friction: float = 0.0) -> None:
+    def __init__(self, f, stall: float, jaw_friction: float = 0.0, wall_friction: float = 0.0) -> None:
         n = int(round(360.0 / GRID_DEG))
         self.theta = np.arange(n) * (2 * np.pi / n)
         h = 1e-6
         g = (f(self.theta + h) - f(self.theta - h)) / (2 * h)
+        # A fence (one contact, sliding along it): the reaction N(n − s μ t) on the edge of
+        # the friction cone has moment −N (f′ + s μ f) about the centre of mass (jaw frame,
+        # f the distance to the wall): ``wall_friction`` is s μ, s = +1 on the right rail.
+        g = g + wall_friction * f(self.theta)
         self.n = n
         hold = stall + jaw_friction * f(self.theta)
         right = g < -hold  # moves to larger θ

@@ -120,10 +120,11 @@ def test_same_rail_flag_is_the_apis(tmp_path: Path, capsys: pytest.CaptureFixtur
     ``--fences`` the flag is named as needing it."""
     tri = tmp_path / "tri.json"
     tri.write_text(json.dumps({"name": "tri", "units": "in", "boundary": [[0, 0], [5, 0], [1, 3]]}))
-    assert main(["fences", str(tri), "--exact", "--same-rail", "--json"]) == 0
+    # fence friction up to 0.03: over 0.1–0.3 the triangle has no design (conventions §9)
+    assert main(["fences", str(tri), "--exact", "--same-rail", "--fence-friction", "0,0.03", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
-    assert doc == json.loads(json.dumps(algrasp.fences(json.loads(tri.read_text()), exact=True,
-                                                       same_rail=True).to_dict()))
+    assert doc == json.loads(json.dumps(algrasp.fences(json.loads(tri.read_text()), exact=True, same_rail=True,
+                                                       fence_friction=[0.0, 0.03]).to_dict()))
     sides = [f["side"] for f in doc["fences"]]
     assert doc["same_rail"] and any(a == b for a, b in zip(sides, sides[1:]))
     assert main(["validate", str(tri), "--exact", "--same-rail"]) == 2

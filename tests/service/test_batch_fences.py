@@ -72,6 +72,11 @@ def _document(result: dict[str, Any]) -> dict[str, Any]:
     return {k: v for k, v in result.items() if k not in ("orientable", "options")}
 
 
+FRICTION = [0.0, 0.03]
+"""The fence friction of the same-rail jobs: over 0.1–0.3 pie-20 and the triangle have no
+design (pie-20's rest on its arc moves; conventions §9)."""
+
+
 def _api(name: str, **options: Any) -> dict[str, Any]:
     return json.loads(json.dumps(algrasp.fences(PARTS[name], exact=True, **options).to_dict()))  # type: ignore[no-any-return]
 
@@ -82,16 +87,16 @@ def test_batch_same_rail_gives_the_apis_design_per_part(tmp_path: Path) -> None:
     are echoed per part, and the report says "same rail"."""
     out = tmp_path / "out"
     assert main(["batch", str(_catalogue(tmp_path / "cat", ["pie-20", "tri", "rect"])), "--out", str(out), "--workers",
-                 "1", "--record-dir", str(tmp_path / "rec"), "--exact", "--fences", "--same-rail"]) == 0
+                 "1", "--record-dir", str(tmp_path / "rec"), "--exact", "--fences", "--same-rail", "--fence-friction", "0,0.03"]) == 0
     rows = _fences(out)
     for name in ("pie-20", "tri", "rect"):
         assert rows[name]["orientable"] is True
-        assert _document(rows[name]) == _api(name, same_rail=True)
-        assert rows[name]["options"] == {"fence_friction": [0.1, 0.3], "belt_width": None, "min_margin_deg": 1.0,
+        assert _document(rows[name]) == _api(name, same_rail=True, fence_friction=FRICTION)
+        assert rows[name]["options"] == {"fence_friction": FRICTION, "belt_width": None, "min_margin_deg": 1.0,
                                          "exit_steepness_deg": 2.0, "exit_turns": True, "same_rail": True}
     for name in ("pie-20", "tri"):  # refused with alternating rails: the option made the design
         with pytest.raises(NotOrientableError):
-            algrasp.fences(PARTS[name], exact=True)
+            algrasp.fences(PARTS[name], exact=True, fence_friction=FRICTION)
         sides = [f["side"] for f in rows[name]["fences"]]
         assert any(a == b for a, b in zip(sides, sides[1:]))
     section = (out / "report.md").read_text().split("## Conveyor fences", 1)[1]
@@ -104,17 +109,17 @@ def test_batch_berretty_model_and_belt_options_per_part(tmp_path: Path) -> None:
     (the API's least width, > 80 mm), so its fences are refused by ``belt_width`` and its
     gripper plan stands."""
     out = tmp_path / "out"
-    opts = {"exit_turns": False, "exit_steepness_deg": 3.0, "min_margin_deg": 2.0}
+    opts = {"exit_turns": False, "exit_steepness_deg": 3.0, "min_margin_deg": 2.0, "fence_friction": [0.0, 0.1]}
     assert main(["batch", str(_catalogue(tmp_path / "cat", ["pie-20", "rect"])), "--out", str(out), "--workers", "1",
                  "--record-dir", str(tmp_path / "rec"), "--exact", "--fences", "--no-exit-turns",
-                 "--exit-steepness-deg", "3", "--fence-min-margin-deg", "2", "--belt-width", "80"]) == 0
+                 "--exit-steepness-deg", "3", "--fence-min-margin-deg", "2", "--belt-width", "80", "--fence-friction", "0,0.1"]) == 0
     rows = _fences(out)
     assert _document(rows["pie-20"]) == _api("pie-20", belt_width=80.0, **opts)
     least = _api("rect", **opts)["belt_width"]
     assert least > 80.0
     rect = rows["rect"]
     assert (rect["orientable"], rect["reason"]) == (False, "belt_width") and f"at least {least:.4g} mm" in rect["message"]
-    assert rect["options"] == {"fence_friction": [0.1, 0.3], "belt_width": 80.0, "min_margin_deg": 2.0,
+    assert rect["options"] == {"fence_friction": [0.0, 0.1], "belt_width": 80.0, "min_margin_deg": 2.0,
                                "exit_steepness_deg": 3.0, "exit_turns": False, "same_rail": False}
     results = {r["name"]: r["result"] for r in map(json.loads, (out / "results.jsonl").read_text().splitlines())}
     assert results["rect"]["orientable"] is True  # the gripper plan
@@ -158,7 +163,8 @@ def test_http_job_same_rail_per_part_and_bad_options_422(server: Server) -> None
     API's; a bad fence option is a 422 naming ``options.<field>`` (JSON and archive bodies)."""
     with server.client() as c:
         r = c.post("/v1/jobs", json={"parts": [PARTS["pie-20"], PARTS["tri"]],
-                                     "options": {"exact": True, "fences": True, "same_rail": True}})
+                                     "options": {"exact": True, "fences": True, "same_rail": True,
+                                                 "fence_friction": FRICTION}})
         assert r.status_code == 202, r.text
         job = wait_job(c, r.json()["id"])
         lines = [json.loads(x) for x in c.get(f"/v1/jobs/{job['id']}/results").text.splitlines()]
@@ -168,7 +174,7 @@ def test_http_job_same_rail_per_part_and_bad_options_422(server: Server) -> None
                          data={"options": json.dumps({"fences": True, "fence_min_margin_deg": 90})})
     assert job["state"] == "done" and [r["name"] for r in lines] == ["pie-20", "tri"]
     for r in lines:
-        assert _document(r["result"]["fences"]) == _api(r["name"], same_rail=True)
+        assert _document(r["result"]["fences"]) == _api(r["name"], same_rail=True, fence_friction=FRICTION)
         assert r["result"]["fences"]["options"]["same_rail"] is True
     for resp, field in zip(bad, ("exit_steepness_deg", "same_rail", "belt_width")):
         assert resp.status_code == 422 and resp.json()["error"]["field"] == f"body.options.{field}", resp.text
@@ -180,11 +186,11 @@ def test_dask_batch_passes_the_fence_options(tmp_path: Path) -> None:
     """The Dask engine designs with the job's fence options as the local pool does."""
     distributed = pytest.importorskip("distributed")
     cat = _catalogue(tmp_path / "cat", ["pie-20", "tri"])
-    flags = ["--exact", "--fences", "--same-rail", "--exit-steepness-deg", "4"]
+    flags = ["--exact", "--fences", "--same-rail", "--exit-steepness-deg", "4", "--fence-friction", "0,0.03"]
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         assert main(["batch", str(cat), "--out", str(tmp_path / "dask"), "--scheduler", cluster.scheduler_address,
                      "--record-dir", str(tmp_path / "rec"), *flags]) == 0
     rows = _fences(tmp_path / "dask")
     for name in ("pie-20", "tri"):
-        assert _document(rows[name]) == _api(name, same_rail=True, exit_steepness_deg=4.0)
+        assert _document(rows[name]) == _api(name, same_rail=True, exit_steepness_deg=4.0, fence_friction=FRICTION)
         assert rows[name]["options"]["exit_steepness_deg"] == 4.0

@@ -117,15 +117,17 @@ TRIANGLE = {"name": "tri", "units": "in", "boundary": [[0, 0], [5, 0], [1, 3]]}
 
 
 def test_same_rail_is_the_apis_and_off_by_default(server: Server) -> None:
-    """The triangle: refused with alternating fences (the refusal naming the same-rail
-    design), designed with ``same_rail``, two consecutive fences on one rail, as the API's."""
+    """The triangle (fence friction up to 0.03: none over 0.1–0.3): refused with alternating
+    fences (the refusal naming the same-rail design), designed with ``same_rail``, two
+    consecutive fences on one rail, as the API's."""
+    friction = [0.0, 0.03]
     with server.client() as c:
-        refused = c.post("/v1/fences", json={"part": TRIANGLE, "exact": True})
-        r = c.post("/v1/fences", json={"part": TRIANGLE, "exact": True, "same_rail": True})
+        refused = c.post("/v1/fences", json={"part": TRIANGLE, "exact": True, "fence_friction": friction})
+        r = c.post("/v1/fences", json={"part": TRIANGLE, "exact": True, "same_rail": True, "fence_friction": friction})
     assert refused.status_code == 422 and "--same-rail" in refused.text
     assert r.status_code == 200, r.text
     doc = r.json()
     FenceDocument.model_validate(doc)
-    assert doc == json.loads(json.dumps(algrasp.fences(TRIANGLE, exact=True, same_rail=True).to_dict()))
+    assert doc == json.loads(json.dumps(algrasp.fences(TRIANGLE, exact=True, same_rail=True, fence_friction=friction).to_dict()))
     sides = [f["side"] for f in doc["fences"]]
     assert doc["same_rail"] is True and any(a == b for a, b in zip(sides, sides[1:]))

@@ -35,7 +35,7 @@ def _parts() -> dict[str, tuple[dict[str, Any], dict[str, Any]]]:
                      {"exact": True, "exit_turns": False}),
         "bracket": (json.loads((EXAMPLES / "bracket.json").read_text()), {"exit_turns": False}),
         "triangle-same-rail": ({"name": "tri", "units": "in", "boundary": [[0, 0], [5, 0], [1, 3]]},
-                               {"exact": True, "same_rail": True}),
+                               {"exact": True, "same_rail": True, "fence_friction": [0.0, 0.03]}),
         "square-tail": ({"name": "sq", "units": "mm", "boundary": [[0, 0], [30, 0], [30, 30], [0, 30]]},
                         {"tail": {"radius": 20.0}, "belt_width": 300.0}),
     }

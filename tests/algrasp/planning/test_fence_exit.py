@@ -17,7 +17,7 @@ from algrasp.planning.fence_exit import exit_guide
 from algrasp.planning.fence_model import exit_turn
 from algrasp.planning.fences import FenceDesign, design_fences
 from tests.algrasp import brute
-from tests.algrasp.planning.test_fences import BERRETTY, RECT, SQUARE, STARTS, _exact_part, _poly
+from tests.algrasp.planning.test_fences import BERRETTY, RECT, SQUARE, STARTS, _exact_part, _poly, fence_flow, mus
 
 RECT_MM: list[list[float]] = [[float(x) for x in v] for v in RECT]
 SQUARE_MM: list[list[float]] = [[float(x) for x in v] for v in SQUARE]
@@ -29,16 +29,15 @@ def _steep(a: float) -> tuple[float, float]:
     return (a, -1.0) if a < math.pi / 2 else (math.pi - a, 1.0)
 
 
-def _run(part: brute.ExactPart, angles: tuple[float, ...], frac: np.ndarray) -> np.ndarray:
+def _run(part: brute.ExactPart, angles: tuple[float, ...], frac: np.ndarray, mu: float = 0.0) -> np.ndarray:
     """World orientations on the last fence; between fences each start turns by frac·β
-    (``frac`` (fences − 1, starts) in [0, 1])."""
-    push = brute.Flow(part.radius, 0.0)
+    (``frac`` (fences − 1, starts) in [0, 1]); each fence pushes with wall friction μ."""
     phi = STARTS.copy()
     for i, a in enumerate(angles):
         if i > 0:
             beta, sign = _steep(angles[i - 1])
             phi = phi + sign * frac[i - 1] * beta
-        phi = push(phi - a) + a
+        phi = fence_flow(part, a, mu)(phi - a) + a
     return np.asarray(np.mod(phi, 2 * np.pi))
 
 
@@ -64,8 +63,9 @@ def test_exit_turn_widens_towards_the_belt_by_the_steepness() -> None:
 
 @pytest.mark.parametrize("vertices", [SQUARE_MM, RECT_MM, HEXAGON], ids=["square", "rectangle", "hexagon"])
 def test_exit_model_designs_hold_past_the_guide_by_brute_force(vertices: list[list[float]]) -> None:
-    """Every sampled exit turn: on the last fence at the design's finals, and past the exit
-    guide within the claimed ± (half the guide's steepness, exact model)."""
+    """Every sampled exit turn and wall friction over the range: on the last fence at the
+    design's finals, and past the exit guide within the claimed ± (half the guide's
+    steepness, exact model)."""
     analysis = analyse_document(_poly(vertices), EXACT)
     design = design_fences(analysis)
     assert design.rules.exit_turns and design.rules.exit_steepness is not None
@@ -73,13 +73,13 @@ def test_exit_model_designs_hold_past_the_guide_by_brute_force(vertices: list[li
     assert guide is not None
     assert math.degrees(guide.final_uncertainty) == pytest.approx(0.5 * math.degrees(design.rules.exit_steepness))
     part = _exact_part(vertices)
-    push = brute.Flow(part.radius, 0.0)
     beta_n, sign_n = _steep(design.angles[-1])
     beta_e, sign_e = _steep(guide.angle)
-    for k, frac in enumerate(_fracs(len(design.angles), 7)):
-        phi = _run(part, design.angles, frac)
+    for (k, frac), mu in ((kf, float(m)) for kf in enumerate(_fracs(len(design.angles), 7)) for m in mus(design.rules)):
+        phi = _run(part, design.angles, frac, mu)
         assert _miss_deg(phi, design.final_orientations, design.symmetry) < 0.01
         t = frac[0] if len(design.angles) > 1 else np.full(len(STARTS), k / 2)
+        push = fence_flow(part, guide.angle, mu)
         off = push(phi + sign_n * t * beta_n - guide.angle) + guide.angle + sign_e * t[::-1] * beta_e
         assert _miss_deg(np.mod(off, 2 * np.pi), guide.final_orientations, design.symmetry) \
             <= math.degrees(guide.final_uncertainty) + 0.01
@@ -87,8 +87,8 @@ def test_exit_model_designs_hold_past_the_guide_by_brute_force(vertices: list[li
 
 def _berretty_breaks(design: FenceDesign, vertices: list[list[float]]) -> bool:
     part = _exact_part(vertices)
-    return any(_miss_deg(_run(part, design.angles, frac), design.final_orientations, design.symmetry) > 1.0
-               for frac in _fracs(len(design.angles), 7))
+    return any(_miss_deg(_run(part, design.angles, frac, float(mu)), design.final_orientations, design.symmetry) > 1.0
+               for frac in _fracs(len(design.angles), 7) for mu in mus(design.rules))
 
 
 def test_berretty_designs_do_not_survive_the_tip_turn() -> None:
@@ -149,15 +149,19 @@ def test_refusals_with_tip_turns_hold_by_brute_force(name: str) -> None:
     designs. Past a fence's tip the part's world orientation is s + [0, β] on the right
     rail (s + 180° − [0, β] on the left) whatever β: the next fence sees it shifted by
     180° − β' only, widened by β."""
+    from dataclasses import replace
+
     from algrasp.errors import NotOrientableError
-    from tests.algrasp.planning.test_fences import BERRETTY, _cases
+    from algrasp.planning.fence_model import fence_rules
+    from tests.algrasp.planning.test_fences import BERRETTY, FRICTION, _cases
 
     doc, model = _cases()[name]
     analysis = analyse_document(doc, EXACT)
     part = model(analysis.part.center_of_mass)  # type: ignore[operator]
+    rules = fence_rules(list(FRICTION.get(name, BERRETTY.friction)))  # pie-20: none over 0.1–0.3 (its arc rest moves)
     with pytest.raises(NotOrientableError, match="tip is modelled"):
-        design_fences(analysis)
-    assert design_fences(analysis, BERRETTY).angles
+        design_fences(analysis, rules)
+    assert design_fences(analysis, replace(BERRETTY, friction=rules.friction)).angles
     assert _fewest_reachable(part, turns=False) == 1
     assert _fewest_reachable(part, turns=True) >= 2
 
