@@ -34,15 +34,19 @@ import numpy as np
 
 from algrasp.errors import ConfigError
 from algrasp.geometry.angles import to_deg, to_rad
+from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.tolerances import ROUNDING
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.deadband import mean_radius
 from algrasp.planning.fence_exit import ExitGuide, exit_guide, exit_steepness
 from algrasp.planning.fence_model import exit_turn
-from algrasp.planning.fence_motion import fence_motion
+from algrasp.planning.fence_motion import fence_motion, follow
 from algrasp.planning.fences import DEFAULT_MIN_MARGIN_DEG, DEFAULT_RULES, FenceDesign, FenceRules, design_fences
 from algrasp.planning.motion import Motion
 from optimisation.push import PushModel, push_distances, push_model
+
+FOLLOW_STARTS_DEG = 360
+"""Starts the document's ``follow_deg`` traces: every whole degree (the page's start slider's steps)."""
 
 PUSH_TOLERANCE_DEG = 0.5
 """A turn is complete within this of the fixed point (as the gripper profile's default)."""
@@ -112,6 +116,10 @@ class FenceLayout:
     motion: Motion | None = None
     """The push's images and each fence's arcs after it (:mod:`algrasp.planning.fence_motion`):
     the document's ``images`` and fences' ``image_deg``, what a page animates."""
+    follow: FloatArray | None = None
+    """(360, N or N + 1, 2): the world arc each whole-degree start is in after each fence
+    and past the exit guide (:func:`~algrasp.planning.fence_motion.follow`, radians), the
+    document's ``follow_deg``: a page animates one start with it."""
 
     @property
     def steepness(self) -> tuple[float, ...]:
@@ -189,8 +197,10 @@ class FenceLayout:
         return (tuple(sorted(float(f) for f in np.mod(0.5 * (lo + hi), 2 * np.pi))),
                 d.final_uncertainty + 0.5 * float(hi[0] - lo[0]))
 
-    def to_dict(self) -> dict[str, object]:
-        """The fence document (degrees; lengths in ``units``): ``FenceDocument``."""
+    def to_dict(self, follow: bool = True) -> dict[str, object]:
+        """The fence document (degrees; lengths in ``units``): ``FenceDocument``; without
+        ``follow`` no ``follow_deg`` (a catalogue's results keep the layout, not the trace a
+        page animates one start with: 360 × N arcs)."""
         d = self.design
         fences = [{"side": "right" if s == 0 else "left", "angle_deg": _deg(a),
                    "steepness_deg": _deg(b), "position": x, "length": n, "margin_deg": _deg(m),
@@ -222,7 +232,9 @@ class FenceLayout:
                 **({} if self.tail is None else {
                     "tail": {"radius": self.tail.radius, "sweep_deg": _deg(self.tail.sweep),
                              "turn_deg": _deg(self.tail_turn())}}),
-                **({} if self.motion is None else {"images": _images(self.motion)})}
+                **({} if self.motion is None else {"images": _images(self.motion)}),
+                **({} if self.follow is None or not follow else {"follow_deg": [[[_deg(a), _deg(b)] for a, b in row]
+                                                                  for row in self.follow.tolist()]})}
 
 
 def _images(m: Motion) -> dict[str, object]:
@@ -359,4 +371,7 @@ def plan_fences(analysis: Analysis, rules: FenceRules = DEFAULT_RULES, min_margi
 
     design = design_fences(analysis, rules, min_margin_deg, total)
     out = layout(analysis, design, belt_width, model, beta_e)
-    return replace(out, motion=fence_motion(analysis, design, None if out.exit is None else out.exit.angle))
+    exit_angle = None if out.exit is None else out.exit.angle
+    starts = to_rad(np.arange(FOLLOW_STARTS_DEG, dtype=float))
+    return replace(out, motion=fence_motion(analysis, design, exit_angle),
+                   follow=follow(analysis, design, starts, exit_angle))

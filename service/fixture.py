@@ -177,7 +177,7 @@ def fence_design(analysis: Analysis, opts: DesignOptions) -> dict[str, Any]:
     kw = fence_keywords(opts)
     try:
         doc = plan_fences(analysis, fence_rules(kw["fence_friction"]), kw["min_margin_deg"], kw["belt_width"],
-                          kw["exit_steepness_deg"], kw["exit_turns"], kw["same_rail"]).to_dict()
+                          kw["exit_steepness_deg"], kw["exit_turns"], kw["same_rail"]).to_dict(follow=False)
         return {"orientable": True, "options": kw, **doc}
     except NotOrientableError as e:
         return {"orientable": False, "options": kw, "reason": e.reason, "message": e.message, "limits": e.limits}

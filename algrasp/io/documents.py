@@ -224,6 +224,9 @@ class FenceDocument(Open):
     last_fence_orientations_deg: list[float] | None = Field(None, description="its orientations on the last fence")
     last_fence_uncertainty_deg: float | None = None
     exit: ExitGuideDoc | None = Field(None, description="the exit guide on the last fence's rail (null: none holds)")
+    follow_deg: list[list[list[float]]] | None = Field(None, description="per whole-degree start 0…359: the world arc "
+                                                       "[lo, hi] it is in after each fence and past the exit guide "
+                                                       "(what a page animates one start with; not in batch results)")
 
 
 class FenceValidationSample(Open):

@@ -21,6 +21,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from algrasp.geometry.curves import FloatArray
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.fence_model import FenceDesign, Push, exit_turn, leave, on_belt, push_of, to_guide
 from algrasp.planning.motion import Motion, merged_arcs, motion, periodic_copies
@@ -61,3 +62,28 @@ def _world_image(push: Push, lo: np.ndarray, hi: np.ndarray, alpha: float) -> tu
     every symmetric copy (the image lands in one period)."""
     glo, ghi = push.image(lo, hi, alpha)
     return merged_arcs(*periodic_copies(glo + alpha, ghi + alpha, push.symmetry))
+
+
+def follow(analysis: Analysis, design: FenceDesign, starts: FloatArray,
+           exit_angle: float | None = None) -> FloatArray:
+    """The world arc [lo, hi] (radians, lifted) each start φ₀ of ``starts`` (m,) is in
+    after each fence and, with ``exit_angle``, past the exit guide (its push, then its own
+    tip's turn): an array (m, N or N + 1, 2). The same composition as :meth:`FenceDesign.run`
+    (the push tilted by the fence friction at each fence's angle, the turn over each tip
+    in the design's model, the last tip's turn before the guide always); what a page
+    animates a single start with, since the tilted push is not one function it could read
+    off :func:`fence_motion`'s ``images``. O(m · N · log n)."""
+    push = push_of(analysis, design.rules.friction)
+    lo = hi = np.asarray(starts, dtype=float)
+    out = []
+    for i, a in enumerate(design.angles):
+        if i > 0:
+            lo, hi = leave(lo, hi, design.angles[i - 1], design.rules.exit_turns)
+        lo, hi = push.image(lo - a, hi - a, a)
+        lo, hi = lo + a, hi + a
+        out.append((lo, hi))
+    if exit_angle is not None:
+        glo, ghi = push.image(*to_guide(lo - design.angles[-1], hi - design.angles[-1], design.angles[-1], exit_angle),
+                              exit_angle)
+        out.append(exit_turn(glo + exit_angle, ghi + exit_angle, exit_angle))
+    return np.stack([np.stack(pair, axis=-1) for pair in out], axis=1)

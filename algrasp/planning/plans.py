@@ -27,7 +27,7 @@ from algrasp.planning.analysis import Analysis
 from algrasp.planning.planner import GUARD_RAD, algorithm_a_prime, images, set_a_prime
 from algrasp.planning.setvalued import SetTransfer
 from algrasp.planning.transfer import TransferFunction
-from algrasp.planning.verification import through, verify, verify_set
+from algrasp.planning.verification import run_steps, through, verify, verify_set
 
 
 @dataclass(frozen=True)
@@ -116,10 +116,7 @@ class Plan:
         """Hull of the world orientations after the plan (its first ``steps`` actions, or
         all) from [lo, hi] (set semantics)."""
         assert self.bounds is not None
-        for s in self.steps[:steps]:
-            lo, hi = self.bounds.image(lo - s.gripper_angle, hi - s.gripper_angle)
-            lo, hi = lo + s.gripper_angle, hi + s.gripper_angle
-        return lo, hi
+        return run_steps(self.bounds, self.steps[:steps], lo, hi)
 
     def nearest_final(self, phi: FloatArray) -> FloatArray:
         """The claimed final orientation nearest to each φ (radians, [0, 2π))."""

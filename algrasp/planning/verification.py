@@ -4,25 +4,46 @@ allows and densely on its ramps. Pure: no I/O; angles in radians."""
 
 from __future__ import annotations
 
-from dataclasses import replace
-from typing import TYPE_CHECKING
+from collections.abc import Sequence
+from typing import Protocol
 
 import numpy as np
 
 from algrasp.geometry.angles import signed_diff
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.tolerances import PROBE_RAD
+from algrasp.planning.setvalued import SetTransfer
 from algrasp.planning.transfer import TransferFunction
 
-if TYPE_CHECKING:
-    from algrasp.planning.plans import Plan, PlanStep
+
+class PlanStep(Protocol):
+    """What verification reads of a plan step (:class:`algrasp.planning.plans.PlanStep`)."""
+
+    @property
+    def gripper_angle(self) -> float: ...
+
+
+class Plan(Protocol):
+    """What verification reads of a plan (:class:`algrasp.planning.plans.Plan`; a protocol,
+    so that this module does not import the one that calls it)."""
+
+    @property
+    def transfer(self) -> TransferFunction: ...
+    @property
+    def steps(self) -> Sequence[PlanStep]: ...
+    @property
+    def final_orientations(self) -> Sequence[float]: ...
+    @property
+    def final_uncertainty(self) -> float: ...
+    @property
+    def bounds(self) -> SetTransfer | None: ...
 
 FINAL_CLUSTER_RAD = 1e-6
 """Final orientations closer than this are one orientation in verification."""
 VERIFY_SAMPLES = 3600
 
 
-def through(F: TransferFunction, steps: tuple[PlanStep, ...], phi: FloatArray) -> FloatArray:
+def through(F: TransferFunction, steps: Sequence[PlanStep], phi: FloatArray) -> FloatArray:
     """World orientations after ``steps`` of the exact model from ``phi`` (radians)."""
     for s in steps:
         phi = F.apply(phi - s.gripper_angle) + s.gripper_angle
@@ -118,10 +139,21 @@ def _run_rest(plan: Plan, lo: FloatArray, hi: FloatArray) -> tuple[FloatArray, F
     sample, the later ones over each run of equal neighbouring values once (the samples
     are sorted and the bounds monotone, so their images repeat in runs), expanded back.
     The same values, elementwise; O(m) for the second action, O(runs) for each later one."""
-    lo, hi = replace(plan, steps=plan.steps[1:2]).run_set(lo, hi)
+    assert plan.bounds is not None
+    lo, hi = run_steps(plan.bounds, plan.steps[1:2], lo, hi)
     (lo_runs, lo_at), (hi_runs, hi_at) = _runs(lo), _runs(hi)
-    lo_runs, hi_runs = replace(plan, steps=plan.steps[2:]).run_set(lo_runs, hi_runs)
+    lo_runs, hi_runs = run_steps(plan.bounds, plan.steps[2:], lo_runs, hi_runs)
     return lo_runs[lo_at], hi_runs[hi_at]
+
+
+def run_steps(bounds: SetTransfer, steps: Sequence[PlanStep], lo: FloatArray,
+              hi: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """World arcs [lo, hi] (radians) after ``steps`` of the set-valued push ``bounds`` (set
+    semantics; :meth:`Plan.run_set`). O(m · len(steps) · log n)."""
+    for s in steps:
+        lo, hi = bounds.image(lo - s.gripper_angle, hi - s.gripper_angle)
+        lo, hi = lo + s.gripper_angle, hi + s.gripper_angle
+    return lo, hi
 
 
 def _runs(a: FloatArray) -> tuple[FloatArray, np.ndarray]:

@@ -1,11 +1,11 @@
 // A part carried along the belt through a fence layout (conventions §9): belt along +x,
 // y across from the right rail (0) to the left (W), part units. The part's orientation is
-// read off the fence document's own images (`images`, each fence's `image_deg`) with
+// read off the fence document's own trace of each whole-degree start (`follow_deg`) and each fence's `image_deg`, with
 // motion.js, as the Plan page reads a plan's: passing fence i maps φ to p(φ − α_i) + α_i,
 // a gripper action at α_i. No planner here. Degrees, as the documents.
 
 import { rotate } from "./geom.js";
-import { claimSaid, markFinal, middle, valueAt } from "./motion.js";
+import { claimSaid, markFinal, middle } from "./motion.js";
 import { el as svgEl } from "./svg.js";
 
 const RAD = Math.PI / 180;
@@ -32,22 +32,24 @@ export function fencePlan(doc) {
 // (α < 90°), counter-clockwise on the left (the core's exit_turn, conventions §9).
 const overTip = ([lo, hi], alpha) => (alpha < 90 ? [lo - alpha, hi] : [lo, hi + (180 - alpha)]);
 
-// Per fence, then the exit guide, {alpha, before, after, all} from φ₀: the push's images at
-// its angle (the document's own), and in the design's model the turn over the tip before it
-// (always before the guide, and over the guide's own tip after it).
+// Per fence, then the exit guide, {alpha, before, after, all} from a whole-degree φ₀: the
+// arc after each is the document's own trace of that start (`follow_deg`: the push tilted
+// by the fence friction at the fence's angle, which is not one function the page could read
+// off `images`); before it, in the design's model, the turn over the previous tip (always
+// before the guide). The trace past the guide includes its own tip's turn.
 export function followFences(doc, phi0) {
   const steps = fencePlan(doc).steps;
+  const trace = doc.follow_deg[((Math.round(phi0) % 360) + 360) % 360];
   let r = [phi0, phi0];
   return steps.map((s, i) => {
     if (i > 0 && (doc.exit_turns || s.guide)) r = overTip(r, steps[i - 1].gripper_angle_deg);
-    const before = r, a = s.gripper_angle_deg;
-    r = [valueAt(doc.images, r[0] - a, 2) + a, valueAt(doc.images, r[1] - a, 3) + a];
-    if (s.guide) r = overTip(r, a);
-    return { alpha: a, before, after: r, all: s.image_deg };
+    const before = r;
+    r = trace[i];
+    return { alpha: s.gripper_angle_deg, before, after: r, all: s.image_deg };
   });
 }
 
-export const hasImages = (doc) => Boolean(doc.images && doc.images.pieces && doc.fences.every((f) => f.image_deg));
+export const hasImages = (doc) => Boolean(doc.follow_deg && doc.follow_deg.length === 360 && doc.fences.every((f) => f.image_deg));
 
 // Fence f's wall: root on its rail, tip, unit direction root → tip, face normal n (towards
 // the oncoming part, conventions §9: n = (−sin α, cos α)).
@@ -126,7 +128,7 @@ function outlineAt(geometry, phi, at) {
 // data-final-range, data-claimed) as the Plan page's #anim-final does.
 export function playFences(state, phi0) {
   const doc = state.fences.doc, g = state.analysis.geometry, out = document.getElementById("fence-final");
-  if (!hasImages(doc)) { out.textContent = "this fence document carries no images: design again to animate it"; return; }
+  if (!hasImages(doc)) { out.textContent = "this fence document carries no trace (follow_deg): design again to animate it"; return; }
   const plan = fencePlan(doc);
   const phases = followFences(doc, phi0);
   const seq = frames(doc, phases);

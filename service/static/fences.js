@@ -72,7 +72,7 @@ function show(state, body, doc, svg) {
     f.steepness_deg.toFixed(2), `±${f.margin_deg.toFixed(2)}`, `${fmt(f.position)} ${u}`, `${fmt(f.length)} ${u}`])));
   $("fence-stale").textContent = "";
   $("fence-out").hidden = false;
-  $("fence-final").textContent = hasImages(doc) ? "" : "this fence document carries no images: design again to animate it";
+  $("fence-final").textContent = hasImages(doc) ? "" : "this fence document carries no trace (follow_deg): design again to animate it";
   if (state.analysis) playFences(state, Number($("fence-start").value));
 }
 

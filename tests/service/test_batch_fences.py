@@ -78,7 +78,7 @@ design (pie-20's rest on its arc moves; conventions §9)."""
 
 
 def _api(name: str, **options: Any) -> dict[str, Any]:
-    return json.loads(json.dumps(algrasp.fences(PARTS[name], exact=True, **options).to_dict()))  # type: ignore[no-any-return]
+    return json.loads(json.dumps(algrasp.fences(PARTS[name], exact=True, **options).to_dict(follow=False)))  # type: ignore[no-any-return]
 
 
 def test_batch_same_rail_gives_the_apis_design_per_part(tmp_path: Path) -> None:

@@ -25,10 +25,11 @@ pytestmark = [
 ROOT = Path(__file__).resolve().parents[2]
 BRACKET = json.loads((ROOT / "algrasp" / "examples" / "bracket.json").read_text())
 PLATE = json.loads((ROOT / "algrasp" / "examples" / "real" / "battery-plate.json").read_text())
+PIE20 = json.loads((ROOT / "algrasp" / "examples" / "pie-20.json").read_text())
 
 
 def _design(pg: Any, model: str = "exact", example: str = "bracket", tip_turns: bool = False,
-            same_rail: bool = False) -> dict[str, Any]:
+            same_rail: bool = False, friction: tuple[float, float] | None = None) -> dict[str, Any]:
     """Design on the page; the bracket has a design only in Berretty et al.'s model (no turn
     over the tips), the battery plate in the default one."""
     pg.select_option("#example", example)
@@ -37,6 +38,9 @@ def _design(pg: Any, model: str = "exact", example: str = "bracket", tip_turns: 
     pg.select_option("#fence-model", model)
     pg.set_checked("#fence-tip-turns", tip_turns)
     pg.set_checked("#fence-same-rail", same_rail)
+    if friction is not None:
+        pg.fill("#fence-mu-lo", str(friction[0]))
+        pg.fill("#fence-mu-hi", str(friction[1]))
     with pg.expect_response(lambda r: r.url.endswith("/v1/fences") and "svg" not in (r.request.post_data or "")) as resp:
         pg.click("#fence-btn")
     pg.wait_for_selector("#fence-summary[data-fences]")
@@ -67,7 +71,8 @@ def test_design_shows_the_apis_layout_and_table(page: Any) -> None:  # noqa: F81
 def _expected_final(part: dict[str, Any], exact: bool, tip_turns: bool, start_deg: float) -> tuple[float, float]:
     """[lo, hi] (deg) past the exit guide from ``start_deg``, composed here from the core's
     push: each fence's push at its angle, the turn over each tip (in the design's model),
-    the last tip's turn, the guide's push at its angle and its own tip's turn."""
+    the last tip's turn, the guide's push at its angle (tilted by the fence friction, as
+    every fence's) and its own tip's turn."""
     from algrasp.planning.fence_model import exit_turn, push_of
 
     layout = algrasp.fences(part, exact=exact, exit_turns=tip_turns)
@@ -77,7 +82,7 @@ def _expected_final(part: dict[str, Any], exact: bool, tip_turns: bool, start_de
     lo, hi = layout.design.run(push, np.array([math.radians(start_deg)]))
     lo, hi = exit_turn(lo, hi, layout.design.angles[-1])
     g = layout.exit.angle
-    lo, hi = push.image(lo - g, hi - g)
+    lo, hi = push.image(lo - g, hi - g, g)  # the guide is a fence too: tilted by its friction
     lo, hi = exit_turn(lo + g, hi + g, g)
     return math.degrees(lo[0]), math.degrees(hi[0])
 
@@ -164,10 +169,12 @@ def test_validate_on_the_belt_says_what_and_each_sample(page: Any) -> None:  # n
 
 def test_same_rail_checkbox_asks_for_the_same_rail_design(page: Any) -> None:  # noqa: F811
     """Ticked, the page's request carries ``same_rail`` and shows the API's same-rail design
-    of the bracket (tip turns modelled), two consecutive fences on one rail."""
-    doc = _design(page, "exact", "bracket", tip_turns=True, same_rail=True)
-    want: dict[str, Any] = dict(algrasp.fences(BRACKET, exact=True, fence_friction=[0.1, 0.3], min_margin_deg=1.0,
+    of pie-20 (tip turns modelled, fence friction 0–0.03 set on the page; it has no
+    alternating design), two consecutive fences on one rail."""
+    doc = _design(page, "robust", "pie-20", tip_turns=True, same_rail=True, friction=(0.0, 0.03))
+    want: dict[str, Any] = dict(algrasp.fences(PIE20, fence_friction=[0.0, 0.03], min_margin_deg=1.0,
                                                same_rail=True).to_dict())
+    assert any(a["side"] == b["side"] for a, b in zip(want["fences"], want["fences"][1:]))
     assert doc["same_rail"] is True
     assert [f["angle_deg"] for f in doc["fences"]] == pytest.approx([f["angle_deg"] for f in want["fences"]])
     assert [f["side"] for f in doc["fences"]] == [f["side"] for f in want["fences"]]
@@ -175,7 +182,8 @@ def test_same_rail_checkbox_asks_for_the_same_rail_design(page: Any) -> None:  #
 
 
 TRIANGLE = json.loads((ROOT / "tests" / "data" / "fences" / "triangle.json").read_text())
-PIE20 = json.loads((ROOT / "algrasp" / "examples" / "pie-20.json").read_text())
+LOW_FRICTION = [0.0, 0.03]
+"""Fence friction under which pie-20 and the triangle have same-rail designs (none above ~0.035)."""
 
 
 def _count(part: dict[str, Any], **options: Any) -> int | str:
@@ -190,8 +198,9 @@ def test_jobs_page_sends_fence_options_and_shows_each_parts_fences(page: Any, se
                                                                    tmp_path: Path) -> None:
     """The Catalogue page with "design conveyor fences", same rail and exit steepness 3°: the
     job's per-part fence results echo those options, and each part's fences cell says the count of
-    ``algrasp.fences(part, same_rail=True)`` (pie-20 and the triangle have no design with
-    alternating rails, so a job that dropped same_rail would differ)."""
+    ``algrasp.fences(part, same_rail=True)`` at fence friction 0–0.03, set on the page (pie-20
+    and the triangle have no design with alternating rails, so a job that dropped same_rail
+    would differ)."""
     import zipfile
 
     parts = {"pie-20": PIE20, "tri": dict(TRIANGLE, name="tri")}
@@ -204,6 +213,8 @@ def test_jobs_page_sends_fence_options_and_shows_each_parts_fences(page: Any, se
     page.set_input_files("#job-archive", str(archive))
     page.check("#job-fences")
     page.check("#job-fence-same-rail")
+    page.fill("#job-fence-mu-lo", str(LOW_FRICTION[0]))
+    page.fill("#job-fence-mu-hi", str(LOW_FRICTION[1]))
     page.fill("#job-exit-steepness", "3")
     page.click("#job-submit")
     page.wait_for_selector("#job-out[data-state=done]", timeout=180_000)
@@ -211,18 +222,18 @@ def test_jobs_page_sends_fence_options_and_shows_each_parts_fences(page: Any, se
     with server.client() as c:  # what the job stored: each part's fence result echoes its options
         lines = [json.loads(x) for x in c.get(f"/v1/jobs/{job_id}/results").text.splitlines()]
     for line in lines:
-        assert line["result"]["fences"]["options"] == {"fence_friction": [0.1, 0.3], "belt_width": None,
+        assert line["result"]["fences"]["options"] == {"fence_friction": LOW_FRICTION, "belt_width": None,
                                                       "min_margin_deg": 1.0, "exit_steepness_deg": 3.0,
                                                       "exit_turns": True, "same_rail": True}
     rows = page.locator("#job-parts tbody tr")
     assert rows.count() == len(parts) == len(lines)
     for i in range(rows.count()):
         name = rows.nth(i).locator("td").nth(1).inner_text()
-        want = _count(parts[name], same_rail=True, exit_steepness_deg=3.0)
+        want = _count(parts[name], same_rail=True, exit_steepness_deg=3.0, fence_friction=LOW_FRICTION)
         assert want != "refused"
         assert rows.nth(i).locator("td[data-fences]").get_attribute("data-fences") == str(want)
         assert rows.nth(i).locator("td").last.inner_text().startswith(f"{want} fence")
-        assert _count(parts[name], exit_steepness_deg=3.0) == "refused"  # the option made the design
+        assert _count(parts[name], exit_steepness_deg=3.0, fence_friction=LOW_FRICTION) == "refused"  # same rail did
 
 
 def test_jobs_page_says_a_bad_fence_option_by_its_control(page_422: Any, tmp_path: Path) -> None:
