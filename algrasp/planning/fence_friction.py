@@ -190,7 +190,9 @@ def rail_tilt(rate: FloatArray, theta: FloatArray, sense: int, friction: tuple[f
             shift = np.where(np.abs(o[1]) <= REST_STILL_RAD, 0.0, o[1])
             np.minimum.at(o_lo, j, shift)
             np.maximum.at(o_hi, j, shift)
-    b_all = np.concatenate([*bounds, np.zeros(1)])  # 0: no surviving boundary (one rest keeps every basin)
+    b_all = np.concatenate(bounds) if bounds else np.zeros(0)
+    if b_all.size == 0:  # no surviving boundary (one rest keeps every basin): 0
+        b_all = np.zeros(1)
     return Tilt(theta, np.min(maps, axis=0) - TILT_PAD_RAD, np.max(maps, axis=0) + TILT_PAD_RAD, rests,
                 np.where(o_lo < 0.0, o_lo - TILT_PAD_RAD, 0.0), np.where(o_hi > 0.0, o_hi + TILT_PAD_RAD, 0.0),
                 (float(b_all.min()), float(b_all.max())))
