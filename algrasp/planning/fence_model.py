@@ -235,13 +235,19 @@ class FenceDesign:
     def run(self, push: Push, phi: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Hull of the world orientations on the last fence from each φ (radians): every
         fence's push, and between fences the way off its tip of :func:`leave`."""
+        return self.run_each(push, phi)[-1]
+
+    def run_each(self, push: Push, phi: FloatArray) -> list[tuple[FloatArray, FloatArray]]:
+        """:meth:`run`'s hull on each fence in turn (world, radians), one (lo, hi) per fence."""
         lo = hi = np.asarray(phi, dtype=float)
+        out = []
         for i, a in enumerate(self.angles):
             if i > 0:
                 lo, hi = leave(lo, hi, self.angles[i - 1], self.rules.exit_turns)
             lo, hi = push.image(lo - a, hi - a, a)
             lo, hi = lo + a, hi + a
-        return lo, hi
+            out.append((lo, hi))
+        return out
 
 
 def exit_turn(lo: FloatArray | float, hi: FloatArray | float,
@@ -276,6 +282,14 @@ def to_guide(lo: FloatArray, hi: FloatArray, last: FloatArray | float,
     return lo + shift, hi + shift
 
 
+def guide_image(push: Push, lo: FloatArray, hi: FloatArray, last: FloatArray | float,
+                guide: FloatArray | float) -> tuple[FloatArray, FloatArray]:
+    """The exit guide's push (tilted at its angle, as every fence's) of the arcs [lo, hi]
+    the part is in on the last fence at ``last`` (relative to it): :func:`to_guide`, then
+    :meth:`Push.image`; the result relative to the guide at ``guide`` (radians)."""
+    return push.image(*to_guide(lo, hi, last, guide), guide)
+
+
 def leave(lo: FloatArray, hi: FloatArray, alpha: FloatArray | float, turns: bool) -> tuple[FloatArray, FloatArray]:
     """The arcs [lo, hi] (any frame, radians) the part may be in when it has left the fence
     at α over its tip: :func:`exit_turn` with ``turns`` (the default model), unchanged
@@ -301,7 +315,7 @@ def collapse_width(push: Push, angles: FloatArray, exit_steepness: float | None 
         return np.asarray(hi - lo)
     last = angles[:, -1]
     guide = guide_angle(last, exit_steepness)
-    glo, ghi = push.image(*to_guide(lo, hi, last, guide), guide)
+    glo, ghi = guide_image(push, lo, hi, last, guide)
     return np.asarray(np.maximum(hi - lo, ghi - glo))
 
 

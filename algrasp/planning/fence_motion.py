@@ -23,7 +23,7 @@ import numpy as np
 
 from algrasp.geometry.curves import FloatArray
 from algrasp.planning.analysis import Analysis
-from algrasp.planning.fence_model import FenceDesign, Push, exit_turn, leave, on_belt, push_of, to_guide
+from algrasp.planning.fence_model import FenceDesign, Push, exit_turn, guide_image, leave, on_belt, push_of
 from algrasp.planning.motion import Motion, merged_arcs, motion, periodic_copies
 
 
@@ -47,7 +47,7 @@ def fence_motion(analysis: Analysis, design: FenceDesign, exit_angle: float | No
         after.append(_world_image(push, lo - a, hi - a, a))
     if exit_angle is not None:
         last = design.angles[-1]
-        lo, hi = push.image(*to_guide(*_ends(after[-1], -last), last, exit_angle), exit_angle)
+        lo, hi = guide_image(push, *_ends(after[-1], -last), last, exit_angle)
         after.append(merged_arcs(*periodic_copies(*exit_turn(lo + exit_angle, hi + exit_angle, exit_angle), push.symmetry)))
     return Motion(first.period, first.images, tuple(after))
 
@@ -74,16 +74,10 @@ def follow(analysis: Analysis, design: FenceDesign, starts: FloatArray,
     animates a single start with, since the tilted push is not one function it could read
     off :func:`fence_motion`'s ``images``. O(m · N · log n)."""
     push = push_of(analysis, design.rules.friction)
-    lo = hi = np.asarray(starts, dtype=float)
-    out = []
-    for i, a in enumerate(design.angles):
-        if i > 0:
-            lo, hi = leave(lo, hi, design.angles[i - 1], design.rules.exit_turns)
-        lo, hi = push.image(lo - a, hi - a, a)
-        lo, hi = lo + a, hi + a
-        out.append((lo, hi))
+    out = design.run_each(push, np.asarray(starts, dtype=float))
     if exit_angle is not None:
-        glo, ghi = push.image(*to_guide(lo - design.angles[-1], hi - design.angles[-1], design.angles[-1], exit_angle),
-                              exit_angle)
+        last = design.angles[-1]
+        lo, hi = out[-1]
+        glo, ghi = guide_image(push, lo - last, hi - last, last, exit_angle)
         out.append(exit_turn(glo + exit_angle, ghi + exit_angle, exit_angle))
     return np.stack([np.stack(pair, axis=-1) for pair in out], axis=1)
