@@ -6,6 +6,7 @@ from __future__ import annotations
 import io
 import math
 import zipfile
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -26,7 +27,7 @@ def test_analysis_of_the_pie_has_the_papers_steps(server: Server, pie: dict[str,
     assert [r["end_deg"] - r["start_deg"] for r in sq["ramps"]] == pytest.approx([40.0], abs=1e-6)
 
 
-def test_plan_is_recorded_cached_and_replayable(server: Server, pie: dict[str, Any]) -> None:
+def test_plan_is_recorded_cached_and_replayable(server: Server, pie: dict[str, Any], tmp_path: Path) -> None:
     body = {"part": pie, "action": "push_grasp", "optimise": True}
     with server.client() as c:
         first = c.post("/v1/plans", json=body)
@@ -44,7 +45,9 @@ def test_plan_is_recorded_cached_and_replayable(server: Server, pie: dict[str, A
         mcap = c.get(f"/v1/runs/{run_id}/record")
         svg = c.get(f"/v1/runs/{run_id}/figure.svg")
     assert mcap.status_code == 200
-    path = server.log_dir / "downloaded.mcap"
+    # Not in the server's record directory: a file there without a run row is an orphan
+    # its retention sweep removes after ORPHAN_AGE_S, under another test's feet.
+    path = tmp_path / "downloaded.mcap"
     path.write_bytes(mcap.content)
     recorded = read_record(path, {"/plan"})["/plan"][0]
     assert recorded["cycle_time_s"] == pytest.approx(plan["cycle_time_s"], rel=1e-12)
