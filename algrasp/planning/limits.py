@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from algrasp.errors import NotOrientableError
-from algrasp.planning.analysis import Analysis, SetMemo, robust_analysis
+from algrasp.planning.analysis import Analysis, robust_analysis
 from algrasp.planning.deadband import profile_floor
 from algrasp.planning.physics import Physics
 
@@ -77,13 +77,9 @@ does not import the planner that reports its limits."""
 
 class Known(dict[Physics, bool]):
     """Probes already made in one :func:`limits` call: the searches share their start (the
-    given ranges, which a refused plan has already tried) and often their easy ends; and
-    the set-valued functions the probes built (``sets``), shared by probes with an equal
-    dead band for one function."""
-
-    def __init__(self, *args: Any) -> None:
-        super().__init__(*args)
-        self.sets: SetMemo = {}
+    given ranges, which a refused plan has already tried) and often their easy ends. (The
+    set-valued functions the probes build are shared wider, by every probe on the
+    analysis: :attr:`~algrasp.planning.analysis.RobustAnalysis.sets`.)"""
 
 
 def plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float,
@@ -92,16 +88,16 @@ def plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Plan
     (looked up in, and added to, ``known``)."""
     if known is not None and physics in known:
         return known[physics]
-    exists = _plan_exists(analysis, physics, action, planner, margin_deg, None if known is None else known.sets)
+    exists = _plan_exists(analysis, physics, action, planner, margin_deg)
     if known is not None:
         known[physics] = exists
     return exists
 
 
-def _plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float,
-                 sets: SetMemo | None) -> bool:
+def _plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float) -> bool:
     try:
-        terms = None if analysis.robust is None else analysis.robust.terms
+        base = analysis.robust
+        terms, sets = (None, None) if base is None else (base.terms, base.sets)
         robust = robust_analysis(analysis.part, analysis.diameter, analysis.radius, physics, analysis.tol, terms, action,
                                  sets)
         planner(replace(analysis, robust=robust), action, margin_deg)
