@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import numpy.fft  # noqa: F401  (the symmetry screen's: at import, not inside a fresh process's first analysis)
 
 from algrasp.errors import ConfigError, NotOrientableError
 from algrasp.geometry.functions import SupportPairFunction, analyse, wrap

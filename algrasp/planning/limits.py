@@ -44,7 +44,7 @@ SEARCHES: dict[str, Search] = {s.name: s for s in (
     Search("part_mass_kg_max", "part_mass_kg", 1, lambda p, a: 10.0 * max(p.part_mass_kg[1], 1e-3),
            lambda p, a: p.part_mass_kg[0]),
     Search("profile_tolerance_max", "profile_tolerance", None,
-           lambda p, a: 20.0 * profile_floor(a.part, replace(p, profile_tolerance=None)), lambda p, a: 0.0),
+           lambda p, a: 20.0 * profile_floor(a.part, replace(p, profile_tolerance=None), _size(a)), lambda p, a: 0.0),
 )}
 LOG_OFFSET_REL = 1e-3
 """v0 of the log-scale bisection, relative to the searched span: limits below it resolve
@@ -53,6 +53,12 @@ LOG_OFFSET_FLOOR = 1e-9
 """v0 when the span is empty."""
 HEADLINE = ("jaw_friction_max",)
 """The limit reported with every plan; the rest on request and with every refusal."""
+
+
+def _size(analysis: Analysis) -> float | None:
+    """The part's nominal size as its dead-band terms hold it (None: measured again)."""
+    terms = None if analysis.robust is None else analysis.robust.terms
+    return None if terms is None else terms.nominal_size
 
 
 def _with(physics: Physics, s: Search, v: float) -> Physics:
@@ -66,7 +72,7 @@ def _with(physics: Physics, s: Search, v: float) -> Physics:
 def _current(physics: Physics, s: Search, analysis: Analysis) -> float:
     if s.end is None:
         v = physics.profile_tolerance
-        return profile_floor(analysis.part, physics) if v is None else v
+        return profile_floor(analysis.part, physics, _size(analysis)) if v is None else v
     return float(getattr(physics, s.key)[s.end])
 
 
