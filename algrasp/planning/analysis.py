@@ -250,6 +250,14 @@ def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, 
             funcs[name] = made
         else:
             funcs[name], reasons[name] = None, made
+    _compose(memo, funcs, reasons, keys, physics.placement == "any", action, tol.angle_rad)
+    return RobustAnalysis(physics, band, funcs["squeeze"], funcs["push"], funcs["push_grasp"], reasons, terms, memo)
+
+
+def _compose(memo: SetMemo, funcs: dict[str, SetTransfer | None], reasons: dict[str, str],
+             keys: dict[str, tuple[object, ...]], off_centre: bool, action: str | None, tol_rad: float) -> None:
+    """The push-grasp Γ∘p and, with off-centre placement, the squeeze after a partial push,
+    from the built squeeze and push (in place; each composition once per ``memo``)."""
     sq, pu = funcs["squeeze"], funcs["push"]
     if action == "squeeze":
         funcs["push_grasp"], reasons["push_grasp"] = None, NOT_BUILT
@@ -258,13 +266,12 @@ def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, 
         reasons["push_grasp"] = reasons["squeeze"] if sq is None else reasons["push"]
     else:
         funcs["push_grasp"] = _composed(memo, ("push_grasp", keys["squeeze"], keys["push"]),
-                                        lambda: sq.compose_after(pu, tol.angle_rad))
-    if physics.placement == "any" and sq is not None and action != "push_grasp":
+                                        lambda: sq.compose_after(pu, tol_rad))
+    if off_centre and sq is not None and action != "push_grasp":
         funcs["squeeze"] = None if pu is None else _composed(memo, ("off_centre", keys["squeeze"], keys["push"]),
-                                                             lambda: off_centre_squeeze(sq, pu, tol.angle_rad))
+                                                             lambda: off_centre_squeeze(sq, pu, tol_rad))
         if pu is None:
             reasons["squeeze"] = f"off-centre placement starts a squeeze with a push, and {reasons['push']}"
-    return RobustAnalysis(physics, band, funcs["squeeze"], funcs["push"], funcs["push_grasp"], reasons, terms, memo)
 
 
 class SetMemo(dict[tuple[object, ...], "SetTransfer | str"]):
