@@ -7,11 +7,12 @@ Pure: no I/O; ``to_dict`` gives the JSON object of ``algrasp analyze --json``.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import numpy.fft  # noqa: F401  (the symmetry screen's: at import, not inside a fresh process's first analysis)
 
 from algrasp.errors import ConfigError, NotOrientableError
 from algrasp.geometry.functions import SupportPairFunction, analyse, wrap
@@ -95,6 +96,9 @@ class RobustAnalysis:
     reasons: dict[str, str]
     terms: PartTerms | None = None
     """The part's own dead-band terms, for analyses of the same part under other physics."""
+    sets: SetMemo = field(default_factory=lambda: SetMemo(), repr=False, compare=False)
+    """The set-valued functions built for this part's d and r so far, under any physics:
+    the probes of every limit search on the analysis (both actions') share them."""
 
     def to_dict(self) -> dict[str, object]:
         out: dict[str, object] = {"physics": self.physics.to_dict(), "dead_band": self.band.to_dict()}
@@ -216,15 +220,18 @@ def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, 
     ranges; with ``placement="any"`` the squeeze starts with a partial push by either jaw
     (push-grasps are unaffected: the pushing jaw meets the part first by design).
     ``terms``: the part's dead-band terms when already known (another analysis of it).
-    ``action``: build only what a plan of that action reads (a limit search's probes);
-    the rest is None with the reason "not built". ``memo``: set-valued functions already
-    built for this part's d and r (a limit search's probes share those of equal dead bands)."""
+    ``action``: build only what a plan of that action reads (a limit search's probes;
+    nothing once the squeeze, which every plan reads, is refused); the rest is None with
+    the reason "not built". ``memo``: set-valued functions already built for this part's
+    d and r (:attr:`RobustAnalysis.sets` of another analysis of it), kept by the result."""
     terms = part_terms(part, tol) if terms is None else terms
+    memo = SetMemo() if memo is None else memo
     band = dead_band(part, physics, tol, terms)
     # Creep: the weakest holding case holds nothing, so motion is possible wherever f slopes.
     stall = (0.0 if physics.creep else band.stall_lo, band.stall_hi)
     reasons: dict[str, str] = {}
     funcs: dict[str, SetTransfer | None] = {}
+    keys: dict[str, tuple[object, ...]] = {}
     needs_push = action != "squeeze" or physics.placement == "any"
     # d has two contacts: its slope and value errors are twice one jaw's.
     # Shallow basins: the real part's f is within the profile tolerance per contact (and
@@ -234,44 +241,66 @@ def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, 
              4.0 * band.profile_floor),
             ("push", r, band.sigma_r, band.value_tol_r, band.value_err + band.com_tolerance, 0.0,
              2.0 * (band.profile_floor + band.com_tolerance))):
-        if name == "push" and not needs_push:
+        if name == "push" and (not needs_push or (action is not None and funcs["squeeze"] is None)):
             funcs[name], reasons[name] = None, NOT_BUILT
             continue
-        made = _set_transfer(memo, f, (stall, sigma, eps, tol.angle_rad, mu, err, depth))
+        keys[name] = (f.kind, stall, sigma, eps, tol.angle_rad, mu, err, depth)
+        made = _set_transfer(memo, f, keys[name])
         if isinstance(made, SetTransfer):
             funcs[name] = made
         else:
             funcs[name], reasons[name] = None, made
+    _compose(memo, funcs, reasons, keys, physics.placement == "any", action, tol.angle_rad)
+    return RobustAnalysis(physics, band, funcs["squeeze"], funcs["push"], funcs["push_grasp"], reasons, terms, memo)
+
+
+def _compose(memo: SetMemo, funcs: dict[str, SetTransfer | None], reasons: dict[str, str],
+             keys: dict[str, tuple[object, ...]], off_centre: bool, action: str | None, tol_rad: float) -> None:
+    """The push-grasp Γ∘p and, with off-centre placement, the squeeze after a partial push,
+    from the built squeeze and push (in place; each composition once per ``memo``)."""
     sq, pu = funcs["squeeze"], funcs["push"]
     if action == "squeeze":
         funcs["push_grasp"], reasons["push_grasp"] = None, NOT_BUILT
+    elif sq is None or pu is None:
+        funcs["push_grasp"] = None
+        reasons["push_grasp"] = reasons["squeeze"] if sq is None else reasons["push"]
     else:
-        funcs["push_grasp"] = None if sq is None or pu is None else sq.compose_after(pu, tol.angle_rad)
-        if funcs["push_grasp"] is None:
-            reasons["push_grasp"] = reasons.get("push", reasons.get("squeeze", ""))
-    if physics.placement == "any" and sq is not None and action != "push_grasp":
-        funcs["squeeze"] = None if pu is None else off_centre_squeeze(sq, pu, tol.angle_rad)
+        funcs["push_grasp"] = _composed(memo, ("push_grasp", keys["squeeze"], keys["push"]),
+                                        lambda: sq.compose_after(pu, tol_rad))
+    if off_centre and sq is not None and action != "push_grasp":
+        funcs["squeeze"] = None if pu is None else _composed(memo, ("off_centre", keys["squeeze"], keys["push"]),
+                                                             lambda: off_centre_squeeze(sq, pu, tol_rad))
         if pu is None:
             reasons["squeeze"] = f"off-centre placement starts a squeeze with a push, and {reasons['push']}"
-    return RobustAnalysis(physics, band, funcs["squeeze"], funcs["push"], funcs["push_grasp"], reasons, terms)
 
 
-SetMemo = dict[tuple[object, ...], "SetTransfer | str"]
-"""Set-valued functions of one part by their arguments (or the refusal's message), made
-for the probes of one limit search: probes that move only a range one function does not
-read (the jaw friction, for the push) share it."""
+class SetMemo(dict[tuple[object, ...], "SetTransfer | str"]):
+    """Set-valued functions of one part's d and r by their arguments (or the refusal's
+    message), and their compositions by their parts' keys: what the probes of limit
+    searches on one analysis share (probes that move only a range one function does not
+    read, the jaw friction for the push; both actions' searches, which probe the same
+    ranges first). A cache: it pickles and copies empty."""
+
+    def __reduce__(self) -> tuple[type[SetMemo], tuple[()]]:
+        return SetMemo, ()
 
 
-def _set_transfer(memo: SetMemo | None, f: SupportPairFunction, args: tuple[Any, ...]) -> SetTransfer | str:
-    """:func:`~algrasp.planning.setvalued.set_transfer` of ``f`` (looked up in, and added
-    to, ``memo``), or the message of its refusal."""
-    key = (f.kind, *args)
-    if memo is not None and key in memo:
+def _set_transfer(memo: SetMemo, f: SupportPairFunction, key: tuple[Any, ...]) -> SetTransfer | str:
+    """:func:`~algrasp.planning.setvalued.set_transfer` of ``f`` with the arguments after
+    ``key``'s first (looked up in, and added to, ``memo``), or the message of its refusal."""
+    if key in memo:
         return memo[key]
     try:
-        made: SetTransfer | str = set_transfer(f, *args)
+        made: SetTransfer | str = set_transfer(f, *key[1:])
     except NotOrientableError as e:
         made = str(e)
-    if memo is not None:
-        memo[key] = made
+    memo[key] = made
     return made
+
+
+def _composed(memo: SetMemo, key: tuple[object, ...], make: Callable[[], SetTransfer]) -> SetTransfer:
+    """``make()`` (a composition of memoised functions; deterministic), once per ``key``."""
+    got = memo.get(key)
+    if not isinstance(got, SetTransfer):
+        got = memo[key] = make()
+    return got

@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from algrasp.errors import NotOrientableError
-from algrasp.planning.analysis import Analysis, SetMemo, robust_analysis
+from algrasp.planning.analysis import Analysis, robust_analysis
 from algrasp.planning.deadband import profile_floor
 from algrasp.planning.physics import Physics
 
@@ -44,7 +44,7 @@ SEARCHES: dict[str, Search] = {s.name: s for s in (
     Search("part_mass_kg_max", "part_mass_kg", 1, lambda p, a: 10.0 * max(p.part_mass_kg[1], 1e-3),
            lambda p, a: p.part_mass_kg[0]),
     Search("profile_tolerance_max", "profile_tolerance", None,
-           lambda p, a: 20.0 * profile_floor(a.part, replace(p, profile_tolerance=None)), lambda p, a: 0.0),
+           lambda p, a: 20.0 * profile_floor(a.part, replace(p, profile_tolerance=None), _size(a)), lambda p, a: 0.0),
 )}
 LOG_OFFSET_REL = 1e-3
 """v0 of the log-scale bisection, relative to the searched span: limits below it resolve
@@ -53,6 +53,12 @@ LOG_OFFSET_FLOOR = 1e-9
 """v0 when the span is empty."""
 HEADLINE = ("jaw_friction_max",)
 """The limit reported with every plan; the rest on request and with every refusal."""
+
+
+def _size(analysis: Analysis) -> float | None:
+    """The part's nominal size as its dead-band terms hold it (None: measured again)."""
+    terms = None if analysis.robust is None else analysis.robust.terms
+    return None if terms is None else terms.nominal_size
 
 
 def _with(physics: Physics, s: Search, v: float) -> Physics:
@@ -66,7 +72,7 @@ def _with(physics: Physics, s: Search, v: float) -> Physics:
 def _current(physics: Physics, s: Search, analysis: Analysis) -> float:
     if s.end is None:
         v = physics.profile_tolerance
-        return profile_floor(analysis.part, physics) if v is None else v
+        return profile_floor(analysis.part, physics, _size(analysis)) if v is None else v
     return float(getattr(physics, s.key)[s.end])
 
 
@@ -77,13 +83,9 @@ does not import the planner that reports its limits."""
 
 class Known(dict[Physics, bool]):
     """Probes already made in one :func:`limits` call: the searches share their start (the
-    given ranges, which a refused plan has already tried) and often their easy ends; and
-    the set-valued functions the probes built (``sets``), shared by probes with an equal
-    dead band for one function."""
-
-    def __init__(self, *args: Any) -> None:
-        super().__init__(*args)
-        self.sets: SetMemo = {}
+    given ranges, which a refused plan has already tried) and often their easy ends. (The
+    set-valued functions the probes build are shared wider, by every probe on the
+    analysis: :attr:`~algrasp.planning.analysis.RobustAnalysis.sets`.)"""
 
 
 def plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float,
@@ -92,16 +94,16 @@ def plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Plan
     (looked up in, and added to, ``known``)."""
     if known is not None and physics in known:
         return known[physics]
-    exists = _plan_exists(analysis, physics, action, planner, margin_deg, None if known is None else known.sets)
+    exists = _plan_exists(analysis, physics, action, planner, margin_deg)
     if known is not None:
         known[physics] = exists
     return exists
 
 
-def _plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float,
-                 sets: SetMemo | None) -> bool:
+def _plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float) -> bool:
     try:
-        terms = None if analysis.robust is None else analysis.robust.terms
+        base = analysis.robust
+        terms, sets = (None, None) if base is None else (base.terms, base.sets)
         robust = robust_analysis(analysis.part, analysis.diameter, analysis.radius, physics, analysis.tol, terms, action,
                                  sets)
         planner(replace(analysis, robust=robust), action, margin_deg)

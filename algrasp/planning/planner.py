@@ -61,8 +61,8 @@ class _Lifted:
 
     lower: _Pieces
     upper: _Pieces
-    fixed: dict[int, tuple[FloatArray, FloatArray, FloatArray, FloatArray]] = field(default_factory=dict)
-    """What :func:`_candidates` reads that no box height changes, by the function's id."""
+    fixed: dict[int, _Fixed] = field(default_factory=dict)
+    """What :func:`_widest` reads that no box height changes, by the function's id."""
 
     @staticmethod
     def of(F: TransferFunction, upper: TransferFunction | None = None) -> _Lifted:
@@ -89,38 +89,47 @@ class _Lifted:
     def widest_right_end(self, a: FloatArray, room: float) -> FloatArray:
         """For each left end a, the largest b with the image of [a, b) inside
         [lower(a), lower(a) + room]."""
+        return self.right_end(self.value_at(a) + room)
+
+    def right_end(self, y: FloatArray) -> FloatArray:
+        """The largest b with upper([·, b)) inside a box whose top is at ``y``."""
         up = self.upper
-        y = self.value_at(a) + room
         j = up.keys.searchsorted(y, side="left")  # first piece that cannot fit
         prev = j - 1
         partial = up.ramp[prev] & (up.ends[prev] > y)
         return np.where(partial, y, up.starts[j])
 
 
-def _candidates(F: TransferFunction, lifted: _Lifted, room: float) -> FloatArray:
-    """Left ends to try: piece starts of one period, and points of ramps whose box top
-    meets a step value or a ramp start (top-right placements)."""
-    starts, ramp_starts, ramp_ends, tops = _fixed(F, lifted)
+def _ramp_candidates(F: TransferFunction, lifted: _Lifted, room: float) -> FloatArray:
+    """Left ends inside ramps whose box top meets a step value or a ramp start (top-right
+    placements); the piece starts of one period are the other candidates (:func:`_widest`)."""
+    _, ramp_starts, ramp_ends, tops, _ = _fixed(F, lifted)
     if not len(ramp_starts):
-        return starts
+        return ramp_starts
     lo, hi = tops.searchsorted(ramp_starts + room), tops.searchsorted(ramp_ends + room)
     count = hi - lo
     # tops[lo_k:hi_k] for every ramp k, in order, as one gather
     first = count.cumsum() - count
     idx = np.arange(int(count.sum())) + (lo - first).repeat(count)
-    return np.concatenate([starts, tops[idx] - room])
+    out: FloatArray = tops[idx] - room
+    return out
 
 
-def _fixed(F: TransferFunction, lifted: _Lifted) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """The piece starts of one period, the starts and ends of its ramps, and the distinct
-    values of the upper bound; once per function and lifting."""
+_Fixed = tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
+
+
+def _fixed(F: TransferFunction, lifted: _Lifted) -> _Fixed:
+    """The piece starts of one period, the starts and ends of its ramps, the distinct
+    values of the upper bound and the lower bound at the piece starts; once per function
+    and lifting."""
     got = lifted.fixed.get(id(F))
     if got is None:
         base = F.pieces[0].start
         low = lifted.lower
         one = (low.starts >= base - ROUNDING) & (low.starts < base + F.period - ROUNDING)
-        got = lifted.fixed[id(F)] = (low.starts[one], low.starts[one & low.ramp], low.ends[one & low.ramp],
-                                     _unique(lifted.upper.values))
+        starts = low.starts[one]
+        got = lifted.fixed[id(F)] = (starts, low.starts[one & low.ramp], low.ends[one & low.ramp],
+                                     _unique(lifted.upper.values), lifted.value_at(starts))
     return got
 
 
@@ -168,11 +177,23 @@ def _grow(F: TransferFunction, lifted: _Lifted | None, T: float, first: tuple[fl
 
 
 def _widest(F: TransferFunction, lifted: _Lifted, room: float) -> tuple[float, float]:
-    """The widest [a, b) whose image fits in a box of height ``room``."""
-    a = _candidates(F, lifted, room)
-    b = lifted.widest_right_end(a, room)
-    k = int((b - a).argmax())
-    return float(a[k]), float(b[k])
+    """The widest [a, b) whose image fits in a box of height ``room``, of the left ends
+    worth trying: the piece starts of one period (bottom-left placements; their lower
+    values are fixed), then the points of ramps :func:`_ramp_candidates` gives (the first
+    widest wins)."""
+    starts, _, _, _, at_starts = _fixed(F, lifted)
+    b = lifted.right_end(at_starts + room)
+    widths = b - starts
+    k = int(widths.argmax())
+    a_best, b_best = starts[k], b[k]
+    inner = _ramp_candidates(F, lifted, room)
+    if len(inner):
+        b_in = lifted.widest_right_end(inner, room)
+        w_in = b_in - inner
+        j = int(w_in.argmax())
+        if w_in[j] > widths[k]:
+            a_best, b_best = inner[j], b_in[j]
+    return float(a_best), float(b_best)
 
 
 def set_a_prime(lower: TransferFunction, upper: TransferFunction, T: float, circle: float, min_margin: float = 0.0,
@@ -194,7 +215,9 @@ def set_a_prime(lower: TransferFunction, upper: TransferFunction, T: float, circ
                                  "band the part cannot be oriented by this action")
     precise = [f for f in firsts if f[0] <= PRECISE_RAD]
     order = [max(precise, key=lambda f: (f[2] - f[1], -f[0]))] if precise else []
-    order.append(max(firsts, key=lambda f: (f[2] - f[1], -f[0])))
+    widest = max(firsts, key=lambda f: (f[2] - f[1], -f[0]))
+    if not order or widest[2] - widest[1] != order[0][2] - order[0][1]:
+        order.append(widest)  # an equally wide Θ₁ grows the same later intervals: it would fail alike
     for i, (_, a, b) in enumerate(order):
         try:
             return _grow(lower, lifted, T, (a, b), min_margin, tol, circle)

@@ -360,15 +360,15 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
                                  f"shape tolerance (κ_d = {band.kappa_d:.3g}, κ_r = {band.kappa_r:.3g} {analysis.part.units}/rad) "
                                  "leave no sequence of actions that collapses every orientation; a larger grip force, "
                                  "less friction, or --exact (the frictionless model) may") from None
-    steps, first = gripper_steps(S.lower, intervals, T, S.upper, arcs, F.period)
     lo, hi = images(S.lower, intervals[:1], S.upper)[0]
+    uncertainty = max(0.5 * (hi - lo) + GUARD_RAD + _edge_tilt(analysis, lo, hi), UNCERTAINTY_FLOOR_RAD)
+    if uncertainty > MAX_UNCERTAINTY_RAD:  # before the gripper angles: they cannot change it
+        raise NotOrientableError("uncertain", f"the part ends within ±{to_deg(uncertainty):.3g}° at best, more "
+                                 f"than the ±{to_deg(MAX_UNCERTAINTY_RAD):g}° a plan may claim")
+    steps, first = gripper_steps(S.lower, intervals, T, S.upper, arcs, F.period)
     k = int(round(2 * np.pi / T))
     finals = sorted(wrap(0.5 * (lo + hi) + i * T, 2 * np.pi, ROUNDING) for i in range(k))
     t1 = time.perf_counter()
-    uncertainty = max(0.5 * (hi - lo) + GUARD_RAD + _edge_tilt(analysis, lo, hi), UNCERTAINTY_FLOOR_RAD)
-    if uncertainty > MAX_UNCERTAINTY_RAD:
-        raise NotOrientableError("uncertain", f"the part ends within ±{to_deg(uncertainty):.3g}° at best, more "
-                                 f"than the ±{to_deg(MAX_UNCERTAINTY_RAD):g}° a plan may claim")
     plan = Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), False, {}, S,
                 uncertainty, {**analysis.robust.physics.to_dict(), **analysis.robust.band.to_dict()})
     ok = verify_set(plan, circle if first is None else first)

@@ -120,7 +120,7 @@ def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SA
     if np.any(rel + (out[:, 1] - out[:, 0]) > c1 - c0 + FINAL_CLUSTER_RAD):
         return False
     a1 = plan.steps[0].gripper_angle
-    starts = np.array([p.start for p in S.lower.pieces] + [p.start for p in S.upper.pieces])
+    starts = np.concatenate([S.lower.starts_array, S.upper.starts_array])
     cuts = c0 + np.mod(starts - c0, T)
     inner = cuts[cuts <= c1]
     pts = np.concatenate([np.linspace(c0, c1, samples), inner - PROBE_RAD, inner, inner + PROBE_RAD])
@@ -135,15 +135,19 @@ def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SA
 
 
 def _run_rest(plan: Plan, lo: FloatArray, hi: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """:meth:`Plan.run_set` of every action after the first: the second over every
-    sample, the later ones over each run of equal neighbouring values once (the samples
-    are sorted and the bounds monotone, so their images repeat in runs), expanded back.
-    The same values, elementwise; O(m) for the second action, O(runs) for each later one."""
+    """Where the arcs [lo, hi] can end after every action but the first (:meth:`Plan.run_set`),
+    each distinct outcome of the second action once: the second runs over every sample,
+    the later ones over each run of equal neighbouring (lo, hi) pairs once (the samples are
+    mostly sorted and the bounds monotone, so their images repeat in runs). The same
+    values, elementwise, as every sample's, without repeats; O(m) for the second action,
+    O(runs) for each later one and the caller's check."""
     assert plan.bounds is not None
     lo, hi = run_steps(plan.bounds, plan.steps[1:2], lo, hi)
-    (lo_runs, lo_at), (hi_runs, hi_at) = _runs(lo), _runs(hi)
-    lo_runs, hi_runs = run_steps(plan.bounds, plan.steps[2:], lo_runs, hi_runs)
-    return lo_runs[lo_at], hi_runs[hi_at]
+    new = np.empty(len(lo), dtype=bool)
+    new[:1] = True
+    np.not_equal(lo[1:], lo[:-1], out=new[1:])
+    new[1:] |= hi[1:] != hi[:-1]
+    return run_steps(plan.bounds, plan.steps[2:], lo[new], hi[new])
 
 
 def run_steps(bounds: SetTransfer, steps: Sequence[PlanStep], lo: FloatArray,
@@ -154,11 +158,3 @@ def run_steps(bounds: SetTransfer, steps: Sequence[PlanStep], lo: FloatArray,
         lo, hi = bounds.image(lo - s.gripper_angle, hi - s.gripper_angle)
         lo, hi = lo + s.gripper_angle, hi + s.gripper_angle
     return lo, hi
-
-
-def _runs(a: FloatArray) -> tuple[FloatArray, np.ndarray]:
-    """The first value of each run of equal neighbours in ``a`` and the run of each entry."""
-    new = np.empty(len(a), dtype=bool)
-    new[:1] = True
-    np.not_equal(a[1:], a[:-1], out=new[1:])
-    return a[new], np.cumsum(new) - 1

@@ -94,3 +94,24 @@ def test_a_refusal_searches_its_limits_when_first_read(read: str, monkeypatch: p
     if read == "pickle":
         assert got.limits == eager and got.message == err.message
     assert str(err) == err.message and err.to_dict()["limits"] == eager
+
+
+@pytest.mark.parametrize("action", ["squeeze", "push_grasp"])
+def test_shared_set_functions_give_the_limits_of_fresh_ones(action: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The probes share the set-valued functions built on one analysis (RobustAnalysis.sets);
+    building every probe's afresh finds the same limits."""
+    doc = PARTS["random 8-gon"]
+    analysis = analyse_document(doc, ROBUST)
+    shared = lim.limits(analysis, action, plan_once, margin_deg=0.0)
+    built = len(analysis.robust.sets) if analysis.robust else 0
+    real = lim.robust_analysis
+    monkeypatch.setattr(lim, "robust_analysis", lambda *args: real(*args[:-1], None))
+    fresh = lim.limits(analyse_document(doc, ROBUST), action, plan_once, margin_deg=0.0)
+    assert fresh == shared and built > 3
+
+
+def test_the_set_memo_crosses_no_process() -> None:
+    """A pickled analysis (a worker's answer) carries no memoised functions."""
+    analysis = analyse_document(PARTS["triangle"], ROBUST)
+    assert analysis.robust is not None and analysis.robust.sets
+    assert pickle.loads(pickle.dumps(analysis.robust)).sets == {}
