@@ -263,7 +263,9 @@ def _compose(memo: SetMemo, funcs: dict[str, SetTransfer | None], reasons: dict[
         funcs["push_grasp"], reasons["push_grasp"] = None, NOT_BUILT
     elif sq is None or pu is None:
         funcs["push_grasp"] = None
-        reasons["push_grasp"] = reasons["squeeze"] if sq is None else reasons["push"]
+        # The push's reason first (as a full analysis always gave); the squeeze's when the
+        # push was not built because the squeeze was refused (a probe).
+        reasons["push_grasp"] = reasons["push"] if pu is None and reasons["push"] != NOT_BUILT else reasons["squeeze"]
     else:
         funcs["push_grasp"] = _composed(memo, ("push_grasp", keys["squeeze"], keys["push"]),
                                         lambda: sq.compose_after(pu, tol_rad))
