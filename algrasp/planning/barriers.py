@@ -59,7 +59,8 @@ def _scan(q: FloatArray, level: FloatArray, start: IntArray) -> IntArray:
 
 def _lift(q: FloatArray, level: FloatArray, start: IntArray) -> IntArray:
     """:func:`first_reaching` by binary lifting on a sparse table (row k: maxima of blocks
-    of 2^k from each index, −∞ past the end), read through flat indices."""
+    of 2^k from each index, −∞ past the end), read through flat indices: four array
+    passes per level, every position kept at most m (past the end: none found)."""
     r, m = q.shape
     w = m + 1
     levels = max(1, int(np.ceil(np.log2(max(m, 2)))) + 1)
@@ -74,11 +75,14 @@ def _lift(q: FloatArray, level: FloatArray, start: IntArray) -> IntArray:
             cur[...] = prev
     flat = table.reshape(levels, -1)
     base = (np.arange(r) * w)[:, None]
-    pos = np.minimum(start, m)
+    pos = np.minimum(start, m) + base  # flat index of each search's position
+    end = base + m
+    below = np.empty(pos.shape, dtype=bool)
     for k in range(levels - 1, -1, -1):
-        skip = (flat[k][base + pos] < level) & (pos < m)
-        pos = np.minimum(pos + skip * (1 << k), m)
-    return np.asarray(pos)
+        np.less(flat[k].take(pos), level, out=below)  # the block of 2^k from pos stays below
+        np.add(pos, 1 << k, out=pos, where=below)
+        np.minimum(pos, end, out=pos)
+    return np.asarray(pos - base)
 
 
 def barriers(x: FloatArray, T: float, node_values: FloatArray, cell_max: FloatArray, stall: float,

@@ -336,10 +336,18 @@ def _classify(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatAr
         basin = np.asarray(basin_cells(flat, found_basins).reshape(v.shape[2], -1).any(axis=0))
         right, left = right | basin, left | basin
     # The energy bound holds for the weakest stall: every cell lowers f at least that fast.
-    levels = (v.max(axis=1).T, v.min(axis=1).T) if first and band.err > 0.0 else (v.max(axis=1).T,)
+    # A first pass that found shallow basins is classified again (with their rims' nodes):
+    # only the barriers from each cell's least f (``near``, for _to_refine) are read of it.
+    near = first and band.err > 0.0
+    final = not (near and found_basins)
+    levels = ((v.max(axis=1).T,) if final else ()) + ((v.min(axis=1).T,) if near else ())
     found = barrier_sets(x, T, starts, levels, band.stall[0], band.err)
-    cells = _Cells(x, T, right, left, rest, *found[0])
-    return _Pass(cells, g, [rim for _, rim in found_basins], found[1] if len(found) > 1 else None)
+    cells = _Cells(x, T, right, left, rest, *(found[0] if final else (_NONE, _NONE)))
+    return _Pass(cells, g, [rim for _, rim in found_basins], found[-1] if near else None)
+
+
+_NONE = np.zeros(0)
+"""The barriers of a pass that is classified again: never read."""
 
 
 def _to_refine(p: _Pass, band: _Band) -> np.ndarray:
