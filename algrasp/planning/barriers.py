@@ -161,10 +161,12 @@ def basin_rims(values: FloatArray, depth: float) -> list[float]:
 
 def basins(values: FloatArray, depth: float) -> list[tuple[np.ndarray, float]]:
     """(cells from maximum to maximum, rim) of each basin shallower than ``depth``."""
+    if depth <= 0.0:
+        return []
     m = len(values)
     step = np.sign(np.concatenate([values[1:], values[:1]]) - values)
     nz = np.nonzero(step)[0]
-    if depth <= 0.0 or len(nz) < 2:
+    if len(nz) < 2:
         return []
     s = step[nz]
     turn = s != np.concatenate([s[-1:], s[:-1]])  # the sign changes at nz[k]: an extremum at its start index
@@ -172,9 +174,10 @@ def basins(values: FloatArray, depth: float) -> list[tuple[np.ndarray, float]]:
     if len(idx) < 2:
         return []
     out = []
+    at, f = idx.tolist(), values[idx].tolist()  # scalar work on floats: few extrema
     for k in np.nonzero(kinds > 0)[0].tolist():
-        lo, hi = idx[k - 1], idx[(k + 1) % len(idx)]  # the maxima around minimum idx[k]
-        rim = float(min(values[lo], values[hi]))
-        if rim - values[idx[k]] < depth:
-            out.append((np.arange(lo, hi + (m if hi < lo else 0) + 1) % m, rim))
+        lo, hi = k - 1, (k + 1) % len(at)  # the maxima around minimum at[k]
+        rim = min(f[lo], f[hi])
+        if rim - f[k] < depth:
+            out.append((np.arange(at[lo], at[hi] + (m if at[hi] < at[lo] else 0) + 1) % m, rim))
     return out

@@ -77,6 +77,13 @@ class TransferFunction:
         starts.flags.writeable = values.flags.writeable = False
         return starts, values
 
+    @cached_property
+    def _search(self) -> tuple[float, FloatArray]:
+        """The first start and the step values with the last repeated: index n (θ rounded
+        up to the end of the period) reads the last piece, as index −1 does."""
+        starts, values = self._arrays
+        return float(starts[0]), np.append(values, values[-1:])
+
     @property
     def starts_array(self) -> FloatArray:
         """Piece starts (n,) as a read-only array (radians)."""
@@ -131,15 +138,17 @@ class TransferFunction:
 
     def _lookup(self, thetas: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Lift offsets (in periods) and step values (NaN on ramps) of each θ."""
-        starts, values = self._arrays
+        starts = self._arrays[0]
+        first, values = self._search
         k, x = np.empty_like(thetas), np.empty_like(thetas)  # in place (0-d arrays too)
-        np.subtract(thetas, starts[0], out=k)
+        np.subtract(thetas, first, out=k)
         k /= self.period
         np.floor(k, out=k)
         np.multiply(k, self.period, out=x)
         np.subtract(thetas, x, out=x)
-        # x ≥ starts[0]: only the top needs clamping (x may round up to base + P).
-        idx = np.minimum(starts.searchsorted(x, side="right") - 1, len(starts) - 1)
+        # x ≥ starts[0]; x may round up to base + P: index n, which repeats the last value.
+        idx = starts.searchsorted(x, side="right")
+        idx -= 1
         return k, values[idx]
 
     def circle_images(self, T: float) -> list[tuple[float, float]]:
