@@ -227,11 +227,15 @@ def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> lis
     """Merge neighbouring ramps and equal-valued steps (also across the wrap); put the
     first start in [0, period) and sort. O(n log n), in plain Python (n is small)."""
     merged: list[TransferPiece] = []
-    for p in pieces:
-        if merged and _same_kind(merged[-1], p, tol_rad):
-            merged[-1] = TransferPiece(merged[-1].start, p.end, merged[-1].value)
+    last_value: float | None = 0.0
+    for p in pieces:  # _same_kind inlined: this loop runs for every piece of every function made
+        value = p.value
+        if merged and (value is None if last_value is None else
+                       value is not None and abs(last_value - value) <= tol_rad):
+            merged[-1] = TransferPiece(merged[-1].start, p.end, last_value)
         else:
             merged.append(p)
+            last_value = value
     if len(merged) > 1 and _same_kind(merged[-1], merged[0].shifted(period), tol_rad):
         last = merged.pop()
         merged[0] = TransferPiece(last.start - period, merged[0].end, None if last.value is None else last.value - period)
