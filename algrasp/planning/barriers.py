@@ -102,33 +102,41 @@ def barrier_sets(x: FloatArray, T: float, node_values: FloatArray, cell_levels: 
     """:func:`barriers` for each of several cell values (``cell_levels``, each (K, n) like
     ``cell_max``) over the same nodes, in one :func:`first_reaching` of 2K rows each."""
     K, n = node_values.shape
+    L = len(cell_levels)
     ends = np.empty(n)
     ends[:-1], ends[-1] = x[1:], T
     xs = np.concatenate([x + 0.0, x + T])  # the nodes over two periods, lifted
-    shifted = (np.arange(K) + 1) % K  # copy k's next copy (leftward searches compare with its cells)
-    vals = np.concatenate([node_values, node_values if K == 1 else node_values[shifted]], axis=1)
+    if K == 1:
+        vals, moved = np.concatenate([node_values, node_values], axis=1), cell_levels
+    else:  # copy k's next copy (leftward searches compare with its cells)
+        shifted = (np.arange(K) + 1) % K
+        vals, moved = np.concatenate([node_values, node_values[shifted]], axis=1), tuple(c[shifted] for c in cell_levels)
     # Rightward from cell i (extended index i): first node j > i reaching the level.
     # Leftward: mirror the sequence (cell i's start is extended index n + i, lifted by −T).
     sx = stall * xs
     rows = np.concatenate([vals + sx, (vals - sx)[:, ::-1]])
     up, down, e2 = stall * ends, stall * (x + T), 2.0 * eps
-    level = np.concatenate([lv for c in cell_levels for lv in (c + up + e2, (c if K == 1 else c[shifted]) - down + e2)])
-    start = np.empty((2 * K, n), dtype=np.intp)
-    start[:K], start[K:] = np.arange(1, n + 1), n - 1 - np.arange(n)
-    L = len(cell_levels)
-    found = first_reaching(rows if L == 1 else np.concatenate([rows] * L), level,
-                           start if L == 1 else np.concatenate([start] * L))
-    return [_farthest(found[2 * K * i: 2 * K * (i + 1)], xs, T) for i in range(L)]
+    level = np.concatenate([lv for c, d in zip(cell_levels, moved) for lv in (c + up + e2, d - down + e2)])
+    start = np.empty((L, 2, K, n), dtype=np.intp)
+    start[:, 0], start[:, 1] = np.arange(1, n + 1), np.arange(n - 1, -1, -1)
+    q = rows if L == 1 else np.concatenate([rows] * L)
+    st = start.reshape(-1, n)
+    # first_reaching's own choice, without its argument checks (the arrays are made here).
+    found = _scan(q, level, st) if q.shape[0] * n * q.shape[1] <= SCAN_SIZE else _lift(q, level, st)
+    return _farthest(found.reshape(L, 2, K, n), xs, T)
 
 
-def _farthest(found: IntArray, xs: FloatArray, T: float) -> tuple[FloatArray, FloatArray]:
-    """The right and left barriers from one level's :func:`first_reaching` rows (K rightward,
-    then K leftward, over the 2n lifted nodes ``xs``): the farthest over the copies."""
-    K, m = len(found) // 2, len(xs)
+def _farthest(found: IntArray, xs: FloatArray, T: float) -> list[tuple[FloatArray, FloatArray]]:
+    """The right and left barriers of each level from :func:`first_reaching` rows (L, 2, K, n)
+    (per level K rightward, then K leftward, over the 2n lifted nodes ``xs``): the farthest
+    over the copies."""
+    m = len(xs)
     at = np.minimum(found, m - 1)
-    right = np.where(found[:K] < m, xs[at[:K]], np.inf)
-    left = np.where(found[K:] < m, xs[(m - 1) - at[K:]] - T, -np.inf)
-    return (right[0], left[0]) if K == 1 else (np.max(right, axis=0), np.min(left, axis=0))
+    right = np.where(found[:, 0] < m, xs[at[:, 0]], np.inf)
+    left = np.where(found[:, 1] < m, xs[(m - 1) - at[:, 1]] - T, -np.inf)
+    if found.shape[2] == 1:
+        return [(r[0], lf[0]) for r, lf in zip(right, left)]
+    return list(zip(np.max(right, axis=1), np.min(left, axis=1)))
 
 
 def shallow_basins(values: FloatArray, depth: float) -> np.ndarray:
