@@ -197,8 +197,16 @@ class FeatureTable:
         result: FloatArray = t
         return result
 
+    @cached_property
+    def vertices_only(self) -> bool:
+        """Every feature a vertex (radius 0, no curve) and no centre coordinate −0.0: the
+        support point is the centre itself, exactly c + 0·u(ψ) (a polygon's hull)."""
+        return not len(self.s0) and not self.radii.any() and not np.signbit(self.centers[self.centers == 0.0]).any()
+
     def points(self, idx: IntArray, psi: FloatArray) -> FloatArray:
         """Support points (n, 2) of features ``idx`` for outward normals ψ (n,)."""
+        if self.vertices_only:  # c + 0·u is c: no trigonometry
+            return self.centers[idx]
         psi = np.asarray(psi, dtype=float)
         out: FloatArray = self.centers[idx] + self.radii[idx, None] * unit_vectors(psi)
         hit = self._curve_points(idx, psi)

@@ -59,7 +59,8 @@ def _scan(q: FloatArray, level: FloatArray, start: IntArray) -> IntArray:
 
 def _lift(q: FloatArray, level: FloatArray, start: IntArray) -> IntArray:
     """:func:`first_reaching` by binary lifting on a sparse table (row k: maxima of blocks
-    of 2^k from each index, −∞ past the end), read through flat indices."""
+    of 2^k from each index, −∞ past the end), read through flat indices: four array
+    passes per level, every position kept at most m (past the end: none found)."""
     r, m = q.shape
     w = m + 1
     levels = max(1, int(np.ceil(np.log2(max(m, 2)))) + 1)
@@ -74,11 +75,14 @@ def _lift(q: FloatArray, level: FloatArray, start: IntArray) -> IntArray:
             cur[...] = prev
     flat = table.reshape(levels, -1)
     base = (np.arange(r) * w)[:, None]
-    pos = np.minimum(start, m)
+    pos = np.minimum(start, m) + base  # flat index of each search's position
+    end = base + m
+    below = np.empty(pos.shape, dtype=bool)
     for k in range(levels - 1, -1, -1):
-        skip = (flat[k][base + pos] < level) & (pos < m)
-        pos = np.minimum(pos + skip * (1 << k), m)
-    return np.asarray(pos)
+        np.less(flat[k].take(pos), level, out=below)  # the block of 2^k from pos stays below
+        np.add(pos, 1 << k, out=pos, where=below)
+        np.minimum(pos, end, out=pos)
+    return np.asarray(pos - base)
 
 
 def barriers(x: FloatArray, T: float, node_values: FloatArray, cell_max: FloatArray, stall: float,
@@ -98,33 +102,41 @@ def barrier_sets(x: FloatArray, T: float, node_values: FloatArray, cell_levels: 
     """:func:`barriers` for each of several cell values (``cell_levels``, each (K, n) like
     ``cell_max``) over the same nodes, in one :func:`first_reaching` of 2K rows each."""
     K, n = node_values.shape
+    L = len(cell_levels)
     ends = np.empty(n)
     ends[:-1], ends[-1] = x[1:], T
     xs = np.concatenate([x + 0.0, x + T])  # the nodes over two periods, lifted
-    shifted = (np.arange(K) + 1) % K  # copy k's next copy (leftward searches compare with its cells)
-    vals = np.concatenate([node_values, node_values if K == 1 else node_values[shifted]], axis=1)
+    if K == 1:
+        vals, moved = np.concatenate([node_values, node_values], axis=1), cell_levels
+    else:  # copy k's next copy (leftward searches compare with its cells)
+        shifted = (np.arange(K) + 1) % K
+        vals, moved = np.concatenate([node_values, node_values[shifted]], axis=1), tuple(c[shifted] for c in cell_levels)
     # Rightward from cell i (extended index i): first node j > i reaching the level.
     # Leftward: mirror the sequence (cell i's start is extended index n + i, lifted by −T).
     sx = stall * xs
     rows = np.concatenate([vals + sx, (vals - sx)[:, ::-1]])
     up, down, e2 = stall * ends, stall * (x + T), 2.0 * eps
-    level = np.concatenate([lv for c in cell_levels for lv in (c + up + e2, (c if K == 1 else c[shifted]) - down + e2)])
-    start = np.empty((2 * K, n), dtype=np.intp)
-    start[:K], start[K:] = np.arange(1, n + 1), n - 1 - np.arange(n)
-    L = len(cell_levels)
-    found = first_reaching(rows if L == 1 else np.concatenate([rows] * L), level,
-                           start if L == 1 else np.concatenate([start] * L))
-    return [_farthest(found[2 * K * i: 2 * K * (i + 1)], xs, T) for i in range(L)]
+    level = np.concatenate([lv for c, d in zip(cell_levels, moved) for lv in (c + up + e2, d - down + e2)])
+    start = np.empty((L, 2, K, n), dtype=np.intp)
+    start[:, 0], start[:, 1] = np.arange(1, n + 1), np.arange(n - 1, -1, -1)
+    q = rows if L == 1 else np.concatenate([rows] * L)
+    st = start.reshape(-1, n)
+    # first_reaching's own choice, without its argument checks (the arrays are made here).
+    found = _scan(q, level, st) if q.shape[0] * n * q.shape[1] <= SCAN_SIZE else _lift(q, level, st)
+    return _farthest(found.reshape(L, 2, K, n), xs, T)
 
 
-def _farthest(found: IntArray, xs: FloatArray, T: float) -> tuple[FloatArray, FloatArray]:
-    """The right and left barriers from one level's :func:`first_reaching` rows (K rightward,
-    then K leftward, over the 2n lifted nodes ``xs``): the farthest over the copies."""
-    K, m = len(found) // 2, len(xs)
+def _farthest(found: IntArray, xs: FloatArray, T: float) -> list[tuple[FloatArray, FloatArray]]:
+    """The right and left barriers of each level from :func:`first_reaching` rows (L, 2, K, n)
+    (per level K rightward, then K leftward, over the 2n lifted nodes ``xs``): the farthest
+    over the copies."""
+    m = len(xs)
     at = np.minimum(found, m - 1)
-    right = np.where(found[:K] < m, xs[at[:K]], np.inf)
-    left = np.where(found[K:] < m, xs[(m - 1) - at[K:]] - T, -np.inf)
-    return (right[0], left[0]) if K == 1 else (np.max(right, axis=0), np.min(left, axis=0))
+    right = np.where(found[:, 0] < m, xs[at[:, 0]], np.inf)
+    left = np.where(found[:, 1] < m, xs[(m - 1) - at[:, 1]] - T, -np.inf)
+    if found.shape[2] == 1:
+        return [(r[0], lf[0]) for r, lf in zip(right, left)]
+    return list(zip(np.max(right, axis=1), np.min(left, axis=1)))
 
 
 def shallow_basins(values: FloatArray, depth: float) -> np.ndarray:
@@ -157,10 +169,12 @@ def basin_rims(values: FloatArray, depth: float) -> list[float]:
 
 def basins(values: FloatArray, depth: float) -> list[tuple[np.ndarray, float]]:
     """(cells from maximum to maximum, rim) of each basin shallower than ``depth``."""
+    if depth <= 0.0:
+        return []
     m = len(values)
     step = np.sign(np.concatenate([values[1:], values[:1]]) - values)
     nz = np.nonzero(step)[0]
-    if depth <= 0.0 or len(nz) < 2:
+    if len(nz) < 2:
         return []
     s = step[nz]
     turn = s != np.concatenate([s[-1:], s[:-1]])  # the sign changes at nz[k]: an extremum at its start index
@@ -168,9 +182,10 @@ def basins(values: FloatArray, depth: float) -> list[tuple[np.ndarray, float]]:
     if len(idx) < 2:
         return []
     out = []
+    at, f = idx.tolist(), values[idx].tolist()  # scalar work on floats: few extrema
     for k in np.nonzero(kinds > 0)[0].tolist():
-        lo, hi = idx[k - 1], idx[(k + 1) % len(idx)]  # the maxima around minimum idx[k]
-        rim = float(min(values[lo], values[hi]))
-        if rim - values[idx[k]] < depth:
-            out.append((np.arange(lo, hi + (m if hi < lo else 0) + 1) % m, rim))
+        lo, hi = k - 1, (k + 1) % len(at)  # the maxima around minimum at[k]
+        rim = min(f[lo], f[hi])
+        if rim - f[k] < depth:
+            out.append((np.arange(at[lo], at[hi] + (m if at[hi] < at[lo] else 0) + 1) % m, rim))
     return out

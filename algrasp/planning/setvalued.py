@@ -169,34 +169,35 @@ def _permissions(g: FloatArray, v: FloatArray, stall: tuple[float, float], sigma
     friction): |g| > s_lo − σ; rest wherever the strongest cell may hold:
     |g| ≤ μ_j·f + s_hi + σ (``v`` holds f, so the jaw term is the friction couple of two
     contacts f apart; 0 for a push)."""
-    a = np.abs(g)
+    a, size = np.abs(g), np.abs(v)
     # A slope within rounding of zero (a constant-width stretch, concentric arcs) is no
     # slope: with creep (s_lo = 0) its noise's sign would otherwise decide the motion.
-    movable = a > np.maximum(stall[0] - sigma, SLOPE_NOISE * np.abs(v))
+    movable = a > np.maximum(stall[0] - sigma, SLOPE_NOISE * size)
     either = a <= sigma
     right = movable & ((g < 0.0) | either)
     left = movable & ((g > 0.0) | either)
-    rest = a <= jaw_friction * np.abs(v) + stall[1] + sigma
-    axes = tuple(range(1, g.ndim))
-    return np.asarray(right.any(axis=axes)), np.asarray(left.any(axis=axes)), np.asarray(rest.any(axis=axes))
+    rest = a <= jaw_friction * size + stall[1] + sigma
+    n = len(g)
+    return (right.reshape(n, -1).any(axis=1), left.reshape(n, -1).any(axis=1), rest.reshape(n, -1).any(axis=1))
 
 
 def _run_starts(flags: np.ndarray) -> np.ndarray:
     """For each cell i (cyclic, lifted indices): the first cell of the run of True flags
-    containing it (i + 1 where flags[i] is False). Vectorised over three copies."""
-    n = len(flags)
-    f3 = np.concatenate([flags, flags, flags])
-    last_false = np.maximum.accumulate(np.where(f3, -4 * n, np.arange(-n, 2 * n)))
-    return np.asarray(last_false[n:2 * n] + 1)
+    containing it (i + 1 where flags[i] is False); along the last axis (rows of flags
+    at once). Vectorised over three copies."""
+    n = flags.shape[-1]
+    f3 = np.concatenate([flags, flags, flags], axis=-1)
+    last_false = np.maximum.accumulate(np.where(f3, -4 * n, np.arange(-n, 2 * n)), axis=-1)
+    return np.asarray(last_false[..., n:2 * n] + 1)
 
 
 def _run_ends(flags: np.ndarray) -> np.ndarray:
     """For each cell i (cyclic, lifted indices): the first False cell after it (i itself
-    where flags[i] is False). Vectorised over three copies."""
-    n = len(flags)
-    f3 = np.concatenate([flags, flags, flags])
-    next_false = np.minimum.accumulate(np.where(f3, 4 * n, np.arange(-n, 2 * n))[::-1])[::-1]
-    return np.asarray(next_false[n:2 * n])
+    where flags[i] is False); along the last axis. Vectorised over three copies."""
+    n = flags.shape[-1]
+    f3 = np.concatenate([flags, flags, flags], axis=-1)
+    next_false = np.minimum.accumulate(np.where(f3, 4 * n, np.arange(-n, 2 * n))[..., ::-1], axis=-1)[..., ::-1]
+    return np.asarray(next_false[..., n:2 * n])
 
 
 @dataclass(frozen=True)
@@ -229,11 +230,13 @@ class _Cells:
 def _bounds(c: _Cells, tol_rad: float) -> tuple[TransferFunction, TransferFunction]:
     """Lower and upper step/ramp functions from per-cell permissions and barriers."""
     R, L, S = c.right, c.left, c.rest
-    forced_left_start, forced_right_end = _run_starts(~R & ~S), _run_ends(~L & ~S)
-    run_right, run_left = c.run_limits
-    up = np.where(R, np.minimum(run_right, c.barrier_right), np.where(S, np.nan, c.at(forced_left_start)))
-    lo = np.where(L, np.maximum(run_left, c.barrier_left), np.where(S, np.nan, c.at(forced_right_end)))
-    if not (np.all(np.isfinite(up[R])) and np.all(np.isfinite(lo[L]))):
+    # Runs of right- and left-movable cells and of forced-left and forced-right ones, at once.
+    stops = c.at(np.concatenate([_run_ends(np.stack([R, ~L & ~S])), _run_starts(np.stack([L, ~R & ~S]))]))
+    run_right = np.full(len(c.x), np.inf) if R.all() else stops[0]
+    run_left = np.full(len(c.x), -np.inf) if L.all() else stops[2]
+    up = np.where(R, np.minimum(run_right, c.barrier_right), np.where(S, np.nan, stops[3]))
+    lo = np.where(L, np.maximum(run_left, c.barrier_left), np.where(S, np.nan, stops[1]))
+    if not (np.isfinite(up[R]).all() and np.isfinite(lo[L]).all()):
         raise NotOrientableError("dead_band", "with this dead band the part may turn without end: the slopes of "
                                  "the drawing are all within the shape tolerance")
     ends = np.concatenate([c.x[1:], [c.x[0] + c.T]])
@@ -336,10 +339,18 @@ def _classify(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatAr
         basin = np.asarray(basin_cells(flat, found_basins).reshape(v.shape[2], -1).any(axis=0))
         right, left = right | basin, left | basin
     # The energy bound holds for the weakest stall: every cell lowers f at least that fast.
-    levels = (v.max(axis=1).T, v.min(axis=1).T) if first and band.err > 0.0 else (v.max(axis=1).T,)
+    # A first pass that found shallow basins is classified again (with their rims' nodes):
+    # only the barriers from each cell's least f (``near``, for _to_refine) are read of it.
+    near = first and band.err > 0.0
+    final = not (near and found_basins)
+    levels = ((v.max(axis=1).T,) if final else ()) + ((v.min(axis=1).T,) if near else ())
     found = barrier_sets(x, T, starts, levels, band.stall[0], band.err)
-    cells = _Cells(x, T, right, left, rest, *found[0])
-    return _Pass(cells, g, [rim for _, rim in found_basins], found[1] if len(found) > 1 else None)
+    cells = _Cells(x, T, right, left, rest, *(found[0] if final else (_NONE, _NONE)))
+    return _Pass(cells, g, [rim for _, rim in found_basins], found[-1] if near else None)
+
+
+_NONE = np.zeros(0)
+"""The barriers of a pass that is classified again: never read."""
 
 
 def _to_refine(p: _Pass, band: _Band) -> np.ndarray:
@@ -374,9 +385,10 @@ def _cells_of(f: SupportPairFunction, T: float, band: _Band, tol_rad: float) -> 
         return first.cells
     if rims:
         edges = np.concatenate([edges, crossings(f, (), None, tol, CURVE_GRID_RAD, levels=tuple(rims))[0]])
-    grid = np.linspace(0.0, T, max(8, int(np.ceil(T / GRID_RAD))), endpoint=False)
-    inside = refine[np.searchsorted(first.cells.x, grid, side="right") - 1]
-    return _classify(f, T, edges, np.concatenate([curves, grid[inside]]), band).cells
+    if refine.any():
+        grid = np.linspace(0.0, T, max(8, int(np.ceil(T / GRID_RAD))), endpoint=False)
+        curves = np.concatenate([curves, grid[refine[np.searchsorted(first.cells.x, grid, side="right") - 1]]])
+    return _classify(f, T, edges, curves, band).cells
 
 
 def set_transfer(f: SupportPairFunction, stall: tuple[float, float], sigma: float, value_tol: float, tol_rad: float,

@@ -77,6 +77,13 @@ class TransferFunction:
         starts.flags.writeable = values.flags.writeable = False
         return starts, values
 
+    @cached_property
+    def _search(self) -> tuple[float, FloatArray]:
+        """The first start and the step values with the last repeated: index n (θ rounded
+        up to the end of the period) reads the last piece, as index −1 does."""
+        starts, values = self._arrays
+        return float(starts[0]), np.append(values, values[-1:])
+
     @property
     def starts_array(self) -> FloatArray:
         """Piece starts (n,) as a read-only array (radians)."""
@@ -131,15 +138,17 @@ class TransferFunction:
 
     def _lookup(self, thetas: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Lift offsets (in periods) and step values (NaN on ramps) of each θ."""
-        starts, values = self._arrays
+        starts = self._arrays[0]
+        first, values = self._search
         k, x = np.empty_like(thetas), np.empty_like(thetas)  # in place (0-d arrays too)
-        np.subtract(thetas, starts[0], out=k)
+        np.subtract(thetas, first, out=k)
         k /= self.period
         np.floor(k, out=k)
         np.multiply(k, self.period, out=x)
         np.subtract(thetas, x, out=x)
-        # x ≥ starts[0]: only the top needs clamping (x may round up to base + P).
-        idx = np.minimum(starts.searchsorted(x, side="right") - 1, len(starts) - 1)
+        # x ≥ starts[0]; x may round up to base + P: index n, which repeats the last value.
+        idx = starts.searchsorted(x, side="right")
+        idx -= 1
         return k, values[idx]
 
     def circle_images(self, T: float) -> list[tuple[float, float]]:
@@ -218,11 +227,15 @@ def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> lis
     """Merge neighbouring ramps and equal-valued steps (also across the wrap); put the
     first start in [0, period) and sort. O(n log n), in plain Python (n is small)."""
     merged: list[TransferPiece] = []
-    for p in pieces:
-        if merged and _same_kind(merged[-1], p, tol_rad):
-            merged[-1] = TransferPiece(merged[-1].start, p.end, merged[-1].value)
+    last_value: float | None = 0.0
+    for p in pieces:  # _same_kind inlined: this loop runs for every piece of every function made
+        value = p.value
+        if merged and (value is None if last_value is None else
+                       value is not None and abs(last_value - value) <= tol_rad):
+            merged[-1] = TransferPiece(merged[-1].start, p.end, last_value)
         else:
             merged.append(p)
+            last_value = value
     if len(merged) > 1 and _same_kind(merged[-1], merged[0].shifted(period), tol_rad):
         last = merged.pop()
         merged[0] = TransferPiece(last.start - period, merged[0].end, None if last.value is None else last.value - period)
