@@ -32,6 +32,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
+from typing import cast
 
 import numpy as np
 
@@ -178,7 +179,8 @@ def _permissions(g: FloatArray, v: FloatArray, stall: tuple[float, float], sigma
     left = movable & ((g > 0.0) | either)
     rest = a <= jaw_friction * size + stall[1] + sigma
     n = len(g)
-    return (right.reshape(n, -1).any(axis=1), left.reshape(n, -1).any(axis=1), rest.reshape(n, -1).any(axis=1))
+    out = (right.reshape(n, -1).any(axis=1), left.reshape(n, -1).any(axis=1), rest.reshape(n, -1).any(axis=1))
+    return cast("tuple[np.ndarray, np.ndarray, np.ndarray]", out)  # .any(axis=1) of a 2-d array: arrays
 
 
 def _run_starts(flags: np.ndarray) -> np.ndarray:
