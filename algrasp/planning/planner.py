@@ -86,11 +86,6 @@ class _Lifted:
         on_ramp = up.ramp[j]
         return np.where(on_ramp, b, up.values[j]), ~on_ramp
 
-    def widest_right_end(self, a: FloatArray, room: float) -> FloatArray:
-        """For each left end a, the largest b with the image of [a, b) inside
-        [lower(a), lower(a) + room]."""
-        return self.right_end(self.value_at(a) + room)
-
     def right_end(self, y: FloatArray) -> FloatArray:
         """The largest b with upper([·, b)) inside a box whose top is at ``y``."""
         up = self.upper
@@ -182,18 +177,12 @@ def _widest(F: TransferFunction, lifted: _Lifted, room: float) -> tuple[float, f
     values are fixed), then the points of ramps :func:`_ramp_candidates` gives (the first
     widest wins)."""
     starts, _, _, _, at_starts = _fixed(F, lifted)
-    b = lifted.right_end(at_starts + room)
-    widths = b - starts
-    k = int(widths.argmax())
-    a_best, b_best = starts[k], b[k]
     inner = _ramp_candidates(F, lifted, room)
-    if len(inner):
-        b_in = lifted.widest_right_end(inner, room)
-        w_in = b_in - inner
-        j = int(w_in.argmax())
-        if w_in[j] > widths[k]:
-            a_best, b_best = inner[j], b_in[j]
-    return float(a_best), float(b_best)
+    if len(inner):  # one search for both kinds; argmax's first maximum keeps the starts' priority
+        starts, at_starts = np.concatenate((starts, inner)), np.concatenate((at_starts, lifted.value_at(inner)))
+    b = lifted.right_end(at_starts + room)
+    k = int((b - starts).argmax())
+    return float(starts[k]), float(b[k])
 
 
 def set_a_prime(lower: TransferFunction, upper: TransferFunction, T: float, circle: float, min_margin: float = 0.0,
