@@ -95,10 +95,10 @@ class _Lifted:
         return np.where(partial, y, up.starts[j])
 
 
-def _ramp_candidates(F: TransferFunction, lifted: _Lifted, room: float) -> FloatArray:
+def _ramp_candidates(ramp_starts: FloatArray, ramp_ends: FloatArray, tops: FloatArray, room: float) -> FloatArray:
     """Left ends inside ramps whose box top meets a step value or a ramp start (top-right
-    placements); the piece starts of one period are the other candidates (:func:`_widest`)."""
-    _, ramp_starts, ramp_ends, tops, _ = _fixed(F, lifted)
+    placements), from :func:`_fixed`'s ramps and tops; the piece starts of one period are
+    the other candidates (:func:`_widest`)."""
     if not len(ramp_starts):
         return ramp_starts
     lo, hi = tops.searchsorted(ramp_starts + room), tops.searchsorted(ramp_ends + room)
@@ -176,8 +176,8 @@ def _widest(F: TransferFunction, lifted: _Lifted, room: float) -> tuple[float, f
     worth trying: the piece starts of one period (bottom-left placements; their lower
     values are fixed), then the points of ramps :func:`_ramp_candidates` gives (the first
     widest wins)."""
-    starts, _, _, _, at_starts = _fixed(F, lifted)
-    inner = _ramp_candidates(F, lifted, room)
+    starts, ramp_starts, ramp_ends, tops, at_starts = _fixed(F, lifted)
+    inner = _ramp_candidates(ramp_starts, ramp_ends, tops, room)
     if len(inner):  # one search for both kinds; argmax's first maximum keeps the starts' priority
         starts, at_starts = np.concatenate((starts, inner)), np.concatenate((at_starts, lifted.value_at(inner)))
     b = lifted.right_end(at_starts + room)

@@ -220,24 +220,28 @@ class _Cells:
         return np.asarray(self.x[np.mod(j, n)] + np.floor_divide(j, n) * self.T)
 
     @cached_property
+    def runs(self) -> FloatArray:
+        """(4, n) lifted cell starts, found in one stacked pass: where the run of
+        right-movable and of forced-right cells (neither left nor rest) containing each
+        cell ends, and where the run of left-movable and of forced-left cells starts."""
+        R, L, S = self.right, self.left, self.rest
+        return self.at(np.concatenate([_run_ends(np.stack([R, ~L & ~S])), _run_starts(np.stack([L, ~R & ~S]))]))
+
+    @cached_property
     def run_limits(self) -> tuple[FloatArray, FloatArray]:
         """Where the run of right- (left-) movable cells containing each cell ends (starts),
         lifted; ±∞ for a run all round the circle (only the barriers stop it)."""
-        right_end, left_start = _run_ends(self.right), _run_starts(self.left)
-        run_right = np.full(len(self.x), np.inf) if self.right.all() else self.at(right_end)
-        run_left = np.full(len(self.x), -np.inf) if self.left.all() else self.at(left_start)
+        run_right = np.full(len(self.x), np.inf) if self.right.all() else self.runs[0]
+        run_left = np.full(len(self.x), -np.inf) if self.left.all() else self.runs[2]
         return run_right, run_left
 
 
 def _bounds(c: _Cells, tol_rad: float) -> tuple[TransferFunction, TransferFunction]:
     """Lower and upper step/ramp functions from per-cell permissions and barriers."""
     R, L, S = c.right, c.left, c.rest
-    # Runs of right- and left-movable cells and of forced-left and forced-right ones, at once.
-    stops = c.at(np.concatenate([_run_ends(np.stack([R, ~L & ~S])), _run_starts(np.stack([L, ~R & ~S]))]))
-    run_right = np.full(len(c.x), np.inf) if R.all() else stops[0]
-    run_left = np.full(len(c.x), -np.inf) if L.all() else stops[2]
-    up = np.where(R, np.minimum(run_right, c.barrier_right), np.where(S, np.nan, stops[3]))
-    lo = np.where(L, np.maximum(run_left, c.barrier_left), np.where(S, np.nan, stops[1]))
+    run_right, run_left = c.run_limits
+    up = np.where(R, np.minimum(run_right, c.barrier_right), np.where(S, np.nan, c.runs[3]))
+    lo = np.where(L, np.maximum(run_left, c.barrier_left), np.where(S, np.nan, c.runs[1]))
     if not (np.isfinite(up[R]).all() and np.isfinite(lo[L]).all()):
         raise NotOrientableError("dead_band", "with this dead band the part may turn without end: the slopes of "
                                  "the drawing are all within the shape tolerance")
