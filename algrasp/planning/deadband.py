@@ -133,12 +133,24 @@ _NOMINAL_DIRECTIONS = 90
 """Directions sampled for the largest width (2° apart: within 0.06 % of the true maximum)."""
 
 
+def _nominal_directions() -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The sampled normals ψ and ψ + π (one array), cos ψ and sin ψ: fixed, so made once
+    at import (read-only)."""
+    psi = np.linspace(0.0, np.pi, _NOMINAL_DIRECTIONS, endpoint=False)
+    out = (np.concatenate([psi, psi + np.pi]), np.cos(psi), np.sin(psi))
+    for a in out:
+        a.setflags(write=False)
+    return out
+
+
+_NOMINAL_PSI, _NOMINAL_COS, _NOMINAL_SIN = _nominal_directions()
+
+
 def nominal_size(part: Part) -> float:
     """The part's largest width (part units): the nominal size tolerance tables use."""
-    psi = np.linspace(0.0, np.pi, _NOMINAL_DIRECTIONS, endpoint=False)
-    both = part.hull.support_points(np.concatenate([psi, psi + np.pi]))
+    both = part.hull.support_points(_NOMINAL_PSI)
     chord = both[:_NOMINAL_DIRECTIONS] - both[_NOMINAL_DIRECTIONS:]
-    return float(np.max(chord[:, 0] * np.cos(psi) + chord[:, 1] * np.sin(psi)))
+    return float(np.max(chord[:, 0] * _NOMINAL_COS + chord[:, 1] * _NOMINAL_SIN))
 
 
 @dataclass(frozen=True)
