@@ -209,13 +209,16 @@ def _cubic_error(loop: Sequence[Segment], tol: Tolerances) -> tuple[float, float
 def _signed_turns(loop: Sequence[Segment]) -> FloatArray:
     """Signed turn at each vertex i (end of segment i); NaN unless both sides are lines.
     One array pass."""
-    is_line = np.array([isinstance(seg, Line) for seg in loop])
+    lines = [isinstance(seg, Line) for seg in loop]
     nan = (math.nan, math.nan)
-    d = np.array([(seg.end[0] - seg.start[0], seg.end[1] - seg.start[1]) if isinstance(seg, Line) else nan for seg in loop])
+    d = np.array([(seg.end[0] - seg.start[0], seg.end[1] - seg.start[1]) if line else nan for seg, line in zip(loop, lines)])
     e = np.concatenate([d[1:], d[:1]])  # the next segment's (np.roll, without its overhead)
     # The dot product written out, bit for bit np.sum's (+0.0: its sum starts from +0, so
     # −0 + −0 gives +0; atan2 tells the zeros apart).
     turns = np.arctan2(d[:, 0] * e[:, 1] - d[:, 1] * e[:, 0], d[:, 0] * e[:, 0] + d[:, 1] * e[:, 1] + 0.0)
+    if all(lines):  # a polygon: every vertex joins two lines
+        return np.asarray(turns)
+    is_line = np.array(lines)
     return np.asarray(np.where(is_line & np.concatenate([is_line[1:], is_line[:1]]), turns, np.nan))
 
 
