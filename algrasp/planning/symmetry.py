@@ -11,6 +11,7 @@ import functools
 
 import numpy as np
 
+from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import SupportPairFunction
 from algrasp.geometry.tolerances import ROUNDING
@@ -64,6 +65,13 @@ def tolerant_symmetry(f: SupportPairFunction, value_tol: float) -> float:
     return P / max(k for k, e in passing.items() if e <= 10.0 * best + ROUNDING * float(np.max(np.abs(v))))
 
 
+_ORDERS = np.arange(MAX_SYMMETRY_ORDER, 1, -1)
+"""Every order tried, largest first (read-only)."""
+_ALL_SHIFTS = {P: P / _ORDERS for P in (np.pi, TWO_PI)}
+"""P/k for every order and each natural period P (d: π, r: 2π), made once (read-only)."""
+for _a in (_ORDERS, *_ALL_SHIFTS.values()):
+    _a.setflags(write=False)
+
 EXTREMA_TESTED = 16
 """Extrema (half the lowest, half the highest) at which every order is tried."""
 
@@ -72,9 +80,9 @@ def _extremum_orders(f: SupportPairFunction, value_tol: float) -> np.ndarray:
     """Orders k (2..MAX_SYMMETRY_ORDER) with |f(θ_e + P/k) − f(θ_e)| ≤ value_tol at the
     tested extrema θ_e: a necessary condition, exact, in one vectorised evaluation of
     O(EXTREMA_TESTED · MAX_SYMMETRY_ORDER) points. Without extrema (f constant) every order."""
-    ks = np.arange(MAX_SYMMETRY_ORDER, 1, -1)
+    ks = _ORDERS
     if not f.extrema:
-        return ks
+        return ks.copy()
     theta = np.array([e.theta for e in f.extrema])
     value = np.array([e.value for e in f.extrema])
     # The lowest and highest extrema (np.median would import numpy.ma on first use).
@@ -85,7 +93,8 @@ def _extremum_orders(f: SupportPairFunction, value_tol: float) -> np.ndarray:
     # The lowest and the highest extremum first: they rule out most orders at an eighth of
     # the cost; the survivors are then tried at every picked extremum (the same test).
     for chosen in (pick[[0, -1]], pick):
-        shifted = f.values((theta[chosen][None, :] + f.period / ks[:, None]).ravel()).reshape(len(ks), -1)
+        shifts = _ALL_SHIFTS[f.period] if ks is _ORDERS else f.period / ks
+        shifted = f.values((theta[chosen][None, :] + shifts[:, None]).ravel()).reshape(len(ks), -1)
         ks = ks[np.all(np.abs(shifted - value[chosen][None, :]) <= value_tol, axis=1)]
         if not len(ks):
             break
@@ -102,7 +111,8 @@ def _none_at(f: SupportPairFunction, theta: float, value: float, ks: np.ndarray,
     """Whether every order k fails at one extremum (θ, f(θ)) by more than the slack: then
     :func:`_extremum_orders` allows none (a part without symmetry, at half the cost of
     trying two extrema; the lowest, where f rises on both sides). O(len(ks))."""
-    shifted = f.values(theta + f.period / ks)
+    shifts = _ALL_SHIFTS[f.period] if ks is _ORDERS else f.period / ks
+    shifted = f.values(theta + shifts)
     return bool(np.all(np.abs(shifted - value) > value_tol + SCREEN_SLACK * abs(value)))
 
 
