@@ -112,6 +112,12 @@ def normal_angles(coef: FloatArray, t: FloatArray) -> FloatArray:
     return angle
 
 
+_NO_CURVES = (np.zeros((0, 7, 1)), np.zeros(0), np.zeros(0), np.zeros(0))
+"""coef, s0, s1 and psi0 of a table without curve features (read-only, shared)."""
+for _a in _NO_CURVES:
+    _a.setflags(write=False)
+
+
 @dataclass(frozen=True, eq=False)
 class FeatureTable:
     """All features of a hull's Gauss map as arrays (F features, C of them curves).
@@ -136,6 +142,11 @@ class FeatureTable:
     @classmethod
     def build(cls, features: Sequence[HullFeature]) -> FeatureTable:
         curves = [f for f in features if f.kind == "curve"]
+        breakpoints = np.array([f.psi0 for f in features])
+        if not curves:  # points and circular arcs: the curve arrays are the shared empty ones
+            return cls(breakpoints, np.array([f.center for f in features], dtype=float),
+                       np.array([f.radius for f in features], dtype=float), np.full(len(features), -1, dtype=np.intp),
+                       *_NO_CURVES)
         slots, n = [], 0
         for f in features:
             slots.append(n if f.kind == "curve" else -1)
@@ -143,10 +154,9 @@ class FeatureTable:
         slot = np.array(slots, dtype=np.intp)
         centers = np.array([f.center if f.kind != "curve" else (0.0, 0.0) for f in features], dtype=float)
         radii = np.array([f.radius if f.kind != "curve" else 0.0 for f in features], dtype=float)
-        coef = coefficient_stack([f.piece for f in curves]) if curves else np.zeros((0, 7, 1))  # type: ignore[misc]
-        return cls(np.array([f.psi0 for f in features]), centers, radii, slot, coef,
-                   np.array([f.s0 for f in curves]), np.array([f.s1 for f in curves]),
-                   np.array([f.psi0 for f in curves]))
+        coef = coefficient_stack([f.piece for f in curves])  # type: ignore[misc]
+        return cls(breakpoints, centers, radii, slot, coef, np.array([f.s0 for f in curves]),
+                   np.array([f.s1 for f in curves]), np.array([f.psi0 for f in curves]))
 
     @cached_property
     def breakpoint_list(self) -> list[float]:
