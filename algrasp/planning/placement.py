@@ -18,7 +18,6 @@ from __future__ import annotations
 import bisect
 import functools
 import math
-from dataclasses import replace
 
 from algrasp.planning.setvalued import SetTransfer
 from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical
@@ -113,10 +112,16 @@ def off_centre_squeeze(squeeze: SetTransfer, push: SetTransfer, tol_rad: float) 
     lo, hi = _push_hull(push, tol_rad)
     k_hull = math.lcm(_order(push.symmetry), 2)
     symmetry = 2.0 * math.pi / math.gcd(k_hull, _order(squeeze.symmetry))
-    hull = SetTransfer(lo, hi, P, symmetry, (), ((0.0, P),))
     zones = tuple((a + k * squeeze.period, b + k * squeeze.period) for k in range(int(round(P / squeeze.period)))
                   for a, b in squeeze.rest_zones)
-    return replace(squeeze.compose_after(hull, tol_rad), rest_zones=zones)
+    # Γ ∘ hull (SetTransfer.compose_after) written out: the hull's one outcome is the
+    # whole circle, whose image [Γ_lo(0), Γ_hi(2π)] is over a period long, and both orders
+    # are even (Γ has period π), so the symmetry is at most π: every outcome of Γ, in
+    # each of its copies over the symmetry period, meets it and is kept, in that order.
+    copies = [k * squeeze.symmetry for k in range(max(1, int(round(symmetry / squeeze.symmetry))))]
+    outcomes = tuple((a + c, b + c) for c in copies for a, b in squeeze.outcomes)
+    return SetTransfer(squeeze.lower.compose_after(lo, tol_rad), squeeze.upper.compose_after(hi, tol_rad), P, symmetry,
+                       zones, outcomes)
 
 
 @functools.lru_cache(maxsize=8)
