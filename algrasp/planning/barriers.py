@@ -107,7 +107,12 @@ def barrier_sets(x: FloatArray, T: float, node_values: FloatArray, cell_levels: 
     L = len(cell_levels)
     ends = np.empty(n)
     ends[:-1], ends[-1] = x[1:], T
-    xs = np.concatenate([x + 0.0, x + T])  # the nodes over two periods, lifted
+    # The nodes over two periods, lifted, then +∞: index 2n (none found) reads it.
+    right_at = np.empty(2 * n + 1)
+    np.add(x, 0.0, out=right_at[:n])
+    np.add(x, T, out=right_at[n:2 * n])
+    right_at[2 * n] = np.inf
+    xs = right_at[:2 * n]
     if K == 1:
         vals, moved = np.concatenate([node_values, node_values], axis=1), cell_levels
     else:  # copy k's next copy (leftward searches compare with its cells)
@@ -117,7 +122,7 @@ def barrier_sets(x: FloatArray, T: float, node_values: FloatArray, cell_levels: 
     # Leftward: mirror the sequence (cell i's start is extended index n + i, lifted by −T).
     sx = stall * xs
     rows = np.concatenate([vals + sx, (vals - sx)[:, ::-1]])
-    up, down, e2 = stall * ends, stall * (x + T), 2.0 * eps
+    up, down, e2 = stall * ends, stall * xs[n:], 2.0 * eps
     level = np.concatenate([lv for c, d in zip(cell_levels, moved) for lv in (c + up + e2, d - down + e2)])
     m = 2 * n
     if L * rows.shape[0] * n * m <= SCAN_SIZE:  # first_reaching's own choice, without its argument checks
@@ -126,7 +131,7 @@ def barrier_sets(x: FloatArray, T: float, node_values: FloatArray, cell_levels: 
         start = np.empty((L, 2, K, n), dtype=np.intp)
         start[:, 0], start[:, 1] = np.arange(1, n + 1), np.arange(n - 1, -1, -1)
         found = _lift(rows if L == 1 else np.concatenate([rows] * L), level, start.reshape(-1, n))
-    return _farthest(found.reshape(L, 2, K, n), xs, T)
+    return _farthest(found.reshape(L, 2, K, n), right_at, T)
 
 
 def _scan_rows(rows: FloatArray, level: FloatArray) -> IntArray:
@@ -155,15 +160,14 @@ def _past_start(n: int, K: int) -> np.ndarray:
     return out
 
 
-def _farthest(found: IntArray, xs: FloatArray, T: float) -> list[tuple[FloatArray, FloatArray]]:
+def _farthest(found: IntArray, right_at: FloatArray, T: float) -> list[tuple[FloatArray, FloatArray]]:
     """The right and left barriers of each level from :func:`first_reaching` rows (L, 2, K, n)
-    (per level K rightward, then K leftward, over the 2n lifted nodes ``xs``): the farthest
-    over the copies. Index 2n (none found) reads ±∞ from one slot past each table."""
-    m = len(xs)
-    right_at = np.empty(m + 1)
-    right_at[:m], right_at[m] = xs, np.inf
+    (per level K rightward, then K leftward, over the 2n lifted nodes, ``right_at`` with +∞
+    after them): the farthest over the copies. Index 2n (none found) reads ±∞ from the
+    slot past each table."""
+    m = len(right_at) - 1
     left_at = np.empty(m + 1)
-    np.subtract(xs[::-1], T, out=left_at[:m])  # mirrored index j is node m − 1 − j
+    np.subtract(right_at[m - 1::-1], T, out=left_at[:m])  # mirrored index j is node m − 1 − j
     left_at[m] = -np.inf
     right, left = right_at[found[:, 0]], left_at[found[:, 1]]
     if found.shape[2] == 1:
