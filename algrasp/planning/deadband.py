@@ -26,7 +26,7 @@ from numpy.polynomial import legendre  # at import, not on first use inside the 
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.part import Part
 from algrasp.geometry.recognise import DrawingError, drawing_error
-from algrasp.geometry.segments import loop_polyline
+from algrasp.geometry.segments import Line, Segment, loop_polyline
 from algrasp.geometry.tolerances import Tolerances
 from algrasp.geometry.units import meters_per_unit
 from algrasp.planning.physics import COM_TOLERANCE_REL, DEFAULT_PHYSICS, Physics, iso_2768_f_mm
@@ -92,8 +92,16 @@ def mean_radius(part: Part) -> float:
     ∬ |p − c| dA = ⅓ ∮ |p − c| ⟨p − c, n⟩ ds, on the loops' polylines (turn ≤ 0.02 rad,
     6-point Gauss per edge; holes run clockwise and subtract). O(n)."""
     c = np.asarray(part.center_of_mass)
-    total = sum(_distance_integral(loop_polyline(loop, _MEAN_RADIUS_TURN_RAD)[0] - c) for loop in (part.boundary, *part.holes))
+    total = sum(_distance_integral(_loop_points(loop) - c) for loop in (part.boundary, *part.holes))
     return float(total / part.area)
+
+
+def _loop_points(loop: tuple[Segment, ...]) -> FloatArray:
+    """The loop's polyline points (N, 2): a polygon's vertices as they are (what
+    :func:`~algrasp.geometry.segments.loop_polyline` gives, without a part per segment)."""
+    if all(isinstance(s, Line) for s in loop):
+        return np.array([s.start for s in loop], dtype=float)
+    return loop_polyline(loop, _MEAN_RADIUS_TURN_RAD)[0]
 
 
 def _gauss_nodes(k: int) -> tuple[FloatArray, FloatArray]:
