@@ -83,12 +83,14 @@ def _extremum_orders(f: SupportPairFunction, value_tol: float) -> np.ndarray:
     ks = _ORDERS
     if not f.extrema:
         return ks.copy()
-    theta = np.array([e.theta for e in f.extrema])
-    value = np.array([e.value for e in f.extrema])
-    # The lowest and highest extrema (np.median would import numpy.ma on first use).
-    order = np.argsort(value, kind="stable")
-    if _none_at(f, float(theta[order[0]]), float(value[order[0]]), ks, value_tol):
+    # The lowest and highest extrema (np.median would import numpy.ma on first use), in
+    # plain floats until the lowest has been tried (sorted: a stable sort, as argsort's).
+    values = [e.value for e in f.extrema]
+    order_list = sorted(range(len(values)), key=values.__getitem__)
+    lowest = f.extrema[order_list[0]]
+    if _none_at(f, lowest.theta, lowest.value, ks, value_tol):
         return ks[:0]
+    theta, value, order = np.array([e.theta for e in f.extrema]), np.array(values), np.array(order_list)
     pick = order if len(order) <= EXTREMA_TESTED else np.concatenate([order[:EXTREMA_TESTED // 2], order[-(EXTREMA_TESTED // 2):]])
     # The lowest and the highest extremum first: they rule out most orders at an eighth of
     # the cost; the survivors are then tried at every picked extremum (the same test).
