@@ -207,9 +207,12 @@ class _Grid:
     value: FloatArray
 
 
+_NO_RADIUS = np.zeros(1)
+"""The centre of mass's radius (a point), the row the radii table gains."""
 _NO_GRID, _NO_CELLS = np.zeros(0), np.zeros(0, dtype=np.intp)
 """The empty grid of a hull without curve features (read-only, shared)."""
 _NO_GRID.setflags(write=False)
+_NO_RADIUS.setflags(write=False)
 _NO_CELLS.setflags(write=False)
 
 
@@ -219,8 +222,8 @@ def _grid(f: SupportPairFunction, tol: Tolerances, grid_rad: float) -> _Grid:
     search's probes and a basin's rims ask again with other thresholds only."""
     table = f.hull.table
     # Row −1 of the centre table is the centre of mass (the radius's near contact).
-    centres = np.vstack([table.centers, np.asarray(f.com, dtype=float)[None, :]])
-    radii = np.append(table.radii, 0.0)
+    centres = np.concatenate([table.centers, np.array([f.com], dtype=float)])  # np.vstack's, without its wrapper
+    radii = np.concatenate([table.radii, _NO_RADIUS])
     cells = np.array(contact_cells(f, tol), dtype=float).reshape(-1, 4)
     if not len(table.s0):  # no curve feature (polygons, circular arcs): no grid at all
         out = _Grid(_contacts(cells, centres, radii), _NO_GRID, _NO_CELLS, _NO_GRID, _NO_GRID)
