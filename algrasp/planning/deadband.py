@@ -125,7 +125,7 @@ def _distance_integral(pts: FloatArray) -> float:
     p = pts[:, None, :] + d[:, None, :] * t[None, :, None]
     rho = np.hypot(p[..., 0], p[..., 1])
     cross = p[..., 0] * d[:, None, 1] - p[..., 1] * d[:, None, 0]
-    return float(np.sum(rho * cross * w) / 3.0)
+    return float((rho * cross * w).sum() / 3.0)
 
 
 def profile_floor(part: Part, physics: Physics, size: float | None = None) -> float:
@@ -158,7 +158,7 @@ def nominal_size(part: Part) -> float:
     """The part's largest width (part units): the nominal size tolerance tables use."""
     both = part.hull.support_points(_NOMINAL_PSI)
     chord = both[:_NOMINAL_DIRECTIONS] - both[_NOMINAL_DIRECTIONS:]
-    return float(np.max(chord[:, 0] * _NOMINAL_COS + chord[:, 1] * _NOMINAL_SIN))
+    return float((chord[:, 0] * _NOMINAL_COS + chord[:, 1] * _NOMINAL_SIN).max())
 
 
 @dataclass(frozen=True)

@@ -115,7 +115,7 @@ def _none_at(f: SupportPairFunction, theta: float, value: float, ks: np.ndarray,
     trying two extrema; the lowest, where f rises on both sides). O(len(ks))."""
     shifts = _ALL_SHIFTS[f.period] if ks is _ORDERS else f.period / ks
     shifted = f.values(theta + shifts)
-    return bool(np.all(np.abs(shifted - value) > value_tol + SCREEN_SLACK * abs(value)))
+    return bool((np.abs(shifted - value) > value_tol + SCREEN_SLACK * abs(value)).all())
 
 
 SCREEN_HARMONICS = 64
