@@ -264,7 +264,8 @@ def snap_tessellations(loop: Sequence[Segment], tol: Tolerances) -> tuple[list[S
     Returns the loop and how many arcs were recognised. O(n)."""
     n = len(loop)
     turns = _signed_turns(loop)
-    small = ~np.isnan(turns) & (np.abs(turns) <= tol.snap_turn_rad) & (np.abs(turns) > 0.0)
+    amount = np.abs(turns)
+    small = (amount <= tol.snap_turn_rad) & (amount > 0.0)  # NaN (a curve beside the vertex) is neither
     if not small.any():  # no vertex turns by a tessellation's few degrees: nothing to snap
         return list(loop), 0
     if small.all() and np.all(np.sign(turns) == np.sign(turns[0])):
