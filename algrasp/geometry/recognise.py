@@ -268,12 +268,9 @@ def snap_tessellations(loop: Sequence[Segment], tol: Tolerances) -> tuple[list[S
     small = (amount <= tol.snap_turn_rad) & (amount > 0.0)  # NaN (a curve beside the vertex) is neither
     if not small.any():  # no vertex turns by a tessellation's few degrees: nothing to snap
         return list(loop), 0
-    if small.all() and np.all(np.sign(turns) == np.sign(turns[0])):
-        pts = np.array([seg.start for seg in loop] + [loop[0].start])
-        rel = tol.arc_approximation_rel
-        halves = [_arc_through(pts[: n // 2 + 1], rel=rel), _arc_through(pts[n // 2:], rel=rel)]
-        if all(h is not None for h in halves):
-            return [h for h in halves if h is not None], 1
+    whole = _tessellated_circle(loop, turns, tol) if small.all() else None
+    if whole is not None:
+        return whole, 1
     replace: dict[int, tuple[int, EllipseArc]] = {}  # first segment → (count, arc)
     for run in _run_list(small, tol.tessellation_min_run):
         if len(run) == n or len(set(np.sign(turns[run]))) != 1:
@@ -295,6 +292,18 @@ def snap_tessellations(loop: Sequence[Segment], tol: Tolerances) -> tuple[list[S
         elif i not in covered:
             out.append(loop[i])
     return out, len(replace)
+
+
+def _tessellated_circle(loop: Sequence[Segment], turns: FloatArray, tol: Tolerances) -> list[Segment] | None:
+    """A loop all of whose vertices turn the same way by a tessellation's few degrees as
+    the circle it tessellates (two halves), when the vertices lie on one; else None."""
+    if not np.all(np.sign(turns) == np.sign(turns[0])):
+        return None
+    n = len(loop)
+    pts = np.array([seg.start for seg in loop] + [loop[0].start])
+    rel = tol.arc_approximation_rel
+    halves = [_arc_through(pts[: n // 2 + 1], rel=rel), _arc_through(pts[n // 2:], rel=rel)]
+    return [h for h in halves if h is not None] if all(h is not None for h in halves) else None
 
 
 def _rotate(loop: Sequence[Segment], replace: dict[int, tuple[int, EllipseArc]], n: int) -> list[Segment]:
