@@ -72,6 +72,12 @@ _ALL_SHIFTS = {P: P / _ORDERS for P in (np.pi, TWO_PI)}
 for _a in (_ORDERS, *_ALL_SHIFTS.values()):
     _a.setflags(write=False)
 
+
+def _shifts(P: float, ks: np.ndarray) -> np.ndarray:
+    """P/k for each order k (radians): made once for every order and P = π or 2π."""
+    made = _ALL_SHIFTS.get(P) if ks is _ORDERS else None
+    return P / ks if made is None else made
+
 EXTREMA_TESTED = 16
 """Extrema (half the lowest, half the highest) at which every order is tried."""
 
@@ -95,7 +101,7 @@ def _extremum_orders(f: SupportPairFunction, value_tol: float) -> np.ndarray:
     # The lowest and the highest extremum first: they rule out most orders at an eighth of
     # the cost; the survivors are then tried at every picked extremum (the same test).
     for chosen in (pick[[0, -1]], pick):
-        shifts = _ALL_SHIFTS[f.period] if ks is _ORDERS else f.period / ks
+        shifts = _shifts(f.period, ks)
         shifted = f.values((theta[chosen][None, :] + shifts[:, None]).ravel()).reshape(len(ks), -1)
         ks = ks[np.all(np.abs(shifted - value[chosen][None, :]) <= value_tol, axis=1)]
         if not len(ks):
@@ -113,7 +119,7 @@ def _none_at(f: SupportPairFunction, theta: float, value: float, ks: np.ndarray,
     """Whether every order k fails at one extremum (θ, f(θ)) by more than the slack: then
     :func:`_extremum_orders` allows none (a part without symmetry, at half the cost of
     trying two extrema; the lowest, where f rises on both sides). O(len(ks))."""
-    shifts = _ALL_SHIFTS[f.period] if ks is _ORDERS else f.period / ks
+    shifts = _shifts(f.period, ks)
     shifted = f.values(theta + shifts)
     return bool((np.abs(shifted - value) > value_tol + SCREEN_SLACK * abs(value)).all())
 
