@@ -112,6 +112,12 @@ def normal_angles(coef: FloatArray, t: FloatArray) -> FloatArray:
     return angle
 
 
+_NO_CURVES = (np.zeros((0, 7, 1)), np.zeros(0), np.zeros(0), np.zeros(0))
+"""coef, s0, s1 and psi0 of a table without curve features (read-only, shared)."""
+for _a in _NO_CURVES:
+    _a.setflags(write=False)
+
+
 @dataclass(frozen=True, eq=False)
 class FeatureTable:
     """All features of a hull's Gauss map as arrays (F features, C of them curves).
@@ -136,6 +142,11 @@ class FeatureTable:
     @classmethod
     def build(cls, features: Sequence[HullFeature]) -> FeatureTable:
         curves = [f for f in features if f.kind == "curve"]
+        breakpoints = np.array([f.psi0 for f in features])
+        if not curves:  # points and circular arcs: the curve arrays are the shared empty ones
+            return cls(breakpoints, np.array([f.center for f in features], dtype=float),
+                       np.array([f.radius for f in features], dtype=float), np.full(len(features), -1, dtype=np.intp),
+                       *_NO_CURVES)
         slots, n = [], 0
         for f in features:
             slots.append(n if f.kind == "curve" else -1)
@@ -143,10 +154,9 @@ class FeatureTable:
         slot = np.array(slots, dtype=np.intp)
         centers = np.array([f.center if f.kind != "curve" else (0.0, 0.0) for f in features], dtype=float)
         radii = np.array([f.radius if f.kind != "curve" else 0.0 for f in features], dtype=float)
-        coef = coefficient_stack([f.piece for f in curves]) if curves else np.zeros((0, 7, 1))  # type: ignore[misc]
-        return cls(np.array([f.psi0 for f in features]), centers, radii, slot, coef,
-                   np.array([f.s0 for f in curves]), np.array([f.s1 for f in curves]),
-                   np.array([f.psi0 for f in curves]))
+        coef = coefficient_stack([f.piece for f in curves])  # type: ignore[misc]
+        return cls(breakpoints, centers, radii, slot, coef, np.array([f.s0 for f in curves]),
+                   np.array([f.s1 for f in curves]), np.array([f.psi0 for f in curves]))
 
     @cached_property
     def breakpoint_list(self) -> list[float]:
@@ -162,13 +172,20 @@ class FeatureTable:
         p0 = self.psi0[:, None]
         return np.maximum.accumulate(p0 + (raw - p0 + np.pi) % TWO_PI - np.pi, axis=1), ts
 
+    @cached_property
+    def _later_breakpoints(self) -> tuple[float, FloatArray]:
+        """The first breakpoint and the others (a read-only view), for :meth:`feature_index`."""
+        rest = self.breakpoints[1:]
+        rest.setflags(write=False)
+        return float(self.breakpoints[0]), rest
+
     def feature_index(self, psi: FloatArray) -> tuple[IntArray, FloatArray]:
         """Feature holding each normal ψ (right-open ranges) and ψ lifted into the table's turn."""
-        base = self.breakpoints[0]
+        base, rest = self._later_breakpoints
         x = base + (np.asarray(psi, dtype=float) - base) % TWO_PI
-        # x ≥ breakpoints[0], so only the top needs clamping (x may round up to base + 2π).
-        idx = np.minimum(np.searchsorted(self.breakpoints, x, side="right") - 1, len(self.breakpoints) - 1)
-        return idx, x
+        # x ≥ breakpoints[0]: the breakpoints after the first at or below x count the
+        # feature, at most F − 1 (x may round up to base + 2π: the last feature).
+        return np.searchsorted(rest, x, side="right"), x
 
     def params(self, slots: IntArray, psi: FloatArray) -> FloatArray:
         """Parameters where curve features ``slots`` have outward normal ψ: Newton on
@@ -199,9 +216,19 @@ class FeatureTable:
 
     @cached_property
     def vertices_only(self) -> bool:
-        """Every feature a vertex (radius 0, no curve) and no centre coordinate −0.0: the
-        support point is the centre itself, exactly c + 0·u(ψ) (a polygon's hull)."""
-        return not len(self.s0) and not self.radii.any() and not np.signbit(self.centers[self.centers == 0.0]).any()
+        """Every feature a vertex (radius +0.0, no curve) and no centre coordinate −0.0: the
+        support point is the centre itself, exactly c + 0·u(ψ), and the support value
+        ⟨c, u⟩ + 0.0 (a polygon's hull)."""
+        return (not len(self.s0) and not self.radii.any() and not np.signbit(self.radii).any()
+                and not np.signbit(self.centers[self.centers == 0.0]).any())
+
+    @cached_property
+    def _center_columns(self) -> tuple[FloatArray, FloatArray]:
+        """The centres' x and y as contiguous read-only arrays (F,)."""
+        cx, cy = np.ascontiguousarray(self.centers[:, 0]), np.ascontiguousarray(self.centers[:, 1])
+        cx.setflags(write=False)
+        cy.setflags(write=False)
+        return cx, cy
 
     def points(self, idx: IntArray, psi: FloatArray) -> FloatArray:
         """Support points (n, 2) of features ``idx`` for outward normals ψ (n,)."""
@@ -217,6 +244,9 @@ class FeatureTable:
     def support(self, idx: IntArray, psi: FloatArray) -> FloatArray:
         """Support values h(ψ) = ⟨p, u(ψ)⟩ (n,) of features ``idx`` at normals ψ (n,):
         ⟨c, u⟩ + r for points and circular arcs, the exact support point's for curves."""
+        if self.vertices_only:  # radius +0 everywhere, no curve: the same sums, one pass
+            cx, cy = self._center_columns
+            return np.asarray(cx[idx] * np.cos(psi) + cy[idx] * np.sin(psi) + 0.0)
         u = unit_vectors(psi)
         c = self.centers[idx]
         out: FloatArray = c[:, 0] * u[:, 0] + c[:, 1] * u[:, 1] + self.radii[idx]

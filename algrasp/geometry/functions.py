@@ -24,6 +24,7 @@ boundaries are the extrema, classified as in Appendix A.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from functools import cached_property
@@ -31,7 +32,7 @@ from typing import Literal, NamedTuple
 
 import numpy as np
 
-from algrasp.geometry.angles import TWO_PI, wrap_from
+from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.bank import IntArray
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.hull import ConvexHull, unit
@@ -127,17 +128,23 @@ def wrap(theta: float, period: float, tol: float) -> float:
     return 0.0 if period - x <= tol else float(x)
 
 
-def _cells(kind: Kind, hull: ConvexHull, tol: Tolerances) -> list[tuple[int, int, float, float]]:
+Cell = tuple[int, int, float, float]
+"""(near, far, ψ_a, ψ_b): a contact cell (:func:`contact_cells`)."""
+
+
+@functools.lru_cache(maxsize=16)
+def _cells(kind: Kind, hull: ConvexHull, angle_rad: float) -> tuple[Cell, ...]:
     """Cells (near, far, a, b) over one turn in ψ: the breakpoints of both terms merged
     (cuts closer than ``angle_rad`` are one), with the features at ψ and at ψ + π in
     between (near −1 for the radius: the centre of mass). O(n log n) for n features, in
-    plain floats (a few per feature; numpy's per-call cost would dominate)."""
+    plain floats (a few per feature; numpy's per-call cost would dominate). Once per hull
+    (identity), kind and tolerance: the runs and the dead-zone edges both read them."""
     bp = hull.table.breakpoint_list
     raw = [b - math.pi for b in bp]  # where the far feature changes; raw[0] is the least cut
     if kind == "diameter":
         raw += bp
     base = raw[0]
-    cuts = [wrap_from(c, base) for c in raw]
+    cuts = [base + (c - base) % TWO_PI for c in raw]  # wrap_from on floats, inlined
     n = len(bp)
     order = sorted(range(len(cuts)), key=cuts.__getitem__)
     # Before the first cut: the features of the last cuts of each term (cyclically).
@@ -151,19 +158,19 @@ def _cells(kind: Kind, hull: ConvexHull, tol: Tolerances) -> list[tuple[int, int
             far = k
         else:
             near = k - n
-        if c - prev > tol.angle_rad:
+        if c - prev > angle_rad:
             edges.append((c, near, far))
         else:  # within angle_rad of the cut before: the same cell start, features updated
             edges[-1] = (edges[-1][0], near, far)
         prev = c
     ends = [e[0] for e in edges[1:]] + [edges[0][0] + TWO_PI]
-    return [(i, j, a, b) for (a, i, j), b in zip(edges, ends) if b - a > tol.angle_rad]
+    return tuple((i, j, a, b) for (a, i, j), b in zip(edges, ends) if b - a > angle_rad)
 
 
-def contact_cells(f: SupportPairFunction, tol: Tolerances) -> list[tuple[int, int, float, float]]:
+def contact_cells(f: SupportPairFunction, tol: Tolerances) -> tuple[Cell, ...]:
     """The cells (near, far, ψ_a, ψ_b) of ``f`` over one turn in ψ (radians, lifted): on
     each, the contact features at ψ and ψ + π are fixed (near −1: the centre of mass)."""
-    return _cells(f.kind, f.hull, tol)
+    return _cells(f.kind, f.hull, tol.angle_rad)
 
 
 def _grid(a: float, b: float, tol: Tolerances) -> FloatArray:
@@ -258,7 +265,7 @@ def _next_point(lo: FloatArray, hi: FloatArray, flo: FloatArray, fhi: FloatArray
     return np.where((secant > lo) & (secant < hi), secant, falsi)
 
 
-def _curve_cell_runs(f: _Derivative, cells: list[tuple[int, int, float, float]], tol: Tolerances) -> list[list[Run]]:
+def _curve_cell_runs(f: _Derivative, cells: list[Cell], tol: Tolerances) -> list[list[Run]]:
     """Monotone ψ-runs of every cell with a curve piece: f′ on each cell's grid (one
     batch), sign changes refined together (:func:`_refine`), run signs read at the run
     midpoints (one batch). O(g) for g grid points in all, independent of the cell count."""
@@ -307,7 +314,7 @@ def _merge(runs: list[Run], sliver: float) -> list[Run]:
 def theta_runs(kind: Kind, hull: ConvexHull, com: tuple[float, float], size: float, tol: Tolerances) -> list[Run]:
     """Cyclic θ-runs of d or r over one turn. O(c + g) array work for c cells and g
     grid points in all (the cells with curves are handled in one batch)."""
-    cells = _cells(kind, hull, tol)
+    cells = _cells(kind, hull, tol.angle_rad)
     centers = [f.center if f.point_like else None for f in hull.features]
     centers.append(com)  # near index −1: the centre of mass, a point
     curved = [c for c in cells if centers[c[0]] is None or centers[c[1]] is None]

@@ -199,6 +199,18 @@ def _elements(loop: Loop, order: list[int], links: list[int | None], cand: Candi
     return elems
 
 
+def _polygon_elements(loop: Loop, order: list[int]) -> list[Element]:
+    """:func:`_elements` of a polygon (no pieces: every hull point a vertex, every link an
+    edge), in its order: from the corner after the first, each corner then its edge to
+    the next. O(h)."""
+    xy, h = loop.vertex_list, len(order)
+    corners = [xy[order[(k + 1) % h]] for k in range(h)]
+    elems: list[Element] = []
+    for k, a in enumerate(corners):
+        elems += [PointElement(a), EdgeElement(a, corners[(k + 1) % h])]
+    return elems
+
+
 def _own_normals(loop: Loop, el: Element) -> tuple[float, float] | None:
     """Normal range (ψ₀, ψ₁) of an edge (its normal) or a curve (its end normals); None for a point."""
     if isinstance(el, EdgeElement):
@@ -294,14 +306,18 @@ def exact_hull(boundary: list[Segment], size: float, tol: Tolerances) -> ConvexH
     piece), plus O(E·n) for verifying E straight edges against n pieces.
     """
     loop = build_loop(boundary, size)
-    cand = candidate_points(loop, tol)
-    order = hull_order(cand.points)
+    cand = candidate_points(loop, tol) if loop.pieces else None  # a polygon's candidates: its vertices
+    located = loop.vertices if cand is None else cand.points
+    order = hull_order(located)
     if len(order) < 3:  # a cusp or a sliver drawn as a curve
-        raise GeometryError(f"boundary: the convex hull is degenerate ({len(cand.points)} candidate points): is the part "
+        raise GeometryError(f"boundary: the convex hull is degenerate ({len(located)} candidate points): is the part "
                             "a sliver or a curve with a cusp?")
-    h = len(order)
-    links = [_link(cand.members(order[i]), cand.members(order[(i + 1) % h])) for i in range(h)]
-    elems = _elements(loop, order, links, cand, size)
+    if cand is None:
+        elems = _polygon_elements(loop, order)
+    else:
+        h = len(order)
+        links = [_link(cand.members(order[i]), cand.members(order[(i + 1) % h])) for i in range(h)]
+        elems = _elements(loop, order, links, cand, size)
     feats = _features(loop, elems, tol)
     edges = tuple((e.a, e.b) for e in elems if isinstance(e, EdgeElement))
     table = FeatureTable.build(feats)

@@ -233,7 +233,10 @@ def _check_simple(boundary: list[Segment], holes: list[list[Segment]], field: st
     shell, parts = _polyline(boundary)
     if len({(round(x, 12), round(y, 12)) for x, y in shell.tolist()}) < 3:
         raise PartDocumentError(field, "the loop is degenerate: it has fewer than three distinct points")
-    reason = shapely.is_valid_reason(shapely.polygons(shell))
+    # Three distinct vertices joined by lines are a triangle, simple whenever its area is
+    # not zero, which load_part checked first: GEOS's validity test could only confirm it.
+    triangle = parts is None and len(shell) == 3
+    reason = "Valid Geometry" if triangle else shapely.is_valid_reason(shapely.polygons(shell))
     if reason != "Valid Geometry":
         raise _invalid(reason, shell, parts, field)
     rings = []

@@ -145,9 +145,10 @@ def _polyline_error(loop: Sequence[Segment], tol: Tolerances) -> tuple[float, fl
     n = len(loop)
     if n < 3:
         return 0.0, 0.0, 0
-    signed = _signed_turns(loop)
-    turns = np.abs(np.nan_to_num(signed, nan=np.inf))
-    small = turns <= tol.tessellation_turn_rad
+    turns = np.abs(_signed_turns(loop))
+    small = turns <= tol.tessellation_turn_rad  # NaN (a curve beside the vertex) is never small
+    if not small.any():  # no candidate vertex: no run, no chord (most parts)
+        return 0.0, 0.0, 0
     keep = _long_runs(small, tol.tessellation_min_run)
     # Segment j joins vertices j − 1 and j: a chord of the curve when both are tessellated.
     chord = keep & np.concatenate([keep[-1:], keep[:-1]])
@@ -176,6 +177,8 @@ def _cubic_error(loop: Sequence[Segment], tol: Tolerances) -> tuple[float, float
     the polar angle (the support function moves by e′ to first order)."""
     slope = value = 0.0
     count = 0
+    if not any(isinstance(seg, Bezier) for seg in loop):  # nothing to sample
+        return slope, value, count
     t = np.linspace(0.0, 1.0, _RIPPLE_SAMPLES)
     coarse = np.linspace(0.0, 1.0, 9)
     for seg in loop:
@@ -206,11 +209,16 @@ def _cubic_error(loop: Sequence[Segment], tol: Tolerances) -> tuple[float, float
 def _signed_turns(loop: Sequence[Segment]) -> FloatArray:
     """Signed turn at each vertex i (end of segment i); NaN unless both sides are lines.
     One array pass."""
-    is_line = np.array([isinstance(seg, Line) for seg in loop])
+    lines = [isinstance(seg, Line) for seg in loop]
     nan = (math.nan, math.nan)
-    d = np.array([(seg.end[0] - seg.start[0], seg.end[1] - seg.start[1]) if isinstance(seg, Line) else nan for seg in loop])
+    d = np.array([(seg.end[0] - seg.start[0], seg.end[1] - seg.start[1]) if line else nan for seg, line in zip(loop, lines)])
     e = np.concatenate([d[1:], d[:1]])  # the next segment's (np.roll, without its overhead)
-    turns = np.arctan2(d[:, 0] * e[:, 1] - d[:, 1] * e[:, 0], np.sum(d * e, axis=1))
+    # The dot product written out, bit for bit np.sum's (+0.0: its sum starts from +0, so
+    # −0 + −0 gives +0; atan2 tells the zeros apart).
+    turns = np.arctan2(d[:, 0] * e[:, 1] - d[:, 1] * e[:, 0], d[:, 0] * e[:, 0] + d[:, 1] * e[:, 1] + 0.0)
+    if all(lines):  # a polygon: every vertex joins two lines
+        return np.asarray(turns)
+    is_line = np.array(lines)
     return np.asarray(np.where(is_line & np.concatenate([is_line[1:], is_line[:1]]), turns, np.nan))
 
 
@@ -256,13 +264,13 @@ def snap_tessellations(loop: Sequence[Segment], tol: Tolerances) -> tuple[list[S
     Returns the loop and how many arcs were recognised. O(n)."""
     n = len(loop)
     turns = _signed_turns(loop)
-    small = ~np.isnan(turns) & (np.abs(turns) <= tol.snap_turn_rad) & (np.abs(turns) > 0.0)
-    if small.all() and np.all(np.sign(turns) == np.sign(turns[0])):
-        pts = np.array([seg.start for seg in loop] + [loop[0].start])
-        rel = tol.arc_approximation_rel
-        halves = [_arc_through(pts[: n // 2 + 1], rel=rel), _arc_through(pts[n // 2:], rel=rel)]
-        if all(h is not None for h in halves):
-            return [h for h in halves if h is not None], 1
+    amount = np.abs(turns)
+    small = (amount <= tol.snap_turn_rad) & (amount > 0.0)  # NaN (a curve beside the vertex) is neither
+    if not small.any():  # no vertex turns by a tessellation's few degrees: nothing to snap
+        return list(loop), 0
+    whole = _tessellated_circle(loop, turns, tol) if small.all() else None
+    if whole is not None:
+        return whole, 1
     replace: dict[int, tuple[int, EllipseArc]] = {}  # first segment → (count, arc)
     for run in _run_list(small, tol.tessellation_min_run):
         if len(run) == n or len(set(np.sign(turns[run]))) != 1:
@@ -284,6 +292,18 @@ def snap_tessellations(loop: Sequence[Segment], tol: Tolerances) -> tuple[list[S
         elif i not in covered:
             out.append(loop[i])
     return out, len(replace)
+
+
+def _tessellated_circle(loop: Sequence[Segment], turns: FloatArray, tol: Tolerances) -> list[Segment] | None:
+    """A loop all of whose vertices turn the same way by a tessellation's few degrees as
+    the circle it tessellates (two halves), when the vertices lie on one; else None."""
+    if not np.all(np.sign(turns) == np.sign(turns[0])):
+        return None
+    n = len(loop)
+    pts = np.array([seg.start for seg in loop] + [loop[0].start])
+    rel = tol.arc_approximation_rel
+    halves = [_arc_through(pts[: n // 2 + 1], rel=rel), _arc_through(pts[n // 2:], rel=rel)]
+    return [h for h in halves if h is not None] if all(h is not None for h in halves) else None
 
 
 def _rotate(loop: Sequence[Segment], replace: dict[int, tuple[int, EllipseArc]], n: int) -> list[Segment]:

@@ -18,6 +18,8 @@ no minimum of the real f (:func:`shallow_basins`).
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from algrasp.geometry.curves import FloatArray
@@ -105,7 +107,12 @@ def barrier_sets(x: FloatArray, T: float, node_values: FloatArray, cell_levels: 
     L = len(cell_levels)
     ends = np.empty(n)
     ends[:-1], ends[-1] = x[1:], T
-    xs = np.concatenate([x + 0.0, x + T])  # the nodes over two periods, lifted
+    # The nodes over two periods, lifted, then +∞: index 2n (none found) reads it.
+    right_at = np.empty(2 * n + 1)
+    np.add(x, 0.0, out=right_at[:n])
+    np.add(x, T, out=right_at[n:2 * n])
+    right_at[2 * n] = np.inf
+    xs = right_at[:2 * n]
     if K == 1:
         vals, moved = np.concatenate([node_values, node_values], axis=1), cell_levels
     else:  # copy k's next copy (leftward searches compare with its cells)
@@ -115,25 +122,54 @@ def barrier_sets(x: FloatArray, T: float, node_values: FloatArray, cell_levels: 
     # Leftward: mirror the sequence (cell i's start is extended index n + i, lifted by −T).
     sx = stall * xs
     rows = np.concatenate([vals + sx, (vals - sx)[:, ::-1]])
-    up, down, e2 = stall * ends, stall * (x + T), 2.0 * eps
+    up, down, e2 = stall * ends, stall * xs[n:], 2.0 * eps
     level = np.concatenate([lv for c, d in zip(cell_levels, moved) for lv in (c + up + e2, d - down + e2)])
-    start = np.empty((L, 2, K, n), dtype=np.intp)
-    start[:, 0], start[:, 1] = np.arange(1, n + 1), np.arange(n - 1, -1, -1)
-    q = rows if L == 1 else np.concatenate([rows] * L)
-    st = start.reshape(-1, n)
-    # first_reaching's own choice, without its argument checks (the arrays are made here).
-    found = _scan(q, level, st) if q.shape[0] * n * q.shape[1] <= SCAN_SIZE else _lift(q, level, st)
-    return _farthest(found.reshape(L, 2, K, n), xs, T)
+    m = 2 * n
+    if L * rows.shape[0] * n * m <= SCAN_SIZE:  # first_reaching's own choice, without its argument checks
+        found = _scan_rows(rows, level.reshape(L, 2 * K, n))
+    else:
+        start = np.empty((L, 2, K, n), dtype=np.intp)
+        start[:, 0], start[:, 1] = np.arange(1, n + 1), np.arange(n - 1, -1, -1)
+        found = _lift(rows if L == 1 else np.concatenate([rows] * L), level, start.reshape(-1, n))
+    return _farthest(found.reshape(L, 2, K, n), right_at, T)
 
 
-def _farthest(found: IntArray, xs: FloatArray, T: float) -> list[tuple[FloatArray, FloatArray]]:
+def _scan_rows(rows: FloatArray, level: FloatArray) -> IntArray:
+    """:func:`_scan` of the barrier searches: ``rows`` (2K, 2n) (K rightward, K mirrored
+    leftward) against ``level`` (L, 2K, n), every level set against the same rows (no
+    copies of them) and the searches' fixed starts (i + 1 rightward, n − 1 − i in the
+    mirror) as one cached mask. (L, 2K, n) indices, 2n where none reaches."""
+    L, r, n = level.shape
+    m = 2 * n
+    hit = np.empty((L, r, n, m + 1), dtype=bool)
+    np.greater_equal(rows[None, :, None, :], level[..., None], out=hit[..., :m])
+    hit[..., :m] &= _past_start(n, r // 2)
+    hit[..., m] = True
+    return np.asarray(hit.argmax(axis=3))
+
+
+@functools.lru_cache(maxsize=64)
+def _past_start(n: int, K: int) -> np.ndarray:
+    """(2K, n, 2n) read-only: whether node j is at or past the start of cell i's search,
+    K rightward rows (start i + 1) then K mirrored leftward rows (start n − 1 − i)."""
+    j = np.arange(2 * n)
+    right = j >= np.arange(1, n + 1)[:, None]
+    left = j >= np.arange(n - 1, -1, -1)[:, None]
+    out = np.concatenate([np.broadcast_to(right, (K, n, 2 * n)), np.broadcast_to(left, (K, n, 2 * n))])
+    out.setflags(write=False)
+    return out
+
+
+def _farthest(found: IntArray, right_at: FloatArray, T: float) -> list[tuple[FloatArray, FloatArray]]:
     """The right and left barriers of each level from :func:`first_reaching` rows (L, 2, K, n)
-    (per level K rightward, then K leftward, over the 2n lifted nodes ``xs``): the farthest
-    over the copies."""
-    m = len(xs)
-    at = np.minimum(found, m - 1)
-    right = np.where(found[:, 0] < m, xs[at[:, 0]], np.inf)
-    left = np.where(found[:, 1] < m, xs[(m - 1) - at[:, 1]] - T, -np.inf)
+    (per level K rightward, then K leftward, over the 2n lifted nodes, ``right_at`` with +∞
+    after them): the farthest over the copies. Index 2n (none found) reads ±∞ from the
+    slot past each table."""
+    m = len(right_at) - 1
+    left_at = np.empty(m + 1)
+    np.subtract(right_at[m - 1::-1], T, out=left_at[:m])  # mirrored index j is node m − 1 − j
+    left_at[m] = -np.inf
+    right, left = right_at[found[:, 0]], left_at[found[:, 1]]
     if found.shape[2] == 1:
         return [(r[0], lf[0]) for r, lf in zip(right, left)]
     return list(zip(np.max(right, axis=1), np.min(left, axis=1)))

@@ -26,7 +26,7 @@ from numpy.polynomial import legendre  # at import, not on first use inside the 
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.part import Part
 from algrasp.geometry.recognise import DrawingError, drawing_error
-from algrasp.geometry.segments import loop_polyline
+from algrasp.geometry.segments import Line, Segment, loop_polyline
 from algrasp.geometry.tolerances import Tolerances
 from algrasp.geometry.units import meters_per_unit
 from algrasp.planning.physics import COM_TOLERANCE_REL, DEFAULT_PHYSICS, Physics, iso_2768_f_mm
@@ -92,8 +92,16 @@ def mean_radius(part: Part) -> float:
     ∬ |p − c| dA = ⅓ ∮ |p − c| ⟨p − c, n⟩ ds, on the loops' polylines (turn ≤ 0.02 rad,
     6-point Gauss per edge; holes run clockwise and subtract). O(n)."""
     c = np.asarray(part.center_of_mass)
-    total = sum(_distance_integral(loop_polyline(loop, _MEAN_RADIUS_TURN_RAD)[0] - c) for loop in (part.boundary, *part.holes))
+    total = sum(_distance_integral(_loop_points(loop) - c) for loop in (part.boundary, *part.holes))
     return float(total / part.area)
+
+
+def _loop_points(loop: tuple[Segment, ...]) -> FloatArray:
+    """The loop's polyline points (N, 2): a polygon's vertices as they are (what
+    :func:`~algrasp.geometry.segments.loop_polyline` gives, without a part per segment)."""
+    if all(isinstance(s, Line) for s in loop):
+        return np.array([s.start for s in loop], dtype=float)
+    return loop_polyline(loop, _MEAN_RADIUS_TURN_RAD)[0]
 
 
 def _gauss_nodes(k: int) -> tuple[FloatArray, FloatArray]:
@@ -117,7 +125,7 @@ def _distance_integral(pts: FloatArray) -> float:
     p = pts[:, None, :] + d[:, None, :] * t[None, :, None]
     rho = np.hypot(p[..., 0], p[..., 1])
     cross = p[..., 0] * d[:, None, 1] - p[..., 1] * d[:, None, 0]
-    return float(np.sum(rho * cross * w) / 3.0)
+    return float((rho * cross * w).sum() / 3.0)
 
 
 def profile_floor(part: Part, physics: Physics, size: float | None = None) -> float:
@@ -133,12 +141,24 @@ _NOMINAL_DIRECTIONS = 90
 """Directions sampled for the largest width (2° apart: within 0.06 % of the true maximum)."""
 
 
+def _nominal_directions() -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The sampled normals ψ and ψ + π (one array), cos ψ and sin ψ: fixed, so made once
+    at import (read-only)."""
+    psi = np.linspace(0.0, np.pi, _NOMINAL_DIRECTIONS, endpoint=False)
+    out = (np.concatenate([psi, psi + np.pi]), np.cos(psi), np.sin(psi))
+    for a in out:
+        a.setflags(write=False)
+    return out
+
+
+_NOMINAL_PSI, _NOMINAL_COS, _NOMINAL_SIN = _nominal_directions()
+
+
 def nominal_size(part: Part) -> float:
     """The part's largest width (part units): the nominal size tolerance tables use."""
-    psi = np.linspace(0.0, np.pi, _NOMINAL_DIRECTIONS, endpoint=False)
-    both = part.hull.support_points(np.concatenate([psi, psi + np.pi]))
+    both = part.hull.support_points(_NOMINAL_PSI)
     chord = both[:_NOMINAL_DIRECTIONS] - both[_NOMINAL_DIRECTIONS:]
-    return float(np.max(chord[:, 0] * np.cos(psi) + chord[:, 1] * np.sin(psi)))
+    return float((chord[:, 0] * _NOMINAL_COS + chord[:, 1] * _NOMINAL_SIN).max())
 
 
 @dataclass(frozen=True)

@@ -71,18 +71,22 @@ def slopes(f: SupportPairFunction, theta: FloatArray) -> tuple[FloatArray, Float
 def _equations(rho: FloatArray, R: FloatArray, slopes: Sequence[float], jaw: tuple[float, float] | None,
                levels: Sequence[float] = ()) -> tuple[FloatArray, FloatArray]:
     """(δ, k) of every threshold equation sin(x − δ) = k, shapes (1, E) and (m, E); a
-    level L of f itself is ρ cos x = L − R, i.e. δ = −π/2, k = (L − R)/ρ."""
-    delta = [0.0] * (2 * len(slopes)) + [-np.pi / 2] * len(levels)
-    cols = [np.array([sign * t for t in slopes for sign in (1.0, -1.0)])[None, :] / rho[:, None]]
+    level L of f itself is ρ cos x = L − R, i.e. δ = −π/2, k = (L − R)/ρ. One (m, E)
+    buffer, filled column block by column block."""
+    S, n_levels = 2 * len(slopes), len(levels)
+    delta = [0.0] * S + [-np.pi / 2] * n_levels
+    k = np.empty((len(rho), S + n_levels + (0 if jaw is None else 2)))
+    rho_col = rho[:, None]
+    np.divide(np.array([sign * t for t in slopes for sign in (1.0, -1.0)])[None, :], rho_col, out=k[:, :S])
     if levels:
-        cols.append((np.array(levels)[None, :] - R[:, None]) / rho[:, None])
+        np.divide(np.array(levels)[None, :] - R[:, None], rho_col, out=k[:, S:S + n_levels])
     if jaw is not None:
         mu, c = jaw
         beta, A = float(np.arctan(mu)), rho * float(np.hypot(1.0, mu))
         delta += [beta, -beta]
-        top = (mu * R + c) / A
-        cols += [top[:, None], (-(mu * R + c) / A)[:, None]]
-    return np.array(delta)[None, :], np.concatenate(cols, axis=1)
+        np.divide(mu * R + c, A, out=k[:, -2])
+        np.negative(k[:, -2], out=k[:, -1])  # −(x/A) is (−x)/A exactly: rounding is symmetric
+    return np.array(delta)[None, :], k
 
 
 @dataclass(frozen=True, eq=False)
@@ -104,9 +108,11 @@ def _contacts(cells: np.ndarray, centres: FloatArray, radii: FloatArray) -> _Con
     near, far = cells[:, 0].astype(np.intp), cells[:, 1].astype(np.intp)
     delta_xy = centres[near] - centres[far]
     rho = np.hypot(delta_xy[:, 0], delta_xy[:, 1])
+    R = radii[near] + radii[far]
     live = rho > 0.0
-    return _Contacts(rho[live], (radii[near] + radii[far])[live], np.arctan2(delta_xy[live, 1], delta_xy[live, 0]),
-                     cells[live, 2], cells[live, 3])
+    if live.all():  # no concentric contacts (a polygon's cells): nothing to leave out
+        return _Contacts(rho, R, np.arctan2(delta_xy[:, 1], delta_xy[:, 0]), cells[:, 2], cells[:, 3])
+    return _Contacts(rho[live], R[live], np.arctan2(delta_xy[live, 1], delta_xy[live, 0]), cells[live, 2], cells[live, 3])
 
 
 def _point_roots(c: _Contacts, slopes: Sequence[float], jaw: tuple[float, float] | None,
@@ -114,7 +120,7 @@ def _point_roots(c: _Contacts, slopes: Sequence[float], jaw: tuple[float, float]
     """θ of every threshold crossing on the point-like cells."""
     delta, k = _equations(c.rho, c.R, slopes, jaw, levels)
     real = np.abs(k) <= 1.0
-    s = np.arcsin(np.clip(k, -1.0, 1.0))
+    s = np.arcsin(np.minimum(np.maximum(k, -1.0), 1.0))  # np.clip's values, without its dispatch
     x = np.empty((*s.shape, 2))  # (m, E, 2)
     x[..., 0], x[..., 1] = delta + s, delta + np.pi - s
     psi = c.phi0[:, None, None] + x
@@ -201,22 +207,34 @@ class _Grid:
     value: FloatArray
 
 
+_NO_RADIUS = np.zeros(1)
+"""The centre of mass's radius (a point), the row the radii table gains."""
+_NO_GRID, _NO_CELLS = np.zeros(0), np.zeros(0, dtype=np.intp)
+"""The empty grid of a hull without curve features (read-only, shared)."""
+_NO_GRID.setflags(write=False)
+_NO_RADIUS.setflags(write=False)
+_NO_CELLS.setflags(write=False)
+
+
 @lru_cache(maxsize=8)
 def _grid(f: SupportPairFunction, tol: Tolerances, grid_rad: float) -> _Grid:
     """:class:`_Grid` once per function (identity), tolerances and spacing: a limit
     search's probes and a basin's rims ask again with other thresholds only."""
     table = f.hull.table
     # Row −1 of the centre table is the centre of mass (the radius's near contact).
-    centres = np.vstack([table.centers, np.asarray(f.com, dtype=float)[None, :]])
-    radii = np.append(table.radii, 0.0)
-    curve = np.array([not ft.point_like for ft in f.hull.features] + [False])
+    centres = np.concatenate([table.centers, np.array([f.com], dtype=float)])  # np.vstack's, without its wrapper
+    radii = np.concatenate([table.radii, _NO_RADIUS])
     cells = np.array(contact_cells(f, tol), dtype=float).reshape(-1, 4)
-    near, far = cells[:, 0].astype(np.intp), cells[:, 1].astype(np.intp)
-    curved = curve[near] | curve[far]
-    theta, cell = _curve_grid(cells[curved], grid_rad)
-    slope, value = slopes(f, theta) if len(theta) else (np.zeros(0), np.zeros(0))
-    contacts = _contacts(cells[~curved], centres, radii)
-    out = _Grid(contacts, theta, cell, slope, value)
-    for a in (contacts.rho, contacts.R, contacts.phi0, contacts.a, contacts.b, out.theta, out.cell, out.slope, out.value):
+    if not len(table.s0):  # no curve feature (polygons, circular arcs): no grid at all
+        out = _Grid(_contacts(cells, centres, radii), _NO_GRID, _NO_CELLS, _NO_GRID, _NO_GRID)
+    else:
+        curve = np.array([not ft.point_like for ft in f.hull.features] + [False])
+        near, far = cells[:, 0].astype(np.intp), cells[:, 1].astype(np.intp)
+        curved = curve[near] | curve[far]
+        theta, cell = _curve_grid(cells[curved], grid_rad)
+        slope, value = slopes(f, theta) if len(theta) else (np.zeros(0), np.zeros(0))
+        out = _Grid(_contacts(cells[~curved], centres, radii), theta, cell, slope, value)
+    c = out.contacts
+    for a in (c.rho, c.R, c.phi0, c.a, c.b, out.theta, out.cell, out.slope, out.value):
         a.setflags(write=False)
     return out

@@ -15,11 +15,9 @@ Pure: no I/O. O(n log n) in the pieces.
 
 from __future__ import annotations
 
+import bisect
 import functools
 import math
-from dataclasses import replace
-
-import numpy as np
 
 from algrasp.planning.setvalued import SetTransfer
 from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical
@@ -49,20 +47,43 @@ def pointwise(fs: list[TransferFunction], take_max: bool, tol_rad: float) -> Tra
 
     On each cell between the functions' breakpoints every function is a constant or the
     identity; the identity and the extreme constant c cross at θ = c, which splits the cell.
+    Plain floats: a few cells and functions, where numpy's per-call cost would dominate.
     """
     P = fs[0].period
     cuts = _cuts(fs, fs[0].pieces[0].start, P)
-    cells = [(a, b) for a, b in zip(cuts[:-1], cuts[1:]) if b - a > 0.0]
-    mids = np.array([0.5 * (a + b) for a, b in cells])
-    # Every function at every cell's middle in one vectorised lookup each.
-    looked = [F.apply_on_ramp(mids) for F in fs]
-    values = np.array([v for v, _ in looked]).T.tolist()
-    ramps = np.array([r for _, r in looked]).T.tolist()
+    # The identity is a ramp everywhere: it adds the ramp and no constant to every cell.
+    looked = [_lookup(F) for F in fs if len(F.pieces) > 1 or F.pieces[0].value is not None]
+    ramp_always = len(looked) < len(fs)
     pieces: list[TransferPiece] = []
-    for (a, b), vs, rs in zip(cells, values, ramps):
-        consts = [v for v, r in zip(vs, rs) if not r]
-        pieces.extend(_extreme(a, b, any(rs), consts, take_max))
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        if b - a > 0.0:
+            mid = 0.5 * (a + b)  # every function at the cell's middle
+            ramp, consts = ramp_always, []
+            for first, starts, values, period in looked:
+                v = _value_at(mid, first, starts, values, period)
+                if v != v:  # NaN: on a ramp
+                    ramp = True
+                else:
+                    consts.append(v)
+            pieces.extend(_extreme(a, b, ramp, consts, take_max))
     return TransferFunction(P, tuple(canonical(pieces, P, tol_rad)))
+
+
+def _lookup(F: TransferFunction) -> tuple[float, list[float], list[float], float]:
+    """F's first start, piece starts, step values (NaN on ramps, the last repeated: index
+    n, or −1, reads the last piece) and period (its own: the push's bounds have the
+    push's symmetry period), as :meth:`TransferFunction.apply_on_ramp` reads them."""
+    values = [math.nan if p.value is None else p.value for p in F.pieces]
+    return F.starts[0], F.starts, [*values, values[-1]], F.period
+
+
+def _value_at(theta: float, first: float, starts: list[float], values: list[float], P: float) -> float:
+    """F(θ) on a step (lifted), NaN on a ramp: :meth:`TransferFunction.apply_on_ramp`'s
+    arithmetic in plain floats, bit for bit (np.floor keeps the sign of a zero)."""
+    q = (theta - first) / P
+    k = float(math.floor(q)) if q else q
+    v = values[bisect.bisect_right(starts, theta - k * P) - 1]
+    return v if v != v else k * P + v
 
 
 def _extreme(a: float, b: float, ramp: bool, consts: list[float], take_max: bool) -> list[TransferPiece]:
@@ -91,10 +112,16 @@ def off_centre_squeeze(squeeze: SetTransfer, push: SetTransfer, tol_rad: float) 
     lo, hi = _push_hull(push, tol_rad)
     k_hull = math.lcm(_order(push.symmetry), 2)
     symmetry = 2.0 * math.pi / math.gcd(k_hull, _order(squeeze.symmetry))
-    hull = SetTransfer(lo, hi, P, symmetry, (), ((0.0, P),))
     zones = tuple((a + k * squeeze.period, b + k * squeeze.period) for k in range(int(round(P / squeeze.period)))
                   for a, b in squeeze.rest_zones)
-    return replace(squeeze.compose_after(hull, tol_rad), rest_zones=zones)
+    # Γ ∘ hull (SetTransfer.compose_after) written out: the hull's one outcome is the
+    # whole circle, whose image [Γ_lo(0), Γ_hi(2π)] is over a period long, and both orders
+    # are even (Γ has period π), so the symmetry is at most π: every outcome of Γ, in
+    # each of its copies over the symmetry period, meets it and is kept, in that order.
+    copies = [k * squeeze.symmetry for k in range(max(1, int(round(symmetry / squeeze.symmetry))))]
+    outcomes = tuple((a + c, b + c) for c in copies for a, b in squeeze.outcomes)
+    return SetTransfer(squeeze.lower.compose_after(lo, tol_rad), squeeze.upper.compose_after(hi, tol_rad), P, symmetry,
+                       zones, outcomes)
 
 
 @functools.lru_cache(maxsize=8)

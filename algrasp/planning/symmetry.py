@@ -11,6 +11,7 @@ import functools
 
 import numpy as np
 
+from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import SupportPairFunction
 from algrasp.geometry.tolerances import ROUNDING
@@ -64,6 +65,19 @@ def tolerant_symmetry(f: SupportPairFunction, value_tol: float) -> float:
     return P / max(k for k, e in passing.items() if e <= 10.0 * best + ROUNDING * float(np.max(np.abs(v))))
 
 
+_ORDERS = np.arange(MAX_SYMMETRY_ORDER, 1, -1)
+"""Every order tried, largest first (read-only)."""
+_ALL_SHIFTS = {P: P / _ORDERS for P in (np.pi, TWO_PI)}
+"""P/k for every order and each natural period P (d: π, r: 2π), made once (read-only)."""
+for _a in (_ORDERS, *_ALL_SHIFTS.values()):
+    _a.setflags(write=False)
+
+
+def _shifts(P: float, ks: np.ndarray) -> np.ndarray:
+    """P/k for each order k (radians): made once for every order and P = π or 2π."""
+    made = _ALL_SHIFTS.get(P) if ks is _ORDERS else None
+    return P / ks if made is None else made
+
 EXTREMA_TESTED = 16
 """Extrema (half the lowest, half the highest) at which every order is tried."""
 
@@ -72,20 +86,23 @@ def _extremum_orders(f: SupportPairFunction, value_tol: float) -> np.ndarray:
     """Orders k (2..MAX_SYMMETRY_ORDER) with |f(θ_e + P/k) − f(θ_e)| ≤ value_tol at the
     tested extrema θ_e: a necessary condition, exact, in one vectorised evaluation of
     O(EXTREMA_TESTED · MAX_SYMMETRY_ORDER) points. Without extrema (f constant) every order."""
-    ks = np.arange(MAX_SYMMETRY_ORDER, 1, -1)
+    ks = _ORDERS
     if not f.extrema:
-        return ks
-    theta = np.array([e.theta for e in f.extrema])
-    value = np.array([e.value for e in f.extrema])
-    # The lowest and highest extrema (np.median would import numpy.ma on first use).
-    order = np.argsort(value, kind="stable")
-    if _none_at(f, float(theta[order[0]]), float(value[order[0]]), ks, value_tol):
+        return ks.copy()
+    # The lowest and highest extrema (np.median would import numpy.ma on first use), in
+    # plain floats until the lowest has been tried (sorted: a stable sort, as argsort's).
+    values = [e.value for e in f.extrema]
+    order_list = sorted(range(len(values)), key=values.__getitem__)
+    lowest = f.extrema[order_list[0]]
+    if _none_at(f, lowest.theta, lowest.value, ks, value_tol):
         return ks[:0]
+    theta, value, order = np.array([e.theta for e in f.extrema]), np.array(values), np.array(order_list)
     pick = order if len(order) <= EXTREMA_TESTED else np.concatenate([order[:EXTREMA_TESTED // 2], order[-(EXTREMA_TESTED // 2):]])
     # The lowest and the highest extremum first: they rule out most orders at an eighth of
     # the cost; the survivors are then tried at every picked extremum (the same test).
     for chosen in (pick[[0, -1]], pick):
-        shifted = f.values((theta[chosen][None, :] + f.period / ks[:, None]).ravel()).reshape(len(ks), -1)
+        shifts = _shifts(f.period, ks)
+        shifted = f.values((theta[chosen][None, :] + shifts[:, None]).ravel()).reshape(len(ks), -1)
         ks = ks[np.all(np.abs(shifted - value[chosen][None, :]) <= value_tol, axis=1)]
         if not len(ks):
             break
@@ -102,8 +119,9 @@ def _none_at(f: SupportPairFunction, theta: float, value: float, ks: np.ndarray,
     """Whether every order k fails at one extremum (θ, f(θ)) by more than the slack: then
     :func:`_extremum_orders` allows none (a part without symmetry, at half the cost of
     trying two extrema; the lowest, where f rises on both sides). O(len(ks))."""
-    shifted = f.values(theta + f.period / ks)
-    return bool(np.all(np.abs(shifted - value) > value_tol + SCREEN_SLACK * abs(value)))
+    shifts = _shifts(f.period, ks)
+    shifted = f.values(theta + shifts)
+    return bool((np.abs(shifted - value) > value_tol + SCREEN_SLACK * abs(value)).all())
 
 
 SCREEN_HARMONICS = 64
