@@ -12,6 +12,7 @@ from __future__ import annotations
 import bisect
 import math
 import operator
+from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import cached_property
 from typing import NamedTuple
@@ -84,6 +85,12 @@ class TransferFunction:
         starts, values = self._arrays
         return float(starts[0]), np.append(values, values[-1:])
 
+    @cached_property
+    def _floats(self) -> tuple[float, list[float], list[float]]:
+        """:attr:`_search` in plain floats, with the piece starts: what :meth:`apply_floats` reads."""
+        first, values = self._search
+        return first, self.starts, values.tolist()
+
     @property
     def starts_array(self) -> FloatArray:
         """Piece starts (n,) as a read-only array (radians)."""
@@ -131,6 +138,21 @@ class TransferFunction:
         out += vals
         np.copyto(out, thetas, where=ramp)
         return out, ramp
+
+    def apply_floats(self, thetas: Iterable[float]) -> list[float]:
+        """:meth:`apply` in plain floats, value for value: the same operations in the same
+        order (``math.floor`` made to keep ``np.floor``'s −0.0), for the few θ a vectorised
+        pass costs more than (radians); O(m log n)."""
+        first, starts, values = self._floats
+        P = self.period
+        out = []
+        for t in thetas:
+            q = (t - first) / P
+            f = math.floor(q)
+            kP = (float(f) if f or q else q) * P  # q = ±0.0: np.floor keeps its sign
+            v = values[bisect.bisect_right(starts, t - kP) - 1]
+            out.append(t if v != v else kP + v)  # v != v: NaN, a ramp
+        return out
 
     def on_ramp(self, thetas: FloatArray) -> np.ndarray:
         """Whether each θ (radians) lies on a ramp (F(θ) = θ), vectorised; O(m log n)."""

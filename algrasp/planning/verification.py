@@ -136,18 +136,25 @@ def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SA
 
 def _run_rest(plan: Plan, lo: FloatArray, hi: FloatArray) -> tuple[FloatArray, FloatArray]:
     """Where the arcs [lo, hi] can end after every action but the first (:meth:`Plan.run_set`),
-    each distinct outcome of the second action once: the second runs over every sample,
-    the later ones over each run of equal neighbouring (lo, hi) pairs once (the samples are
-    mostly sorted and the bounds monotone, so their images repeat in runs). The same
-    values, elementwise, as every sample's, without repeats; O(m) for the second action,
-    O(runs) for each later one and the caller's check."""
+    each distinct end once (in no particular order): the second action runs over every
+    sample in one vectorised pass; its images are few (the bounds are step functions), so
+    the later actions run over each distinct one in plain floats
+    (:meth:`~algrasp.planning.transfer.TransferFunction.apply_floats`, value for value
+    what :func:`run_steps` gives), dropping repeats after each. O(m) for the second
+    action, O(d log n) for each later one with d distinct images."""
     assert plan.bounds is not None
-    lo, hi = run_steps(plan.bounds, plan.steps[1:2], lo, hi)
-    new = np.empty(len(lo), dtype=bool)
+    S = plan.bounds
+    lo, hi = run_steps(S, plan.steps[1:2], lo, hi)
+    new = np.empty(len(lo), dtype=bool)  # neighbours repeat in runs: drop those in one pass
     new[:1] = True
     np.not_equal(lo[1:], lo[:-1], out=new[1:])
     new[1:] |= hi[1:] != hi[:-1]
-    return run_steps(plan.bounds, plan.steps[2:], lo[new], hi[new])
+    arcs = dict.fromkeys(zip(lo[new].tolist(), hi[new].tolist()))
+    for s in plan.steps[2:]:
+        a = s.gripper_angle
+        ends = zip(S.lower.apply_floats([x - a for x, _ in arcs]), S.upper.apply_floats([y - a for _, y in arcs]))
+        arcs = dict.fromkeys((x + a, y + a) for x, y in ends)
+    return np.array([x for x, _ in arcs], dtype=float), np.array([y for _, y in arcs], dtype=float)
 
 
 def run_steps(bounds: SetTransfer, steps: Sequence[PlanStep], lo: FloatArray,
