@@ -80,10 +80,11 @@ class TransferFunction:
 
     @cached_property
     def _search(self) -> tuple[float, FloatArray]:
-        """The first start and the step values with the last repeated: index n (θ rounded
-        up to the end of the period) reads the last piece, as index −1 does."""
+        """The first start and the step values after the last's copy, indexed by the
+        search's insertion point i (the piece i − 1): i = 0 (θ rounded below the first
+        start) reads the last piece."""
         starts, values = self._arrays
-        return float(starts[0]), np.append(values, values[-1:])
+        return float(starts[0]), np.concatenate([values[-1:], values])
 
     @cached_property
     def _floats(self) -> tuple[float, list[float], list[float]]:
@@ -134,8 +135,7 @@ class TransferFunction:
             return thetas.copy(), np.ones(thetas.shape, dtype=bool)
         out, vals = self._lookup(thetas)
         ramp = np.isnan(vals)
-        out *= self.period  # in place: the lift offset k·P, then the step's value, θ on ramps
-        out += vals
+        out += vals  # in place: the lift offset k·P plus the step's value, θ on ramps
         np.copyto(out, thetas, where=ramp)
         return out, ramp
 
@@ -150,7 +150,7 @@ class TransferFunction:
             q = (t - first) / P
             f = math.floor(q)
             kP = (float(f) if f or q else q) * P  # q = ±0.0: np.floor keeps its sign
-            v = values[bisect.bisect_right(starts, t - kP) - 1]
+            v = values[bisect.bisect_right(starts, t - kP)]
             out.append(t if v != v else kP + v)  # v != v: NaN, a ramp
         return out
 
@@ -159,19 +159,16 @@ class TransferFunction:
         return np.isnan(self._lookup(np.asarray(thetas, dtype=float))[1])
 
     def _lookup(self, thetas: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """Lift offsets (in periods) and step values (NaN on ramps) of each θ."""
-        starts = self._arrays[0]
+        """Lift offsets k·P (radians) and step values (NaN on ramps) of each θ."""
         first, values = self._search
-        k, x = np.empty_like(thetas), np.empty_like(thetas)  # in place (0-d arrays too)
-        np.subtract(thetas, first, out=k)
-        k /= self.period
-        np.floor(k, out=k)
-        np.multiply(k, self.period, out=x)
-        np.subtract(thetas, x, out=x)
-        # x ≥ starts[0]; x may round up to base + P: index n, which repeats the last value.
-        idx = starts.searchsorted(x, side="right")
-        idx -= 1
-        return k, values[idx]
+        kP = np.empty_like(thetas)  # in place (0-d arrays too)
+        np.subtract(thetas, first, out=kP)
+        kP /= self.period
+        np.floor(kP, out=kP)
+        kP *= self.period
+        # x = θ − k·P ≥ starts[0]; x may round below it: insertion point 0, the last piece.
+        x = np.subtract(thetas, kP, out=np.empty_like(thetas))
+        return kP, values[self._arrays[0].searchsorted(x, side="right")]
 
     def circle_images(self, T: float) -> list[tuple[float, float]]:
         """The arcs, on the circle of circumference T (the symmetry period), that hold
