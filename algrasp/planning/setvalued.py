@@ -31,6 +31,7 @@ vectorised passes.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import cast
 
 import numpy as np
@@ -89,10 +90,15 @@ class SetTransfer:
         [start, end] lifted, end − start ≤ T, shortest first (the first is their circular
         hull; :func:`~algrasp.planning.transfer.holding_arcs`). The image of the whole
         circle: hulls of single points would fill the gaps that uncertain zones bridge, but
-        a part only ever rests at an outcome."""
+        a part only ever rests at an outcome. Made once per function: a plan's search and
+        its gripper angles read it, and so does every limit probe that shares the function."""
+        return list(self._circle_images)
+
+    @cached_property
+    def _circle_images(self) -> tuple[tuple[float, float], ...]:
         lo = np.array([a for a, _ in self.outcomes])
         hi = np.array([b for _, b in self.outcomes])
-        return holding_arcs(lo, hi, self.symmetry)
+        return tuple(holding_arcs(lo, hi, self.symmetry))
 
     def compose_after(self, inner: SetTransfer, tol_rad: float) -> SetTransfer:
         """self ∘ inner (inner acts first): bounds compose since both are monotone. The
