@@ -113,7 +113,7 @@ class SetTransfer:
         mine = (np.array(self.outcomes)[None, :, :] + copies[:, None, None]).reshape(-1, 2)
         start = np.mod(mine[:, 0] - lo[:, None], T)  # outcome start relative to each image start
         meets = (start <= (hi - lo)[:, None]) | (start + (mine[:, 1] - mine[:, 0])[None, :] >= T)
-        kept = tuple((float(a), float(b)) for a, b in mine[meets.any(axis=0)])
+        kept = tuple(map(tuple, mine[meets.any(axis=0)].tolist()))
         return SetTransfer(lower, upper, inner.period, inner.symmetry, inner.rest_zones, kept)
 
 def _nodes(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatArray) -> tuple[FloatArray, np.ndarray]:
