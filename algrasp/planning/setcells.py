@@ -104,10 +104,12 @@ def _tf(starts: FloatArray, ends: FloatArray, values: FloatArray, T: float, tol_
     """Cells → pieces, neighbours with the same value (or both ramps) merged first in
     one array pass, so only the distinct pieces become objects."""
     nan = np.isnan(values)
-    before, nan_before = np.concatenate([values[-1:], values[:-1]]), np.concatenate([nan[-1:], nan[:-1]])
-    same = (nan & nan_before) | (~nan & ~nan_before & (np.abs(values - before) <= tol_rad))
-    same[0] = False
-    first = np.flatnonzero(~same)
+    # Cell i starts a piece unless it and cell i − 1 are both ramps or agree to tol (a
+    # NaN, a ramp, agrees with no value); cell 0 always does.
+    new = np.empty(len(values), dtype=bool)
+    new[0] = True
+    np.logical_not((nan[1:] & nan[:-1]) | (np.abs(values[1:] - values[:-1]) <= tol_rad), out=new[1:])
+    first = np.flatnonzero(new)
     last = np.concatenate([first[1:], [len(values)]]) - 1
     pieces = [TransferPiece(a, b, None if v != v else v)  # v != v: NaN, a ramp
               for a, b, v in zip(starts[first].tolist(), ends[last].tolist(), values[first].tolist())]
