@@ -230,10 +230,9 @@ MAX_SINKS = 8
 
 def _sink_widths(lower: TransferFunction, upper: TransferFunction, lifted: Lifted, max_rad: float) -> list[float]:
     """Distinct image widths upper(x) − lower(x) at piece starts, smallest first."""
-    xs = np.array([p.start for p in lower.pieces] + [p.start for p in upper.pieces])
+    xs = np.array(lower.starts + upper.starts)
     width = upper.apply(xs) - lifted.value_at(xs)
-    uniq = _unique(np.round(width[(width >= 0.0) & (width <= max_rad)], 10))
-    return [float(w) for w in uniq[:MAX_SINKS]]
+    return sorted(set(width[(width >= 0.0) & (width <= max_rad)].round(10).tolist()))[:MAX_SINKS]  # _unique's values
 
 
 def _margin_error(margin: float, intervals: list[tuple[float, float]]) -> NotOrientableError:
