@@ -34,3 +34,15 @@ def test_apply_floats_is_apply_bit_for_bit(F: TransferFunction) -> None:
     x = np.concatenate([rng.uniform(-4.0 * F.period, 4.0 * F.period, 500), lifted, [0.0, -0.0]])
     x = np.concatenate([x, np.nextafter(x, np.inf), np.nextafter(x, -np.inf)])
     assert np.array(F.apply_floats(x.tolist())).tobytes() == F.apply(x).tobytes()
+
+
+@pytest.mark.parametrize("F", _functions())
+def test_values_at_few_is_values_at_many_bit_for_bit(F: TransferFunction) -> None:
+    """A few θ at a time (plain floats) give the values of one vectorised pass over all."""
+    rng = np.random.default_rng(11)
+    starts = np.array([p.start for p in F.pieces])
+    lifted = (starts[None, :] + F.period * np.arange(-3, 4)[:, None]).ravel()
+    x = np.concatenate([rng.uniform(-4.0 * F.period, 4.0 * F.period, 200), lifted, [0.0, -0.0]])
+    x = np.concatenate([x, np.nextafter(x, np.inf), np.nextafter(x, -np.inf)]).tolist()
+    few = [v for i in range(0, len(x), 8) for v in F.values_at(x[i:i + 8])]
+    assert np.array(few).tobytes() == np.array(F.values_at(x)).tobytes()
