@@ -106,7 +106,8 @@ class SetTransfer:
         image of one of inner's outcomes."""
         lower = self.lower.compose_after(inner.lower, tol_rad)
         upper = self.upper.compose_after(inner.upper, tol_rad)
-        lo, hi = self.image(np.array([a for a, _ in inner.outcomes]), np.array([b for _, b in inner.outcomes]))
+        lo = self.lower.apply_list([a for a, _ in inner.outcomes])  # self.image of inner's outcomes
+        hi = self.upper.apply_list([b for _, b in inner.outcomes])
         # self's outcomes repeat with its period; the composition has inner's.
         T = inner.symmetry
         copies = np.arange(max(1, int(round(T / self.symmetry)))) * self.symmetry

@@ -159,6 +159,13 @@ class TransferFunction:
             out.append(t if v != v else kP + v)  # v != v: NaN, a ramp
         return out
 
+    def apply_list(self, thetas: list[float]) -> FloatArray:
+        """:meth:`apply` of a list of θ (radians): in plain floats for up to ``FEW_PROBES``
+        (:meth:`apply_floats`), else vectorised; the same values either way."""
+        if len(thetas) <= FEW_PROBES:
+            return np.array(self.apply_floats(thetas), dtype=float)
+        return self.apply(np.array(thetas, dtype=float))
+
     def on_ramp(self, thetas: FloatArray) -> np.ndarray:
         """Whether each θ (radians) lies on a ramp (F(θ) = θ), vectorised; O(m log n)."""
         return np.isnan(self._lookup(np.asarray(thetas, dtype=float))[1])
