@@ -103,11 +103,10 @@ def _ramp_candidates(ramp_starts: FloatArray, ramp_ends: FloatArray, tops: Float
     if not len(ramp_starts):
         return ramp_starts
     lo, hi = tops.searchsorted(ramp_starts + room), tops.searchsorted(ramp_ends + room)
-    count = hi - lo
-    # tops[lo_k:hi_k] for every ramp k, in order, as one gather
-    first = count.cumsum() - count
-    idx = np.arange(int(count.sum())) + (lo - first).repeat(count)
-    out: FloatArray = tops[idx] - room
+    # tops[lo_k:hi_k] for every ramp k, in order: the ramps are sorted and disjoint, so
+    # are these ranges, and top t lies in one where more ranges start than end by it.
+    t = np.arange(len(tops))
+    out: FloatArray = tops[lo.searchsorted(t, side="right") > hi.searchsorted(t, side="right")] - room
     return out
 
 
