@@ -155,11 +155,13 @@ def _samples(f: SupportPairFunction, x: FloatArray, kink: np.ndarray, T: float) 
     ends[:-1], ends[-1] = x[1:], T
     widths = ends - x
     at_kink = np.flatnonzero(kink)
-    theta = np.concatenate([x + _INSIDE * widths, x[at_kink] - _INSIDE * widths[at_kink - 1]])[:, None] + np.arange(K) * T
-    g, v = (a.reshape(theta.shape) for a in slopes(f, theta.ravel()))
+    theta = np.concatenate([x + _INSIDE * widths, x[at_kink] - _INSIDE * widths[at_kink - 1]])
+    if K > 1:  # (never −0.0, so one copy needs no + 0·T)
+        theta = theta[:, None] + np.arange(K) * T
+    g, v = (a.reshape(-1, K) for a in slopes(f, theta.ravel()))
     # The end of cell i: node i + 1's sample, or its left limit where node i + 1 is a kink.
     src = np.arange(n)
-    src[at_kink] = n + np.arange(len(at_kink))
+    src[at_kink] = np.arange(n, n + len(at_kink))
     pick = np.empty((n, 2), dtype=np.intp)
     pick[:, 0], pick[:-1, 1], pick[-1, 1] = np.arange(n), src[1:], src[0]
     G, V = g[pick], v[pick]
