@@ -92,11 +92,11 @@ def _monotone(x: FloatArray, ends: FloatArray, up: FloatArray, lo: FloatArray, T
     nan = np.isnan(up)
     top, bottom = np.where(nan, ends, up), np.where(nan, x, up)
     before = np.maximum.accumulate(np.concatenate([[top.max() - T], top[:-1] + 0.0]))
-    up = np.where(bottom + 0.0 < before, np.maximum(before, top + 0.0), up)
+    up = np.where(bottom < before, np.maximum(before, top + 0.0), up)  # (+ 0.0: no −0.0 value; a comparison needs none)
     nan = np.isnan(lo)
     top, bottom = np.where(nan, ends, lo), np.where(nan, x, lo)
     after = np.minimum.accumulate(np.concatenate([bottom[1:] + 0.0, [bottom.min() + T]])[::-1])[::-1]
-    lo = np.where(top + 0.0 > after, np.minimum(after, bottom + 0.0), lo)
+    lo = np.where(top > after, np.minimum(after, bottom + 0.0), lo)
     return up, lo
 
 
