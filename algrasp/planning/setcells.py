@@ -59,7 +59,7 @@ class Cells:
         right-movable and of forced-right cells (neither left nor rest) containing each
         cell ends, and where the run of left-movable and of forced-left cells starts."""
         R, L, S = self.right, self.left, self.rest
-        return self.at(np.concatenate([_run_ends(np.stack([R, ~L & ~S])), _run_starts(np.stack([L, ~R & ~S]))]))
+        return self.at(np.concatenate([_run_ends(np.array([R, ~L & ~S])), _run_starts(np.array([L, ~R & ~S]))]))
 
     @cached_property
     def run_limits(self) -> tuple[FloatArray, FloatArray]:
@@ -109,7 +109,7 @@ def _tf(starts: FloatArray, ends: FloatArray, values: FloatArray, T: float, tol_
     new = np.empty(len(values), dtype=bool)
     new[0] = True
     np.logical_not((nan[1:] & nan[:-1]) | (np.abs(values[1:] - values[:-1]) <= tol_rad), out=new[1:])
-    first = np.flatnonzero(new)
+    first = new.nonzero()[0]
     last = np.concatenate([first[1:], [len(values)]]) - 1
     pieces = [TransferPiece(a, b, None if v != v else v)  # v != v: NaN, a ramp
               for a, b, v in zip(starts[first].tolist(), ends[last].tolist(), values[first].tolist())]

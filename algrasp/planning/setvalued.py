@@ -128,12 +128,12 @@ def _nodes(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatArray
     np.mod(raw, T, out=raw)
     flags = np.ones(len(raw), dtype=bool)
     flags[: 1 + len(grid)] = False
-    order = np.argsort(raw, kind="stable")
+    order = raw.argsort(kind="stable")
     raw, flags = raw[order], flags[order]
     new = np.empty(len(raw), dtype=bool)
     new[0] = True
     np.greater(raw[1:] - raw[:-1], ROUNDING, out=new[1:])
-    starts = np.flatnonzero(new)
+    starts = new.nonzero()[0]
     kink = np.logical_or.reduceat(flags, starts)
     if T - raw[-1] <= ROUNDING and len(starts) > 1:  # the last group is node 0's
         kink[0] |= kink[-1]
@@ -154,7 +154,7 @@ def _samples(f: SupportPairFunction, x: FloatArray, kink: np.ndarray, T: float) 
     ends = np.empty(n)
     ends[:-1], ends[-1] = x[1:], T
     widths = ends - x
-    at_kink = np.flatnonzero(kink)
+    at_kink = kink.nonzero()[0]
     theta = np.concatenate([x + _INSIDE * widths, x[at_kink] - _INSIDE * widths[at_kink - 1]])
     if K > 1:  # (never −0.0, so one copy needs no + 0·T)
         theta = theta[:, None] + np.arange(K) * T

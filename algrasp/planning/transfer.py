@@ -339,18 +339,18 @@ def holding_arcs(lo: FloatArray, hi: FloatArray, T: float) -> list[tuple[float, 
     and leaves out one gap between them (the gap's complement), as lifted intervals,
     shortest first — the first is their circular hull; [(0, T)] when they leave no gap.
     Three lifted copies, so intervals reaching past T cover the start; O(n log n)."""
-    if np.max(hi - lo) >= T:
+    if (hi - lo).max() >= T:
         return [(0.0, T)]
     shift = np.floor(lo / T) * T
     lo, hi = lo - shift, hi - shift
     L = np.concatenate([lo - T, lo, lo + T])
     H = np.concatenate([hi - T, hi, hi + T])
-    order = np.argsort(L, kind="stable")
+    order = L.argsort(kind="stable")
     L, H = L[order], H[order]
     reach = np.maximum.accumulate(H)
     gaps = L[1:] - reach[:-1]
-    ks = np.nonzero((reach[:-1] >= 0.0) & (reach[:-1] < T) & (gaps > 0.0))[0]
+    ks = ((reach[:-1] >= 0.0) & (reach[:-1] < T) & (gaps > 0.0)).nonzero()[0]
     if not len(ks):
         return [(0.0, T)]
-    ks = ks[np.argsort(-gaps[ks], kind="stable")]  # the widest gap left out: the shortest arc
+    ks = ks[(-gaps[ks]).argsort(kind="stable")]  # the widest gap left out: the shortest arc
     return [(float(L[k + 1]), float(reach[k] + T)) for k in ks]

@@ -132,8 +132,8 @@ def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SA
         arcs = _run_floats(S, plan.steps[2:], dict.fromkeys(zip(lo.tolist(), hi.tolist())))
         return all(min(abs(signed_diff(0.5 * (x + y), w)) for w in want) + 0.5 * (y - x) <= bound for x, y in arcs)
     lo, hi = run_steps(S, plan.steps[2:], lo, hi)
-    off = np.min(np.abs(signed_diff((0.5 * (lo + hi))[:, None], np.array(want))), axis=1)
-    return bool(np.all(off + 0.5 * (hi - lo) <= bound))
+    off = np.abs(signed_diff((0.5 * (lo + hi))[:, None], np.array(want))).min(axis=1)
+    return bool((off + 0.5 * (hi - lo) <= bound).all())
 
 
 FEW_ARCS = 32
@@ -162,7 +162,7 @@ def _samples(plan: Plan, circle: tuple[float, float], samples: int) -> tuple[Flo
     cuts = c0 + np.mod(starts - c0, S.symmetry)
     inner = cuts[cuts <= c1]
     pts = np.concatenate([np.linspace(c0, c1, samples), inner - PROBE_RAD, inner, inner + PROBE_RAD])
-    pts = np.clip(pts, c0, c1) + a1
+    pts = pts.clip(c0, c1) + a1
     return np.concatenate([pts, [c0 + a1]]), np.concatenate([pts, [c1 + a1]])
 
 
