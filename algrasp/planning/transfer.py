@@ -241,10 +241,10 @@ class TransferFunction:
         exactly as :meth:`piece_at` finds the piece and its lift: in plain floats for a few
         θ (a composition's probes), else in one vectorised pass (the same values)."""
         if len(thetas) <= FEW_PROBES:
-            first, starts, values = self._floats  # values[i + 1]: piece i's
+            first, cuts, after = self._floats  # after[i + 1]: piece i's value
             P = self.period
             offs = [(math.floor((t - first) / P) + 0.0) * P for t in thetas]
-            return [values[max(bisect.bisect_right(starts, t - off), 1)] + off for t, off in zip(thetas, offs)]
+            return [after[max(bisect.bisect_right(cuts, t - off), 1)] + off for t, off in zip(thetas, offs)]
         th = np.array(thetas, dtype=float)
         starts, values = self._arrays
         # + 0.0: no −0.0 lift (math.floor's int 0 lifts by +0.0).
