@@ -17,23 +17,17 @@ from algrasp.geometry.curves import FloatArray
 from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical
 
 
-def _run_starts(flags: np.ndarray) -> np.ndarray:
-    """For each cell i (cyclic, lifted indices): the first cell of the run of True flags
-    containing it (i + 1 where flags[i] is False); along the last axis (rows of flags
-    at once). Vectorised over three copies."""
+def _run_bounds(flags: np.ndarray) -> np.ndarray:
+    """For each cell i (cyclic, lifted indices), along the last axis of ``flags`` (4, n):
+    in rows 0 and 1 the first False cell at or after i (the end of the run of True flags
+    containing i, i itself where flags[i] is False), in rows 2 and 3 the first cell of
+    that run (i + 1 where flags[i] is False). One pass over three copies."""
     n = flags.shape[-1]
     f3 = np.concatenate([flags, flags, flags], axis=-1)
-    last_false = np.maximum.accumulate(np.where(f3, -4 * n, np.arange(-n, 2 * n)), axis=-1)
-    return np.asarray(last_false[..., n:2 * n] + 1)
-
-
-def _run_ends(flags: np.ndarray) -> np.ndarray:
-    """For each cell i (cyclic, lifted indices): the first False cell after it (i itself
-    where flags[i] is False); along the last axis. Vectorised over three copies."""
-    n = flags.shape[-1]
-    f3 = np.concatenate([flags, flags, flags], axis=-1)
-    next_false = np.minimum.accumulate(np.where(f3, 4 * n, np.arange(-n, 2 * n))[..., ::-1], axis=-1)[..., ::-1]
-    return np.asarray(next_false[..., n:2 * n])
+    at = np.arange(-n, 2 * n)
+    next_false = np.minimum.accumulate(np.where(f3[:2], 4 * n, at)[:, ::-1], axis=-1)[:, ::-1]
+    last_false = np.maximum.accumulate(np.where(f3[2:], -4 * n, at), axis=-1)
+    return np.concatenate([next_false[:, n:2 * n], last_false[:, n:2 * n] + 1])
 
 
 @dataclass(frozen=True)
@@ -50,8 +44,8 @@ class Cells:
 
     def at(self, j: np.ndarray) -> FloatArray:
         """Lifted start of cell j (any integer)."""
-        n = len(self.x)
-        return np.asarray(self.x[np.mod(j, n)] + np.floor_divide(j, n) * self.T)
+        lift, i = np.divmod(j, len(self.x))
+        return np.asarray(self.x[i] + lift * self.T)
 
     @cached_property
     def runs(self) -> FloatArray:
@@ -59,7 +53,7 @@ class Cells:
         right-movable and of forced-right cells (neither left nor rest) containing each
         cell ends, and where the run of left-movable and of forced-left cells starts."""
         R, L, S = self.right, self.left, self.rest
-        return self.at(np.concatenate([_run_ends(np.array([R, ~L & ~S])), _run_starts(np.array([L, ~R & ~S]))]))
+        return self.at(_run_bounds(np.array([R, ~L & ~S, L, ~R & ~S])))
 
     @cached_property
     def run_limits(self) -> tuple[FloatArray, FloatArray]:
@@ -120,8 +114,9 @@ def rest_zones(nodes: FloatArray, T: float, rest: np.ndarray, P: float) -> tuple
     """Maximal rest-possible zones over one natural period P (K = P/T copies of the cells),
     [start, end) in radians; a zone wrapping past P starts below 0. Vectorised."""
     K = int(round(P / T))
-    x = (nodes[None, :] + (np.arange(K) * T)[:, None]).ravel()
-    r = np.concatenate([rest] * K)
+    x, r = nodes, rest  # one copy (nodes are never −0.0: + 0·T would change nothing)
+    if K > 1:
+        x, r = (nodes[None, :] + (np.arange(K) * T)[:, None]).ravel(), np.concatenate([rest] * K)
     if r.all():
         return ((0.0, P),)
     if not r.any():
