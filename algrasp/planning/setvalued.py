@@ -126,10 +126,8 @@ def _nodes(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatArray
     # Each edge becomes a sliver [e − EDGE_RAD, e + EDGE_RAD) holding both classes.
     raw = np.concatenate([_ZERO, grid, edges - EDGE_RAD, edges + EDGE_RAD, f.kink_thetas])
     np.mod(raw, T, out=raw)
-    flags = np.ones(len(raw), dtype=bool)
-    flags[: 1 + len(grid)] = False
     order = raw.argsort(kind="stable")
-    raw, flags = raw[order], flags[order]
+    raw, flags = raw[order], order >= 1 + len(grid)  # node 0 and the grid: no kinks
     new = np.empty(len(raw), dtype=bool)
     new[0] = True
     np.greater(raw[1:] - raw[:-1], ROUNDING, out=new[1:])

@@ -257,7 +257,7 @@ class TransferFunction:
         base, P = self.pieces[0].start, self.period
         k0 = math.floor((a - base) / P) - 1
         k1 = math.ceil((b - base) / P) + 1
-        return sorted(s + float(k) * P for k in range(k0, k1 + 1) for s in self.starts)
+        return sorted([s + float(k) * P for k in range(k0, k1 + 1) for s in self.starts])
 
 
 def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> list[TransferPiece]:
