@@ -171,8 +171,7 @@ def gripper_steps(F: TransferFunction, intervals: list[tuple[float, float]], T: 
     margin is wide enough to absorb the symmetry tolerance, so each angle is taken nearest
     the next action's modulo that turn: no turn between actions exceeds T/2 (P/2).
     ``period``: the action's P (π for a squeeze, 2π for a push-grasp; default F's, which
-    set-valued bounds store over T). ``lifted``: F's (and upper's) :class:`~algrasp.planning.planner.Lifted`,
-    when the caller has it.
+    set-valued bounds store over T). ``lifted``: F's (and upper's) :class:`~algrasp.planning.planner.Lifted`, if made.
     """
     P = F.period if period is None else period
     order = intervals[::-1]  # I_1 … I_N
@@ -347,12 +346,10 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
     S = _set_for(analysis, action)
     assert analysis.robust is not None
     F = analysis.squeeze if action == "squeeze" else analysis.push_grasp
-    t0 = time.perf_counter()
-    T = S.symmetry
+    t0, T = time.perf_counter(), S.symmetry
     lifted = Lifted.of(S.lower, S.upper)  # read by the search, the first image and the gripper angles
     try:
-        intervals = set_a_prime(S.lower, S.upper, T, lambda: _width(S.circle_images()[0]), margin,
-                                2.0 * MAX_UNCERTAINTY_RAD, lifted=lifted)
+        intervals = set_a_prime(S.lower, S.upper, T, S.circle_width, margin, 2.0 * MAX_UNCERTAINTY_RAD, lifted=lifted)
     except NotOrientableError as e:
         if e.reason != "margin_too_large" or margin > 0.0:
             raise
@@ -361,28 +358,22 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
                                  f"shape tolerance (κ_d = {band.kappa_d:.3g}, κ_r = {band.kappa_r:.3g} {analysis.part.units}/rad) "
                                  "leave no sequence of actions that collapses every orientation; a larger grip force, "
                                  "less friction, or --exact (the frictionless model) may") from None
-    arcs = S.circle_images()
-    circle = arcs[0]
     lo, hi = images(S.lower, intervals[:1], S.upper, lifted)[0]
     uncertainty = max(0.5 * (hi - lo) + GUARD_RAD + _edge_tilt(analysis, lo, hi), UNCERTAINTY_FLOOR_RAD)
     if uncertainty > MAX_UNCERTAINTY_RAD:  # before the gripper angles: they cannot change it
         raise NotOrientableError("uncertain", f"the part ends within ±{to_deg(uncertainty):.3g}° at best, more "
                                  f"than the ±{to_deg(MAX_UNCERTAINTY_RAD):g}° a plan may claim")
-    steps, first = gripper_steps(S.lower, intervals, T, S.upper, arcs, F.period, lifted)
+    steps, first = gripper_steps(S.lower, intervals, T, S.upper, S.circle_images(), F.period, lifted)
     k = int(round(2 * np.pi / T))
     finals = sorted(wrap(0.5 * (lo + hi) + i * T, 2 * np.pi, ROUNDING) for i in range(k))
     t1 = time.perf_counter()
     plan = Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), False, {}, S,
                 uncertainty, {**analysis.robust.physics.to_dict(), **analysis.robust.band.to_dict()})
-    ok = verify_set(plan, circle if first is None else first)
+    ok = verify_set(plan, S.circle_images()[0] if first is None else first)
     t2 = time.perf_counter()
     if not ok:
         raise NotOrientableError("verification_failed", "the plan did not verify: please report this part")
     return replace(plan, verified=True, timings_s={"planning": t1 - t0, "verification": t2 - t1})
-
-
-def _width(arc: tuple[float, float]) -> float:
-    return arc[1] - arc[0]
 
 
 EDGE_NORMAL_RAD = 1e-6

@@ -94,6 +94,11 @@ class SetTransfer:
         its gripper angles read it, and so does every limit probe that shares the function."""
         return list(self._circle_images)
 
+    def circle_width(self) -> float:
+        """The width (radians) of the whole circle's image: its circular hull's."""
+        a, b = self._circle_images[0]
+        return b - a
+
     @cached_property
     def _circle_images(self) -> tuple[tuple[float, float], ...]:
         lo = np.array([a for a, _ in self.outcomes])
