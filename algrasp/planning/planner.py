@@ -16,6 +16,7 @@ strictly and a ramp end may touch the box's top (paper Fig. 11).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -55,7 +56,7 @@ class _Pieces:
 
 
 @dataclass(frozen=True, eq=False)
-class _Lifted:
+class Lifted:
     """A (set-valued) transfer function lifted: the image of [a, b) is
     [lower(a), upper(b⁻)]. For an exact function lower and upper are the same."""
 
@@ -65,9 +66,9 @@ class _Lifted:
     """What :func:`_widest` reads that no box height changes, by the function's id."""
 
     @staticmethod
-    def of(F: TransferFunction, upper: TransferFunction | None = None) -> _Lifted:
+    def of(F: TransferFunction, upper: TransferFunction | None = None) -> Lifted:
         lo = _Pieces.of(F)
-        return _Lifted(lo, lo if upper is None else _Pieces.of(upper))
+        return Lifted(lo, lo if upper is None else _Pieces.of(upper))
 
     @property
     def starts(self) -> FloatArray:
@@ -102,18 +103,17 @@ def _ramp_candidates(ramp_starts: FloatArray, ramp_ends: FloatArray, tops: Float
     if not len(ramp_starts):
         return ramp_starts
     lo, hi = tops.searchsorted(ramp_starts + room), tops.searchsorted(ramp_ends + room)
-    count = hi - lo
-    # tops[lo_k:hi_k] for every ramp k, in order, as one gather
-    first = count.cumsum() - count
-    idx = np.arange(int(count.sum())) + (lo - first).repeat(count)
-    out: FloatArray = tops[idx] - room
+    # tops[lo_k:hi_k] for every ramp k, in order: the ramps are sorted and disjoint, so
+    # are these ranges, and top t lies in one where more ranges start than end by it.
+    t = np.arange(len(tops))
+    out: FloatArray = tops[lo.searchsorted(t, side="right") > hi.searchsorted(t, side="right")] - room
     return out
 
 
 _Fixed = tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
 
 
-def _fixed(F: TransferFunction, lifted: _Lifted) -> _Fixed:
+def _fixed(F: TransferFunction, lifted: Lifted) -> _Fixed:
     """The piece starts of one period, the starts and ends of its ramps, the distinct
     values of the upper bound and the lower bound at the piece starts; once per function
     and lifting."""
@@ -147,7 +147,7 @@ def algorithm_a_prime(F: TransferFunction, T: float, min_margin: float = 0.0,
     return _grow(F, None, T, widest_step(F), min_margin, tol)
 
 
-def _grow(F: TransferFunction, lifted: _Lifted | None, T: float, first: tuple[float, float], min_margin: float,
+def _grow(F: TransferFunction, lifted: Lifted | None, T: float, first: tuple[float, float], min_margin: float,
           tol: float, circle: float | None = None) -> list[tuple[float, float]]:
     """Θ₂, Θ₃, … after ``first``: each the widest interval whose image fits the last.
     ``circle``: the width of the image of the whole circle (set-valued functions), which
@@ -161,7 +161,7 @@ def _grow(F: TransferFunction, lifted: _Lifted | None, T: float, first: tuple[fl
         if circle is not None and circle <= room:
             intervals.append((intervals[-1][0], intervals[-1][0] + T))
             break
-        lifted = lifted or _Lifted.of(F)
+        lifted = lifted or Lifted.of(F)
         a, b = _widest(F, lifted, room)
         if b - a <= intervals[-1][1] - intervals[-1][0] + tol:
             raise _margin_error(min_margin, intervals)
@@ -171,7 +171,7 @@ def _grow(F: TransferFunction, lifted: _Lifted | None, T: float, first: tuple[fl
     return intervals
 
 
-def _widest(F: TransferFunction, lifted: _Lifted, room: float) -> tuple[float, float]:
+def _widest(F: TransferFunction, lifted: Lifted, room: float) -> tuple[float, float]:
     """The widest [a, b) whose image fits in a box of height ``room``, of the left ends
     worth trying: the piece starts of one period (bottom-left placements; their lower
     values are fixed), then the points of ramps :func:`_ramp_candidates` gives (the first
@@ -185,10 +185,13 @@ def _widest(F: TransferFunction, lifted: _Lifted, room: float) -> tuple[float, f
     return float(starts[k]), float(b[k])
 
 
-def set_a_prime(lower: TransferFunction, upper: TransferFunction, T: float, circle: float, min_margin: float = 0.0,
-                max_final_rad: float = np.pi, tol: float = PLANNING_RAD) -> list[tuple[float, float]]:
+def set_a_prime(lower: TransferFunction, upper: TransferFunction, T: float, circle: float | Callable[[], float],
+                min_margin: float = 0.0, max_final_rad: float = np.pi, tol: float = PLANNING_RAD,
+                lifted: Lifted | None = None) -> list[tuple[float, float]]:
     """Algorithm A′ on a set-valued function (conventions §7): the image of [a, b) is
-    [lower(a), upper(b⁻)]; the whole circle's image is ``circle`` wide.
+    [lower(a), upper(b⁻)]; the whole circle's image is ``circle`` wide (or what computes
+    that width: it is only read once some Θ₁ exists, so a refusal does not pay for it).
+    ``lifted``: the bounds' :class:`Lifted`, when the caller has it.
 
     Θ₁ is the widest interval whose image is at most w₀ wide, w₀ one of the image widths
     a single orientation can have (the sinks, ``MAX_SINKS`` smallest). Every later
@@ -196,7 +199,7 @@ def set_a_prime(lower: TransferFunction, upper: TransferFunction, T: float, circ
     the plan is shortest for the widest Θ₁: among precise finals (w₀ ≤ ``PRECISE_RAD``) the
     widest Θ₁ (then the narrower image) is grown, else the widest of all. O(s·n log n + A′).
     """
-    lifted = _Lifted.of(lower, upper)
+    lifted = Lifted.of(lower, upper) if lifted is None else lifted
     firsts = [(w0, *_widest(lower, lifted, w0 + 2.0 * STRICT_RAD)) for w0 in _sink_widths(lower, upper, lifted, max_final_rad)]
     firsts = [(w0, a, b) for w0, a, b in firsts if b - a > tol]
     if not firsts:
@@ -207,9 +210,10 @@ def set_a_prime(lower: TransferFunction, upper: TransferFunction, T: float, circ
     widest = max(firsts, key=lambda f: (f[2] - f[1], -f[0]))
     if not order or widest[2] - widest[1] != order[0][2] - order[0][1]:
         order.append(widest)  # an equally wide Θ₁ grows the same later intervals: it would fail alike
+    width = circle() if callable(circle) else circle
     for i, (_, a, b) in enumerate(order):
         try:
-            return _grow(lower, lifted, T, (a, b), min_margin, tol, circle)
+            return _grow(lower, lifted, T, (a, b), min_margin, tol, width)
         except NotOrientableError:
             if i == len(order) - 1:
                 raise
@@ -223,12 +227,11 @@ MAX_SINKS = 8
 """How many candidate final-image widths Θ₁ is tried with."""
 
 
-def _sink_widths(lower: TransferFunction, upper: TransferFunction, lifted: _Lifted, max_rad: float) -> list[float]:
+def _sink_widths(lower: TransferFunction, upper: TransferFunction, lifted: Lifted, max_rad: float) -> list[float]:
     """Distinct image widths upper(x) − lower(x) at piece starts, smallest first."""
-    xs = np.array([p.start for p in lower.pieces] + [p.start for p in upper.pieces])
+    xs = np.array(lower.starts + upper.starts)
     width = upper.apply(xs) - lifted.value_at(xs)
-    uniq = _unique(np.round(width[(width >= 0.0) & (width <= max_rad)], 10))
-    return [float(w) for w in uniq[:MAX_SINKS]]
+    return sorted(set(width[(width >= 0.0) & (width <= max_rad)].round(10).tolist()))[:MAX_SINKS]  # _unique's values
 
 
 def _margin_error(margin: float, intervals: list[tuple[float, float]]) -> NotOrientableError:
@@ -238,20 +241,20 @@ def _margin_error(margin: float, intervals: list[tuple[float, float]]) -> NotOri
                               f"the widest interval that can be collapsed is {width:.6g}°")
 
 
-def images(F: TransferFunction, intervals: list[tuple[float, float]],
-           upper: TransferFunction | None = None) -> list[tuple[float, float]]:
+def images(F: TransferFunction, intervals: list[tuple[float, float]], upper: TransferFunction | None = None,
+           lifted: Lifted | None = None) -> list[tuple[float, float]]:
     """[F(a), F(b⁻)] of each [a, b) (radians, lifted; with ``upper``, [F(a), upper(b⁻)]);
-    one lifting for all. O((n + m) log n)."""
+    one lifting for all (``lifted``, when the caller has it). O((n + m) log n)."""
     if not intervals:
         return []
-    lifted = _Lifted.of(F, upper)
+    lifted = Lifted.of(F, upper) if lifted is None else lifted
     lo = lifted.value_at(np.array([a for a, _ in intervals]))
     hi, _ = lifted.top(np.array([b for _, b in intervals]))
     return [(float(x), float(y)) for x, y in zip(lo, hi)]
 
 
 def _unique(a: FloatArray) -> FloatArray:
-    """``np.unique(a)``, by the path that asks for indices: the plain one imports
-    ``numpy.ma`` on first use (~30 ms of a fresh process's first plan)."""
-    out: FloatArray = np.unique(a, return_index=True)[0]
-    return out
+    """``np.unique(a)`` of finite values (the first of equal values kept, as np.unique's
+    stable sort does: −0.0 or 0.0), in plain floats: the arrays are small. (The plain
+    np.unique imports ``numpy.ma`` on first use, ~30 ms of a fresh process's first plan.)"""
+    return np.array(sorted(set(a.tolist())), dtype=float)

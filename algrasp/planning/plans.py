@@ -24,7 +24,7 @@ from algrasp.geometry.functions import wrap
 from algrasp.geometry.tolerances import MAX_UNCERTAINTY_RAD, ROUNDING, SYMMETRY_TOL_RAD, UNCERTAINTY_FLOOR_RAD
 from algrasp.planning.actions import Action
 from algrasp.planning.analysis import Analysis
-from algrasp.planning.planner import GUARD_RAD, algorithm_a_prime, images, set_a_prime
+from algrasp.planning.planner import GUARD_RAD, Lifted, algorithm_a_prime, images, set_a_prime
 from algrasp.planning.setvalued import SetTransfer
 from algrasp.planning.transfer import TransferFunction
 from algrasp.planning.verification import run_steps, through, verify, verify_set
@@ -157,7 +157,7 @@ def transfer_for(analysis: Analysis, action: Action) -> TransferFunction:
 
 def gripper_steps(F: TransferFunction, intervals: list[tuple[float, float]], T: float,
                   upper: TransferFunction | None = None, first_images: list[tuple[float, float]] | None = None,
-                  period: float | None = None) -> tuple[list[PlanStep], tuple[float, float] | None]:
+                  period: float | None = None, lifted: Lifted | None = None) -> tuple[list[PlanStep], tuple[float, float] | None]:
     """Execution-order gripper angles (last at 0) and margins from Θ₁ … Θ_N, and the arc
     the first action's image was placed as (None for a one-action plan).
 
@@ -171,7 +171,7 @@ def gripper_steps(F: TransferFunction, intervals: list[tuple[float, float]], T: 
     margin is wide enough to absorb the symmetry tolerance, so each angle is taken nearest
     the next action's modulo that turn: no turn between actions exceeds T/2 (P/2).
     ``period``: the action's P (π for a squeeze, 2π for a push-grasp; default F's, which
-    set-valued bounds store over T).
+    set-valued bounds store over T). ``lifted``: F's (and upper's) :class:`~algrasp.planning.planner.Lifted`, if made.
     """
     P = F.period if period is None else period
     order = intervals[::-1]  # I_1 … I_N
@@ -180,7 +180,7 @@ def gripper_steps(F: TransferFunction, intervals: list[tuple[float, float]], T: 
         return [PlanStep(0.0, None)], None
     alphas = [0.0] * n
     margins: list[float | None] = [None] * n
-    later = images(F, order[1:-1], upper)  # of I_2 … I_{N−1}: the last action's is not needed
+    later = images(F, order[1:-1], upper, lifted)  # of I_2 … I_{N−1}: the last action's is not needed
     for j in range(n - 2, 0, -1):
         (lo, hi), (a, b) = later[j - 1], order[j + 1]
         margin = max(0.0, 0.5 * ((b - a) - (hi - lo)))
@@ -346,12 +346,10 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
     S = _set_for(analysis, action)
     assert analysis.robust is not None
     F = analysis.squeeze if action == "squeeze" else analysis.push_grasp
-    t0 = time.perf_counter()
-    T = S.symmetry
-    arcs = S.circle_images()
-    circle = arcs[0]
+    t0, T = time.perf_counter(), S.symmetry
+    lifted = Lifted.of(S.lower, S.upper)  # read by the search, the first image and the gripper angles
     try:
-        intervals = set_a_prime(S.lower, S.upper, T, circle[1] - circle[0], margin, 2.0 * MAX_UNCERTAINTY_RAD)
+        intervals = set_a_prime(S.lower, S.upper, T, S.circle_width, margin, 2.0 * MAX_UNCERTAINTY_RAD, lifted=lifted)
     except NotOrientableError as e:
         if e.reason != "margin_too_large" or margin > 0.0:
             raise
@@ -360,18 +358,18 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
                                  f"shape tolerance (κ_d = {band.kappa_d:.3g}, κ_r = {band.kappa_r:.3g} {analysis.part.units}/rad) "
                                  "leave no sequence of actions that collapses every orientation; a larger grip force, "
                                  "less friction, or --exact (the frictionless model) may") from None
-    lo, hi = images(S.lower, intervals[:1], S.upper)[0]
+    lo, hi = images(S.lower, intervals[:1], S.upper, lifted)[0]
     uncertainty = max(0.5 * (hi - lo) + GUARD_RAD + _edge_tilt(analysis, lo, hi), UNCERTAINTY_FLOOR_RAD)
     if uncertainty > MAX_UNCERTAINTY_RAD:  # before the gripper angles: they cannot change it
         raise NotOrientableError("uncertain", f"the part ends within ±{to_deg(uncertainty):.3g}° at best, more "
                                  f"than the ±{to_deg(MAX_UNCERTAINTY_RAD):g}° a plan may claim")
-    steps, first = gripper_steps(S.lower, intervals, T, S.upper, arcs, F.period)
+    steps, first = gripper_steps(S.lower, intervals, T, S.upper, S.circle_images(), F.period, lifted)
     k = int(round(2 * np.pi / T))
     finals = sorted(wrap(0.5 * (lo + hi) + i * T, 2 * np.pi, ROUNDING) for i in range(k))
     t1 = time.perf_counter()
     plan = Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), False, {}, S,
                 uncertainty, {**analysis.robust.physics.to_dict(), **analysis.robust.band.to_dict()})
-    ok = verify_set(plan, circle if first is None else first)
+    ok = verify_set(plan, S.circle_images()[0] if first is None else first)
     t2 = time.perf_counter()
     if not ok:
         raise NotOrientableError("verification_failed", "the plan did not verify: please report this part")

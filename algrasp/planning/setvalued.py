@@ -36,14 +36,14 @@ from typing import cast
 
 import numpy as np
 
-from algrasp.errors import NotOrientableError
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import SupportPairFunction
 from algrasp.geometry.tolerances import ROUNDING, Tolerances
 from algrasp.planning.barriers import barrier_sets, basin_cells, basins
 from algrasp.planning.edges import CURVE_GRID_RAD, crossings, slopes
+from algrasp.planning.setcells import Cells, bounds, rest_zones
 from algrasp.planning.symmetry import symmetry_period
-from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical, holding_arcs
+from algrasp.planning.transfer import TransferFunction, holding_arcs
 
 GRID_RAD = 2e-3
 """Largest cell of the classification grid (0.115°): dead-zone edges are placed to this
@@ -90,10 +90,20 @@ class SetTransfer:
         [start, end] lifted, end − start ≤ T, shortest first (the first is their circular
         hull; :func:`~algrasp.planning.transfer.holding_arcs`). The image of the whole
         circle: hulls of single points would fill the gaps that uncertain zones bridge, but
-        a part only ever rests at an outcome."""
+        a part only ever rests at an outcome. Made once per function: a plan's search and
+        its gripper angles read it, and so does every limit probe that shares the function."""
+        return list(self._circle_images)
+
+    def circle_width(self) -> float:
+        """The width (radians) of the whole circle's image: its circular hull's."""
+        a, b = self._circle_images[0]
+        return b - a
+
+    @cached_property
+    def _circle_images(self) -> tuple[tuple[float, float], ...]:
         lo = np.array([a for a, _ in self.outcomes])
         hi = np.array([b for _, b in self.outcomes])
-        return holding_arcs(lo, hi, self.symmetry)
+        return tuple(holding_arcs(lo, hi, self.symmetry))
 
     def compose_after(self, inner: SetTransfer, tol_rad: float) -> SetTransfer:
         """self ∘ inner (inner acts first): bounds compose since both are monotone. The
@@ -101,14 +111,15 @@ class SetTransfer:
         image of one of inner's outcomes."""
         lower = self.lower.compose_after(inner.lower, tol_rad)
         upper = self.upper.compose_after(inner.upper, tol_rad)
-        lo, hi = self.image(np.array([a for a, _ in inner.outcomes]), np.array([b for _, b in inner.outcomes]))
+        lo = self.lower.apply_list([a for a, _ in inner.outcomes])  # self.image of inner's outcomes
+        hi = self.upper.apply_list([b for _, b in inner.outcomes])
         # self's outcomes repeat with its period; the composition has inner's.
         T = inner.symmetry
         copies = np.arange(max(1, int(round(T / self.symmetry)))) * self.symmetry
         mine = (np.array(self.outcomes)[None, :, :] + copies[:, None, None]).reshape(-1, 2)
         start = np.mod(mine[:, 0] - lo[:, None], T)  # outcome start relative to each image start
         meets = (start <= (hi - lo)[:, None]) | (start + (mine[:, 1] - mine[:, 0])[None, :] >= T)
-        kept = tuple((float(a), float(b)) for a, b in mine[meets.any(axis=0)])
+        kept = tuple(map(tuple, mine[meets.any(axis=0)].tolist()))
         return SetTransfer(lower, upper, inner.period, inner.symmetry, inner.rest_zones, kept)
 
 def _nodes(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatArray) -> tuple[FloatArray, np.ndarray]:
@@ -120,14 +131,12 @@ def _nodes(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatArray
     # Each edge becomes a sliver [e − EDGE_RAD, e + EDGE_RAD) holding both classes.
     raw = np.concatenate([_ZERO, grid, edges - EDGE_RAD, edges + EDGE_RAD, f.kink_thetas])
     np.mod(raw, T, out=raw)
-    flags = np.ones(len(raw), dtype=bool)
-    flags[: 1 + len(grid)] = False
-    order = np.argsort(raw, kind="stable")
-    raw, flags = raw[order], flags[order]
+    order = raw.argsort(kind="stable")
+    raw, flags = raw[order], order >= 1 + len(grid)  # node 0 and the grid: no kinks
     new = np.empty(len(raw), dtype=bool)
     new[0] = True
     np.greater(raw[1:] - raw[:-1], ROUNDING, out=new[1:])
-    starts = np.flatnonzero(new)
+    starts = new.nonzero()[0]
     kink = np.logical_or.reduceat(flags, starts)
     if T - raw[-1] <= ROUNDING and len(starts) > 1:  # the last group is node 0's
         kink[0] |= kink[-1]
@@ -148,12 +157,14 @@ def _samples(f: SupportPairFunction, x: FloatArray, kink: np.ndarray, T: float) 
     ends = np.empty(n)
     ends[:-1], ends[-1] = x[1:], T
     widths = ends - x
-    at_kink = np.flatnonzero(kink)
-    theta = np.concatenate([x + _INSIDE * widths, x[at_kink] - _INSIDE * widths[at_kink - 1]])[:, None] + np.arange(K) * T
-    g, v = (a.reshape(theta.shape) for a in slopes(f, theta.ravel()))
+    at_kink = kink.nonzero()[0]
+    theta = np.concatenate([x + _INSIDE * widths, x[at_kink] - _INSIDE * widths[at_kink - 1]])
+    if K > 1:  # (never −0.0, so one copy needs no + 0·T)
+        theta = theta[:, None] + np.arange(K) * T
+    g, v = (a.reshape(-1, K) for a in slopes(f, theta.ravel()))
     # The end of cell i: node i + 1's sample, or its left limit where node i + 1 is a kink.
     src = np.arange(n)
-    src[at_kink] = n + np.arange(len(at_kink))
+    src[at_kink] = np.arange(n, n + len(at_kink))
     pick = np.empty((n, 2), dtype=np.intp)
     pick[:, 0], pick[:-1, 1], pick[-1, 1] = np.arange(n), src[1:], src[0]
     G, V = g[pick], v[pick]
@@ -183,123 +194,6 @@ def _permissions(g: FloatArray, v: FloatArray, stall: tuple[float, float], sigma
     return cast("tuple[np.ndarray, np.ndarray, np.ndarray]", out)  # .any(axis=1) of a 2-d array: arrays
 
 
-def _run_starts(flags: np.ndarray) -> np.ndarray:
-    """For each cell i (cyclic, lifted indices): the first cell of the run of True flags
-    containing it (i + 1 where flags[i] is False); along the last axis (rows of flags
-    at once). Vectorised over three copies."""
-    n = flags.shape[-1]
-    f3 = np.concatenate([flags, flags, flags], axis=-1)
-    last_false = np.maximum.accumulate(np.where(f3, -4 * n, np.arange(-n, 2 * n)), axis=-1)
-    return np.asarray(last_false[..., n:2 * n] + 1)
-
-
-def _run_ends(flags: np.ndarray) -> np.ndarray:
-    """For each cell i (cyclic, lifted indices): the first False cell after it (i itself
-    where flags[i] is False); along the last axis. Vectorised over three copies."""
-    n = flags.shape[-1]
-    f3 = np.concatenate([flags, flags, flags], axis=-1)
-    next_false = np.minimum.accumulate(np.where(f3, 4 * n, np.arange(-n, 2 * n))[..., ::-1], axis=-1)[..., ::-1]
-    return np.asarray(next_false[..., n:2 * n])
-
-
-@dataclass(frozen=True)
-class _Cells:
-    """Cells [x_i, x_i + width_i) over one period T with their permissions and barriers."""
-
-    x: FloatArray
-    T: float
-    right: np.ndarray
-    left: np.ndarray
-    rest: np.ndarray
-    barrier_right: FloatArray
-    barrier_left: FloatArray
-
-    def at(self, j: np.ndarray) -> FloatArray:
-        """Lifted start of cell j (any integer)."""
-        n = len(self.x)
-        return np.asarray(self.x[np.mod(j, n)] + np.floor_divide(j, n) * self.T)
-
-    @cached_property
-    def runs(self) -> FloatArray:
-        """(4, n) lifted cell starts, found in one stacked pass: where the run of
-        right-movable and of forced-right cells (neither left nor rest) containing each
-        cell ends, and where the run of left-movable and of forced-left cells starts."""
-        R, L, S = self.right, self.left, self.rest
-        return self.at(np.concatenate([_run_ends(np.stack([R, ~L & ~S])), _run_starts(np.stack([L, ~R & ~S]))]))
-
-    @cached_property
-    def run_limits(self) -> tuple[FloatArray, FloatArray]:
-        """Where the run of right- (left-) movable cells containing each cell ends (starts),
-        lifted; ±∞ for a run all round the circle (only the barriers stop it)."""
-        run_right = np.full(len(self.x), np.inf) if self.right.all() else self.runs[0]
-        run_left = np.full(len(self.x), -np.inf) if self.left.all() else self.runs[2]
-        return run_right, run_left
-
-
-def _bounds(c: _Cells, tol_rad: float) -> tuple[TransferFunction, TransferFunction]:
-    """Lower and upper step/ramp functions from per-cell permissions and barriers."""
-    R, L, S = c.right, c.left, c.rest
-    run_right, run_left = c.run_limits
-    up = np.where(R, np.minimum(run_right, c.barrier_right), np.where(S, np.nan, c.runs[3]))
-    lo = np.where(L, np.maximum(run_left, c.barrier_left), np.where(S, np.nan, c.runs[1]))
-    if not (np.isfinite(up[R]).all() and np.isfinite(lo[L]).all()):
-        raise NotOrientableError("dead_band", "with this dead band the part may turn without end: the slopes of "
-                                 "the drawing are all within the shape tolerance")
-    ends = np.concatenate([c.x[1:], [c.x[0] + c.T]])
-    up, lo = _monotone(c.x, ends, up, lo, c.T)
-    return _tf(c.x, ends, lo, c.T, tol_rad), _tf(c.x, ends, up, c.T, tol_rad)
-
-
-def _monotone(x: FloatArray, ends: FloatArray, up: FloatArray, lo: FloatArray, T: float) -> tuple[FloatArray, FloatArray]:
-    """Raise upper (lower lower) where barriers made them dip: both must be monotone.
-    A ramp (NaN: θ itself) spans [x_i, end_i); a dipping ramp becomes a step. Cell i is
-    compared with every cell before it over the period before (after it, over the period
-    after)."""
-    nan = np.isnan(up)
-    top, bottom = np.where(nan, ends, up), np.where(nan, x, up)
-    before = np.maximum.accumulate(np.concatenate([[top.max() - T], top[:-1] + 0.0]))
-    up = np.where(bottom + 0.0 < before, np.maximum(before, top + 0.0), up)
-    nan = np.isnan(lo)
-    top, bottom = np.where(nan, ends, lo), np.where(nan, x, lo)
-    after = np.minimum.accumulate(np.concatenate([bottom[1:] + 0.0, [bottom.min() + T]])[::-1])[::-1]
-    lo = np.where(top + 0.0 > after, np.minimum(after, bottom + 0.0), lo)
-    return up, lo
-
-
-def _tf(starts: FloatArray, ends: FloatArray, values: FloatArray, T: float, tol_rad: float) -> TransferFunction:
-    """Cells → pieces, neighbours with the same value (or both ramps) merged first in
-    one array pass, so only the distinct pieces become objects."""
-    nan = np.isnan(values)
-    before, nan_before = np.concatenate([values[-1:], values[:-1]]), np.concatenate([nan[-1:], nan[:-1]])
-    same = (nan & nan_before) | (~nan & ~nan_before & (np.abs(values - before) <= tol_rad))
-    same[0] = False
-    first = np.flatnonzero(~same)
-    last = np.concatenate([first[1:], [len(values)]]) - 1
-    pieces = [TransferPiece(a, b, None if v != v else v)  # v != v: NaN, a ramp
-              for a, b, v in zip(starts[first].tolist(), ends[last].tolist(), values[first].tolist())]
-    return TransferFunction(T, tuple(canonical(pieces, T, tol_rad)))
-
-
-def _rest_zones(nodes: FloatArray, T: float, rest: np.ndarray, P: float) -> tuple[tuple[float, float], ...]:
-    """Maximal rest-possible zones over one natural period P (K = P/T copies of the cells),
-    [start, end) in radians; a zone wrapping past P starts below 0. Vectorised."""
-    K = int(round(P / T))
-    x = (nodes[None, :] + (np.arange(K) * T)[:, None]).ravel()
-    r = np.concatenate([rest] * K)
-    if r.all():
-        return ((0.0, P),)
-    if not r.any():
-        return ()
-    ends = np.concatenate([x[1:], [P]])
-    first = r & ~np.concatenate([r[-1:], r[:-1]])
-    last = r & ~np.concatenate([r[1:], r[:1]])
-    a, b = x[first], ends[last]
-    if r[0] and r[-1]:  # the zone through 0 starts at the last start and ends at the first end
-        b = np.concatenate([b[1:], b[:1]])
-        a[-1] -= P
-    return tuple(zip(a.tolist(), b.tolist()))
-
-
 @dataclass(frozen=True)
 class _Band:
     """The dead band of one set-valued function: stall range (s_lo, s_hi), slope
@@ -323,7 +217,7 @@ class _Pass:
     """One classification of the cells between given nodes; ``near``: the barriers from
     each cell's least f (the first pass, when the value error is positive)."""
 
-    cells: _Cells
+    cells: Cells
     g: FloatArray
     rims: list[float]
     near: tuple[FloatArray, FloatArray] | None
@@ -351,7 +245,7 @@ def _classify(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatAr
     final = not (near and found_basins)
     levels = ((v.max(axis=1).T,) if final else ()) + ((v.min(axis=1).T,) if near else ())
     found = barrier_sets(x, T, starts, levels, band.stall[0], band.err)
-    cells = _Cells(x, T, right, left, rest, *(found[0] if final else (_NONE, _NONE)))
+    cells = Cells(x, T, right, left, rest, *(found[0] if final else (_NONE, _NONE)))
     return _Pass(cells, g, [rim for _, rim in found_basins], found[-1] if near else None)
 
 
@@ -376,7 +270,7 @@ def _to_refine(p: _Pass, band: _Band) -> np.ndarray:
     return np.asarray(slow | bind)
 
 
-def _cells_of(f: SupportPairFunction, T: float, band: _Band, tol_rad: float) -> _Cells:
+def _cells_of(f: SupportPairFunction, T: float, band: _Band, tol_rad: float) -> Cells:
     """The cells of F_κ: nodes at every exact threshold crossing (closed form on
     point-like contacts, bracketed on curves); then, if the first pass finds shallow
     basins, nodes where f crosses their rims (their exact extent), and the uniform grid
@@ -410,7 +304,7 @@ def set_transfer(f: SupportPairFunction, stall: tuple[float, float], sigma: floa
     T = symmetry_period(f, value_tol)
     band = _Band(stall, sigma, jaw_friction, value_tol if value_err is None else value_err, shallow)
     cells = _cells_of(f, T, band, tol_rad)
-    lower, upper = _bounds(cells, tol_rad)
-    zones = _rest_zones(cells.x, T, cells.rest, T)
+    lower, upper = bounds(cells, tol_rad)
+    zones = rest_zones(cells.x, T, cells.rest, T)
     stops = [(p.value, p.value) for F in (lower, upper) for p in F.pieces if p.value is not None]
-    return SetTransfer(lower, upper, P, T, zones if P == T else _rest_zones(cells.x, T, cells.rest, P), (*zones, *stops))
+    return SetTransfer(lower, upper, P, T, zones if P == T else rest_zones(cells.x, T, cells.rest, P), (*zones, *stops))

@@ -12,6 +12,7 @@ from __future__ import annotations
 import bisect
 import math
 import operator
+from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import cached_property
 from typing import NamedTuple
@@ -28,6 +29,11 @@ BoolArray = NDArray[np.bool_]
 LIFTS = range(-1, 4)
 """The periods :attr:`TransferFunction.lifted` covers: a plan's intervals and images
 start in the first period and reach at most two periods beyond it."""
+
+
+FEW_PROBES = 16
+"""Up to this many θ :meth:`TransferFunction.values_at` reads in plain floats (a vectorised
+pass costs ~5 µs whatever its size, a float ~0.4 µs)."""
 
 
 class TransferPiece(NamedTuple):
@@ -79,10 +85,17 @@ class TransferFunction:
 
     @cached_property
     def _search(self) -> tuple[float, FloatArray]:
-        """The first start and the step values with the last repeated: index n (θ rounded
-        up to the end of the period) reads the last piece, as index −1 does."""
+        """The first start and the step values after the last's copy, indexed by the
+        search's insertion point i (the piece i − 1): i = 0 (θ rounded below the first
+        start) reads the last piece."""
         starts, values = self._arrays
-        return float(starts[0]), np.append(values, values[-1:])
+        return float(starts[0]), np.concatenate([values[-1:], values])
+
+    @cached_property
+    def _floats(self) -> tuple[float, list[float], list[float]]:
+        """:attr:`_search` in plain floats, with the piece starts: what :meth:`apply_floats` reads."""
+        first, values = self._search
+        return first, self.starts, values.tolist()
 
     @property
     def starts_array(self) -> FloatArray:
@@ -127,29 +140,47 @@ class TransferFunction:
             return thetas.copy(), np.ones(thetas.shape, dtype=bool)
         out, vals = self._lookup(thetas)
         ramp = np.isnan(vals)
-        out *= self.period  # in place: the lift offset k·P, then the step's value, θ on ramps
-        out += vals
+        out += vals  # in place: the lift offset k·P plus the step's value, θ on ramps
         np.copyto(out, thetas, where=ramp)
         return out, ramp
+
+    def apply_floats(self, thetas: Iterable[float]) -> list[float]:
+        """:meth:`apply` in plain floats, value for value: the same operations in the same
+        order (``math.floor`` made to keep ``np.floor``'s −0.0), for the few θ a vectorised
+        pass costs more than (radians); O(m log n)."""
+        first, starts, values = self._floats
+        P = self.period
+        out = []
+        for t in thetas:
+            q = (t - first) / P
+            f = math.floor(q)
+            kP = (float(f) if f or q else q) * P  # q = ±0.0: np.floor keeps its sign
+            v = values[bisect.bisect_right(starts, t - kP)]
+            out.append(t if v != v else kP + v)  # v != v: NaN, a ramp
+        return out
+
+    def apply_list(self, thetas: list[float]) -> FloatArray:
+        """:meth:`apply` of a list of θ (radians): in plain floats for up to ``FEW_PROBES``
+        (:meth:`apply_floats`), else vectorised; the same values either way."""
+        if len(thetas) <= FEW_PROBES:
+            return np.array(self.apply_floats(thetas), dtype=float)
+        return self.apply(np.array(thetas, dtype=float))
 
     def on_ramp(self, thetas: FloatArray) -> np.ndarray:
         """Whether each θ (radians) lies on a ramp (F(θ) = θ), vectorised; O(m log n)."""
         return np.isnan(self._lookup(np.asarray(thetas, dtype=float))[1])
 
     def _lookup(self, thetas: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """Lift offsets (in periods) and step values (NaN on ramps) of each θ."""
-        starts = self._arrays[0]
+        """Lift offsets k·P (radians) and step values (NaN on ramps) of each θ."""
         first, values = self._search
-        k, x = np.empty_like(thetas), np.empty_like(thetas)  # in place (0-d arrays too)
-        np.subtract(thetas, first, out=k)
-        k /= self.period
-        np.floor(k, out=k)
-        np.multiply(k, self.period, out=x)
-        np.subtract(thetas, x, out=x)
-        # x ≥ starts[0]; x may round up to base + P: index n, which repeats the last value.
-        idx = starts.searchsorted(x, side="right")
-        idx -= 1
-        return k, values[idx]
+        kP = np.empty_like(thetas)  # in place (0-d arrays too)
+        np.subtract(thetas, first, out=kP)
+        kP /= self.period
+        np.floor(kP, out=kP)
+        kP *= self.period
+        # x = θ − k·P ≥ starts[0]; x may round below it: insertion point 0, the last piece.
+        x = np.subtract(thetas, kP, out=np.empty_like(thetas))
+        return kP, values[self._arrays[0].searchsorted(x, side="right")]
 
     def circle_images(self, T: float) -> list[tuple[float, float]]:
         """The arcs, on the circle of circumference T (the symmetry period), that hold
@@ -207,7 +238,13 @@ class TransferFunction:
 
     def values_at(self, thetas: list[float]) -> list[float]:
         """For each θ (radians): the value of the step holding it, lifted (NaN on a ramp),
-        exactly as :meth:`piece_at` finds the piece and its lift; one vectorised pass."""
+        exactly as :meth:`piece_at` finds the piece and its lift: in plain floats for a few
+        θ (a composition's probes), else in one vectorised pass (the same values)."""
+        if len(thetas) <= FEW_PROBES:
+            first, cuts, after = self._floats  # after[i + 1]: piece i's value
+            P = self.period
+            offs = [(math.floor((t - first) / P) + 0.0) * P for t in thetas]
+            return [after[max(bisect.bisect_right(cuts, t - off), 1)] + off for t, off in zip(thetas, offs)]
         th = np.array(thetas, dtype=float)
         starts, values = self._arrays
         # + 0.0: no −0.0 lift (math.floor's int 0 lifts by +0.0).
@@ -220,7 +257,7 @@ class TransferFunction:
         base, P = self.pieces[0].start, self.period
         k0 = math.floor((a - base) / P) - 1
         k1 = math.ceil((b - base) / P) + 1
-        return sorted(s + float(k) * P for k in range(k0, k1 + 1) for s in self.starts)
+        return sorted([s + float(k) * P for k in range(k0, k1 + 1) for s in self.starts])
 
 
 def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> list[TransferPiece]:
@@ -302,18 +339,18 @@ def holding_arcs(lo: FloatArray, hi: FloatArray, T: float) -> list[tuple[float, 
     and leaves out one gap between them (the gap's complement), as lifted intervals,
     shortest first — the first is their circular hull; [(0, T)] when they leave no gap.
     Three lifted copies, so intervals reaching past T cover the start; O(n log n)."""
-    if np.max(hi - lo) >= T:
+    if (hi - lo).max() >= T:
         return [(0.0, T)]
     shift = np.floor(lo / T) * T
     lo, hi = lo - shift, hi - shift
     L = np.concatenate([lo - T, lo, lo + T])
     H = np.concatenate([hi - T, hi, hi + T])
-    order = np.argsort(L, kind="stable")
+    order = L.argsort(kind="stable")
     L, H = L[order], H[order]
     reach = np.maximum.accumulate(H)
     gaps = L[1:] - reach[:-1]
-    ks = np.nonzero((reach[:-1] >= 0.0) & (reach[:-1] < T) & (gaps > 0.0))[0]
+    ks = ((reach[:-1] >= 0.0) & (reach[:-1] < T) & (gaps > 0.0)).nonzero()[0]
     if not len(ks):
         return [(0.0, T)]
-    ks = ks[np.argsort(-gaps[ks], kind="stable")]  # the widest gap left out: the shortest arc
+    ks = ks[(-gaps[ks]).argsort(kind="stable")]  # the widest gap left out: the shortest arc
     return [(float(L[k + 1]), float(reach[k] + T)) for k in ks]

@@ -57,3 +57,24 @@ def test_verify_set_equals_running_every_sample(doc: dict[str, object], action: 
         answers.append(verify_set(p, circle))
         assert answers[-1] == _every_sample(p, circle)
     assert answers[0] and not answers[-1]
+
+
+@pytest.mark.parametrize(("doc", "action"), [(WARM_UP_PART, "push_grasp"), (shapes.rectangle(3.0, 1.0), "squeeze"),
+                                             (shapes.pie(5.0, 20.0), "push_grasp")])
+def test_verify_set_in_floats_answers_as_vectorised(doc: dict[str, object], action: Action,
+                                                    monkeypatch: pytest.MonkeyPatch) -> None:
+    """The plain-float path (few distinct images) and the vectorised one give the same
+    answer, for claimed finals on and off the truth."""
+    from algrasp.planning import verification
+
+    plan = make_plan(analyse_document(doc, ROBUST), action, limits="none")
+    assert plan.bounds is not None
+    circle = plan.bounds.circle_images()[0]
+    u = plan.final_uncertainty
+    for shift in (0.0, 0.999 * u, 1.001 * u, 2.0 * u):
+        p = dataclasses.replace(plan, final_orientations=tuple(f + shift for f in plan.final_orientations))
+        answers = []
+        for few in (0, 10**9):  # never, always in floats
+            monkeypatch.setattr(verification, "FEW_ARCS", few)
+            answers.append(verify_set(p, circle))
+        assert answers[0] == answers[1]
