@@ -32,7 +32,7 @@ from typing import Literal, NamedTuple
 
 import numpy as np
 
-from algrasp.geometry.angles import TWO_PI
+from algrasp.geometry.angles import TWO_PI, wrap_from
 from algrasp.geometry.bank import IntArray
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.hull import ConvexHull, unit
@@ -144,7 +144,7 @@ def _cells(kind: Kind, hull: ConvexHull, angle_rad: float) -> tuple[Cell, ...]:
     if kind == "diameter":
         raw += bp
     base = raw[0]
-    cuts = [base + (c - base) % TWO_PI for c in raw]  # wrap_from on floats, inlined
+    cuts = [wrap_from(c, base) for c in raw]
     n = len(bp)
     order = sorted(range(len(cuts)), key=cuts.__getitem__)
     # Before the first cut: the features of the last cuts of each term (cyclically).

@@ -44,19 +44,22 @@ def first_reaching(q: FloatArray, level: FloatArray, start: IntArray) -> IntArra
     st = np.atleast_2d(np.asarray(start, dtype=np.intp))
     st = st if st.shape == lv.shape else np.broadcast_to(st, lv.shape)
     r, m = q2.shape
-    out = _scan(q2, lv, st) if r * lv.shape[1] * m <= SCAN_SIZE else _lift(q2, lv, st)
+    out = _scan(q2, lv, np.arange(m) >= st[:, :, None]) if r * lv.shape[1] * m <= SCAN_SIZE else _lift(q2, lv, st)
     return out.reshape(np.shape(level))
 
 
-def _scan(q: FloatArray, level: FloatArray, start: IntArray) -> IntArray:
-    """:func:`first_reaching` by comparing every level with every value: (r, n, m + 1)
-    flags, the last column a sentinel that always reaches."""
-    r, m = q.shape
-    hit = np.empty((r, level.shape[1], m + 1), dtype=bool)
-    np.greater_equal(q[:, None, :], level[:, :, None], out=hit[:, :, :m])
-    hit[:, :, :m] &= np.arange(m) >= start[:, :, None]
-    hit[:, :, m] = True
-    return np.asarray(hit.argmax(axis=2))
+def _scan(q: FloatArray, level: FloatArray, past_start: np.ndarray) -> IntArray:
+    """:func:`first_reaching` by comparing every level with every value: ``q`` (r, m)
+    against ``level`` (..., r, n) (leading axes: several level sets against the same
+    rows, no copies of them), ``past_start`` (r, n, m) whether each value is at or past
+    each search's start. (..., r, n) indices, m where none reaches: (…, m + 1) flags, the
+    last column a sentinel that always reaches."""
+    m = q.shape[1]
+    hit = np.empty((*level.shape, m + 1), dtype=bool)
+    np.greater_equal(q[:, None, :], level[..., None], out=hit[..., :m])
+    hit[..., :m] &= past_start
+    hit[..., m] = True
+    return np.asarray(hit.argmax(axis=-1))
 
 
 def _lift(q: FloatArray, level: FloatArray, start: IntArray) -> IntArray:
@@ -126,26 +129,12 @@ def barrier_sets(x: FloatArray, T: float, node_values: FloatArray, cell_levels: 
     level = np.concatenate([lv for c, d in zip(cell_levels, moved) for lv in (c + up + e2, d - down + e2)])
     m = 2 * n
     if L * rows.shape[0] * n * m <= SCAN_SIZE:  # first_reaching's own choice, without its argument checks
-        found = _scan_rows(rows, level.reshape(L, 2 * K, n))
+        found = _scan(rows, level.reshape(L, 2 * K, n), _past_start(n, K))
     else:
         start = np.empty((L, 2, K, n), dtype=np.intp)
         start[:, 0], start[:, 1] = np.arange(1, n + 1), np.arange(n - 1, -1, -1)
         found = _lift(rows if L == 1 else np.concatenate([rows] * L), level, start.reshape(-1, n))
     return _farthest(found.reshape(L, 2, K, n), right_at, T)
-
-
-def _scan_rows(rows: FloatArray, level: FloatArray) -> IntArray:
-    """:func:`_scan` of the barrier searches: ``rows`` (2K, 2n) (K rightward, K mirrored
-    leftward) against ``level`` (L, 2K, n), every level set against the same rows (no
-    copies of them) and the searches' fixed starts (i + 1 rightward, n − 1 − i in the
-    mirror) as one cached mask. (L, 2K, n) indices, 2n where none reaches."""
-    L, r, n = level.shape
-    m = 2 * n
-    hit = np.empty((L, r, n, m + 1), dtype=bool)
-    np.greater_equal(rows[None, :, None, :], level[..., None], out=hit[..., :m])
-    hit[..., :m] &= _past_start(n, r // 2)
-    hit[..., m] = True
-    return np.asarray(hit.argmax(axis=3))
 
 
 @functools.lru_cache(maxsize=64)

@@ -15,7 +15,6 @@ Pure: no I/O. O(n log n) in the pieces.
 
 from __future__ import annotations
 
-import bisect
 import functools
 import math
 
@@ -51,39 +50,17 @@ def pointwise(fs: list[TransferFunction], take_max: bool, tol_rad: float) -> Tra
     """
     P = fs[0].period
     cuts = _cuts(fs, fs[0].pieces[0].start, P)
-    # The identity is a ramp everywhere: it adds the ramp and no constant to every cell.
-    looked = [_lookup(F) for F in fs if len(F.pieces) > 1 or F.pieces[0].value is not None]
-    ramp_always = len(looked) < len(fs)
+    cells = [(a, b) for a, b in zip(cuts[:-1], cuts[1:]) if b - a > 0.0]
+    mids = [0.5 * (a + b) for a, b in cells]
+    # Every function's step at every cell's middle (NaN on a ramp). The identity is a ramp
+    # everywhere: it adds the ramp and no constant to every cell, with no lookup.
+    steps = [F.steps_floats(mids) for F in fs if len(F.pieces) > 1 or F.pieces[0].value is not None]
+    ramp_always = len(steps) < len(fs)
     pieces: list[TransferPiece] = []
-    for a, b in zip(cuts[:-1], cuts[1:]):
-        if b - a > 0.0:
-            mid = 0.5 * (a + b)  # every function at the cell's middle
-            ramp, consts = ramp_always, []
-            for first, starts, values, period in looked:
-                v = _value_at(mid, first, starts, values, period)
-                if v != v:  # NaN: on a ramp
-                    ramp = True
-                else:
-                    consts.append(v)
-            pieces.extend(_extreme(a, b, ramp, consts, take_max))
+    for (a, b), vs in zip(cells, zip(*steps) if steps else [()] * len(cells)):
+        consts = [v for v in vs if v == v]
+        pieces.extend(_extreme(a, b, ramp_always or len(consts) < len(vs), consts, take_max))
     return TransferFunction(P, tuple(canonical(pieces, P, tol_rad)))
-
-
-def _lookup(F: TransferFunction) -> tuple[float, list[float], list[float], float]:
-    """F's first start, piece starts, step values (NaN on ramps, the last repeated: index
-    n, or −1, reads the last piece) and period (its own: the push's bounds have the
-    push's symmetry period), as :meth:`TransferFunction.apply_on_ramp` reads them."""
-    values = [math.nan if p.value is None else p.value for p in F.pieces]
-    return F.starts[0], F.starts, [*values, values[-1]], F.period
-
-
-def _value_at(theta: float, first: float, starts: list[float], values: list[float], P: float) -> float:
-    """F(θ) on a step (lifted), NaN on a ramp: :meth:`TransferFunction.apply_on_ramp`'s
-    arithmetic in plain floats, bit for bit (np.floor keeps the sign of a zero)."""
-    q = (theta - first) / P
-    k = float(math.floor(q)) if q else q
-    v = values[bisect.bisect_right(starts, theta - k * P) - 1]
-    return v if v != v else k * P + v
 
 
 def _extreme(a: float, b: float, ramp: bool, consts: list[float], take_max: bool) -> list[TransferPiece]:

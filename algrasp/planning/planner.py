@@ -231,7 +231,8 @@ def _sink_widths(lower: TransferFunction, upper: TransferFunction, lifted: Lifte
     """Distinct image widths upper(x) − lower(x) at piece starts, smallest first."""
     xs = np.array(lower.starts + upper.starts)
     width = upper.apply(xs) - lifted.value_at(xs)
-    return sorted(set(width[(width >= 0.0) & (width <= max_rad)].round(10).tolist()))[:MAX_SINKS]  # _unique's values
+    sinks: list[float] = _unique(width[(width >= 0.0) & (width <= max_rad)].round(10))[:MAX_SINKS].tolist()
+    return sinks
 
 
 def _margin_error(margin: float, intervals: list[tuple[float, float]]) -> NotOrientableError:

@@ -12,7 +12,7 @@ from __future__ import annotations
 import bisect
 import math
 import operator
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from typing import NamedTuple
@@ -93,7 +93,7 @@ class TransferFunction:
 
     @cached_property
     def _floats(self) -> tuple[float, list[float], list[float]]:
-        """:attr:`_search` in plain floats, with the piece starts: what :meth:`apply_floats` reads."""
+        """:attr:`_search` in plain floats, with the piece starts: what :meth:`steps_floats` reads."""
         first, values = self._search
         return first, self.starts, values.tolist()
 
@@ -144,10 +144,15 @@ class TransferFunction:
         np.copyto(out, thetas, where=ramp)
         return out, ramp
 
-    def apply_floats(self, thetas: Iterable[float]) -> list[float]:
-        """:meth:`apply` in plain floats, value for value: the same operations in the same
-        order (``math.floor`` made to keep ``np.floor``'s −0.0), for the few θ a vectorised
-        pass costs more than (radians); O(m log n)."""
+    def apply_floats(self, thetas: Sequence[float]) -> list[float]:
+        """:meth:`apply` in plain floats, value for value (:meth:`steps_floats`, θ itself on
+        ramps), for the few θ a vectorised pass costs more than (radians); O(m log n)."""
+        return [t if v != v else v for t, v in zip(thetas, self.steps_floats(thetas))]  # v != v: NaN, a ramp
+
+    def steps_floats(self, thetas: Iterable[float]) -> list[float]:
+        """For each θ (radians) the lifted value of the step holding it, NaN on a ramp:
+        :meth:`apply_on_ramp`'s lookup in plain floats, the same operations in the same
+        order (``math.floor`` made to keep ``np.floor``'s −0.0); O(m log n)."""
         first, starts, values = self._floats
         P = self.period
         out = []
@@ -155,8 +160,7 @@ class TransferFunction:
             q = (t - first) / P
             f = math.floor(q)
             kP = (float(f) if f or q else q) * P  # q = ±0.0: np.floor keeps its sign
-            v = values[bisect.bisect_right(starts, t - kP)]
-            out.append(t if v != v else kP + v)  # v != v: NaN, a ramp
+            out.append(kP + values[bisect.bisect_right(starts, t - kP)])
         return out
 
     def apply_list(self, thetas: list[float]) -> FloatArray:
