@@ -93,9 +93,11 @@ class TransferFunction:
 
     @cached_property
     def _floats(self) -> tuple[float, list[float], list[float]]:
-        """:attr:`_search` in plain floats, with the piece starts: what :meth:`steps_floats` reads."""
-        first, values = self._search
-        return first, self.starts, values.tolist()
+        """:attr:`_search` in plain floats, with the piece starts: what :meth:`steps_floats`
+        reads. Made from the pieces directly (the same floats: no array is needed)."""
+        starts = self.starts
+        values = [math.nan if p.value is None else float(p.value) for p in self.pieces]
+        return float(starts[0]), starts, [values[-1], *values]
 
     @property
     def starts_array(self) -> FloatArray:
@@ -269,7 +271,7 @@ def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> lis
     first start in [0, period) and sort. O(n log n), in plain Python (n is small)."""
     merged: list[TransferPiece] = []
     last_value: float | None = 0.0
-    for p in pieces:  # _same_kind inlined: this loop runs for every piece of every function made
+    for p in pieces:  # the kinds compared inline: this loop runs for every piece of every function made
         value = p.value
         if merged and (value is None if last_value is None else
                        value is not None and abs(last_value - value) <= tol_rad):
@@ -277,10 +279,18 @@ def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> lis
         else:
             merged.append(p)
             last_value = value
-    if len(merged) > 1 and _same_kind(merged[-1], merged[0].shifted(period), tol_rad):
+    wrapped = None if len(merged) < 2 or merged[0].value is None else merged[0].value + period  # merged[0].shifted's
+    if len(merged) > 1 and (last_value is None if wrapped is None else
+                            last_value is not None and abs(last_value - wrapped) <= tol_rad):
         last = merged.pop()
         merged[0] = TransferPiece(last.start - period, merged[0].end, None if last.value is None else last.value - period)
     top = period - tol_rad
+    if merged and merged[0].start >= 0.0 and merged[-1].start < top and \
+            math.floor(merged[-1].start / period + ROUNDING) == 0:
+        # Sorted and in [0, top) (the shift below is monotone in the start): nothing moves.
+        starts = [p.start for p in merged]
+        if starts == sorted(starts):
+            return merged
     out = []
     for p in merged:
         start = p.start
@@ -293,13 +303,6 @@ def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> lis
 
 
 _START = operator.itemgetter(0)
-
-
-def _same_kind(a: TransferPiece, b: TransferPiece, tol: float) -> bool:
-    av, bv = a.value, b.value
-    if av is None:
-        return bv is None
-    return bv is not None and abs(av - bv) <= tol
 
 
 def from_runs(runs: list[Run], period: float, tol_rad: float) -> TransferFunction:

@@ -1,0 +1,121 @@
+"""Fast paths of the robust model (issue 34): each gives the general path's values bit
+for bit, on parts and piece lists the tests make themselves."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from algrasp.planning.analysis import ROBUST, analyse_document
+from algrasp.planning.setvalued import SetTransfer
+from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical
+from algrasp.testing import shapes
+
+_DOCS = [shapes.regular_polygon(3, 2.0, 7.0), shapes.rectangle(3.0, 1.0), shapes.pie(5.0, 20.0),
+         *(shapes.random_polygon(n, seed) for n, seed in ((5, 1), (7, 2), (9, 3), (10, 4)))]
+
+
+def _sets() -> list[SetTransfer]:
+    out = []
+    for doc in _DOCS:
+        r = analyse_document(doc, ROBUST).robust
+        assert r is not None
+        out += [S for S in (r.squeeze, r.push, r.push_grasp) if S is not None]
+    return out
+
+
+_SETS = _sets()
+
+
+def _bits(xs: object) -> bytes:
+    return np.array(xs, dtype=float).tobytes()
+
+
+@pytest.mark.parametrize("F", [F for S in _SETS for F in (S.lower, S.upper)])
+def test_floats_are_the_arrays_floats(F: TransferFunction) -> None:
+    """The plain-float lookup table is the array one's, bit for bit (NaN on ramps)."""
+    first, starts, values = F._floats
+    a_first, a_values = F._search
+    assert _bits(first) == _bits(float(a_first)) and _bits(starts) == _bits(F._arrays[0])
+    assert _bits(values) == a_values.tobytes()
+
+
+def _general_canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> list[TransferPiece]:
+    """canonical written out without its shortcut: merge, wrap, shift each piece, sort."""
+    merged: list[TransferPiece] = []
+    for p in pieces:
+        if merged and ((merged[-1].value is None and p.value is None) or (
+                merged[-1].value is not None and p.value is not None and abs(merged[-1].value - p.value) <= tol_rad)):
+            merged[-1] = TransferPiece(merged[-1].start, p.end, merged[-1].value)
+        else:
+            merged.append(p)
+    if len(merged) > 1:
+        a, b = merged[-1], merged[0].shifted(period)
+        if (a.value is None and b.value is None) or (
+                a.value is not None and b.value is not None and abs(a.value - b.value) <= tol_rad):
+            last = merged.pop()
+            merged[0] = TransferPiece(last.start - period, merged[0].end,
+                                      None if last.value is None else last.value - period)
+    out = []
+    for p in merged:
+        k = math.floor(p.start / period + 1e-12) if p.start >= 0 else math.floor(p.start / period)
+        if k:
+            p = p.shifted(-k * period)
+        out.append(p.shifted(-period) if p.start >= period - tol_rad else p)
+    return sorted(out, key=lambda p: p.start)
+
+
+_piece_lists = st.lists(st.tuples(st.floats(-1.0, 7.5), st.floats(0.0, 2.0), st.one_of(st.none(), st.floats(-7.0, 14.0)),
+                                  st.booleans()), min_size=1, max_size=12)
+
+
+@settings(max_examples=400, deadline=None)
+@given(_piece_lists, st.sampled_from([np.pi, 2.0 * np.pi]), st.sampled_from([0.0, 1e-9, 0.3]), st.booleans())
+def test_canonical_is_the_general_path(raw: list[tuple[float, float, float | None, bool]], period: float,
+                                       tol_rad: float, contiguous: bool) -> None:
+    """Piece lists sorted and in range (the shortcut), and not (shifted, unsorted, wrapping
+    merges, starts a hair below the period): the same pieces, bit for bit."""
+    if contiguous:  # sorted pieces tiling [s, s + period): the shortcut's case when s ≥ 0
+        s = abs(raw[0][0]) % period
+        cuts = sorted({s + (period * abs(a) / 7.5) % period for a, _, _, _ in raw} | {s})
+        ends = [*cuts[1:], s + period]
+        pieces = [TransferPiece(a, b, None if v is None else v) for a, b, (_, _, v, _) in zip(cuts, ends, raw)]
+    else:
+        pieces = [TransferPiece(period - 1e-13 if near else a, (period - 1e-13 if near else a) + w, v)
+                  for a, w, v, near in raw]
+    got, want = canonical(list(pieces), period, tol_rad), _general_canonical(list(pieces), period, tol_rad)
+    assert [(p.start, p.end, p.value) for p in got] == [(p.start, p.end, p.value) for p in want]
+    assert _bits([(p.start, p.end, math.nan if p.value is None else p.value) for p in got]) == \
+        _bits([(p.start, p.end, math.nan if p.value is None else p.value) for p in want])
+
+
+def _meeting_arrays(S: SetTransfer, lo: list[float], hi: list[float], T: float) -> tuple[tuple[float, float], ...]:
+    """The outcome test in arrays (as composition first wrote it)."""
+    lo_a, hi_a = np.array(lo), np.array(hi)
+    copies = np.arange(max(1, int(round(T / S.symmetry)))) * S.symmetry
+    mine = (np.array(S.outcomes)[None, :, :] + copies[:, None, None]).reshape(-1, 2)
+    start = np.mod(mine[:, 0] - lo_a[:, None], T)
+    meets = (start <= (hi_a - lo_a)[:, None]) | (start + (mine[:, 1] - mine[:, 0])[None, :] >= T)
+    return tuple(map(tuple, mine[meets.any(axis=0)].tolist()))
+
+
+@pytest.mark.parametrize("S", _SETS)
+def test_meeting_is_the_array_test(S: SetTransfer) -> None:
+    """Random arcs (and the arcs a composition passes) over T = the symmetry and 2π."""
+    rng = np.random.default_rng(5)
+    for T in {S.symmetry, 2.0 * np.pi}:
+        for _ in range(30):
+            lo = rng.uniform(-T, 2.0 * T, int(rng.integers(1, 6)))
+            hi = lo + rng.uniform(0.0, T, len(lo)) * rng.choice([0.0, 0.01, 1.0], len(lo))
+            got = S._meeting(lo.tolist(), hi.tolist(), T)
+            assert _bits(got) == _bits(_meeting_arrays(S, lo.tolist(), hi.tolist(), T)) and len(got) == len(
+                _meeting_arrays(S, lo.tolist(), hi.tolist(), T))
+        for inner in _SETS:
+            if inner.symmetry == T:
+                lo_l = S.lower.apply_list([a for a, _ in inner.outcomes]).tolist()
+                hi_l = S.upper.apply_list([b for _, b in inner.outcomes]).tolist()
+                assert S._meeting(lo_l, hi_l, T) == _meeting_arrays(S, lo_l, hi_l, T)
