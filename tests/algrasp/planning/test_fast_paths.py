@@ -10,6 +10,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from algrasp.geometry.functions import SupportPairFunction, analyse
+from algrasp.geometry.part import load_part
+from algrasp.geometry.tolerances import DEFAULT_TOLERANCES as TOL
+from algrasp.planning import symmetry
 from algrasp.planning.analysis import ROBUST, analyse_document
 from algrasp.planning.setvalued import SetTransfer
 from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical
@@ -119,3 +123,41 @@ def test_meeting_is_the_array_test(S: SetTransfer) -> None:
                 lo_l = S.lower.apply_list([a for a, _ in inner.outcomes]).tolist()
                 hi_l = S.upper.apply_list([b for _, b in inner.outcomes]).tolist()
                 assert S._meeting(lo_l, hi_l, T) == _meeting_arrays(S, lo_l, hi_l, T)
+
+
+def _lowest(f: SupportPairFunction) -> tuple[float, float]:
+    e = min(f.extrema, key=lambda e: e.value)
+    return e.theta, e.value
+
+
+def _functions_of(doc: dict[str, object]) -> list[SupportPairFunction]:
+    part = load_part(doc, TOL, snap=True)
+    return [analyse(kind, part.hull, part.center_of_mass, part.size, TOL) for kind in ("diameter", "radius")]
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(3, 12), st.integers(0, 10_000), st.sampled_from([1e-7, 7e-7, 1e-4, 1e-2, 0.2]))
+def test_none_by_runs_only_when_every_order_fails(n: int, seed: int, value_tol: float) -> None:
+    """Random polygons: the runs' verdict, when it gives one, is the test of every shifted
+    point (all 359 evaluated here), and the symmetry found with and without it agree."""
+    for f in _functions_of(shapes.random_polygon(n, seed)):
+        if not f.extrema:
+            continue
+        theta, value = _lowest(f)
+        threshold = value_tol + symmetry.SCREEN_SLACK * abs(value)
+        every = bool((np.abs(f.values(theta + f.period / symmetry._ORDERS) - value) > threshold).all())
+        assert not symmetry._none_by_runs(f, theta, value, threshold) or every
+        assert symmetry._none_at(f, theta, value, symmetry._ORDERS, value_tol) == every
+
+
+@pytest.mark.parametrize("doc", [shapes.rectangle(3.0, 1.0), shapes.regular_polygon(5), shapes.regular_polygon(7, 1.0, 3.0),
+                                 shapes.pie(5.0, 20.0), shapes.disk_with_flats(), shapes.reuleaux(),
+                                 shapes.bezier_cam(), *_DOCS])
+def test_symmetry_with_and_without_the_runs_verdict(doc: dict[str, object], monkeypatch: pytest.MonkeyPatch) -> None:
+    """Symmetric, arc and curve parts: the same period with the runs' verdict as without."""
+    for value_tol in (1e-7, 1e-4, 1e-2):
+        fast = [symmetry.tolerant_symmetry(f, value_tol) for f in _functions_of(doc)]
+        with monkeypatch.context() as m:
+            m.setattr(symmetry, "_none_by_runs", lambda *a: False)
+            slow = [symmetry.tolerant_symmetry(f, value_tol) for f in _functions_of(doc)]
+        assert _bits(fast) == _bits(slow)
