@@ -43,7 +43,7 @@ from algrasp.planning.barriers import barrier_sets, basin_cells, basins
 from algrasp.planning.edges import CURVE_GRID_RAD, crossings, slopes
 from algrasp.planning.setcells import Cells, bounds, rest_zones
 from algrasp.planning.symmetry import symmetry_period
-from algrasp.planning.transfer import TransferFunction, holding_arcs
+from algrasp.planning.transfer import TransferFunction, arcs_holding
 
 GRID_RAD = 2e-3
 """Largest cell of the classification grid (0.115°): dead-zone edges are placed to this
@@ -101,9 +101,7 @@ class SetTransfer:
 
     @cached_property
     def _circle_images(self) -> tuple[tuple[float, float], ...]:
-        lo = np.array([a for a, _ in self.outcomes])
-        hi = np.array([b for _, b in self.outcomes])
-        return tuple(holding_arcs(lo, hi, self.symmetry))
+        return tuple(arcs_holding([a for a, _ in self.outcomes], [b for _, b in self.outcomes], self.symmetry))
 
     def compose_after(self, inner: SetTransfer, tol_rad: float) -> SetTransfer:
         """self ∘ inner (inner acts first): bounds compose since both are monotone. The

@@ -16,7 +16,7 @@ from algrasp.geometry.tolerances import DEFAULT_TOLERANCES as TOL
 from algrasp.planning import symmetry
 from algrasp.planning.analysis import ROBUST, analyse_document
 from algrasp.planning.setvalued import SetTransfer
-from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical
+from algrasp.planning.transfer import TransferFunction, TransferPiece, arcs_holding, canonical, holding_arcs
 from algrasp.testing import shapes
 
 _DOCS = [shapes.regular_polygon(3, 2.0, 7.0), shapes.rectangle(3.0, 1.0), shapes.pie(5.0, 20.0),
@@ -161,3 +161,47 @@ def test_symmetry_with_and_without_the_runs_verdict(doc: dict[str, object], monk
             m.setattr(symmetry, "_none_by_runs", lambda *a: False)
             slow = [symmetry.tolerant_symmetry(f, value_tol) for f in _functions_of(doc)]
         assert _bits(fast) == _bits(slow)
+
+
+_intervals = st.lists(st.tuples(st.sampled_from([-7.0, -3.1, -0.0, 0.0, 0.5, 1.0, 3.1, 6.2]) | st.floats(-8.0, 8.0),
+                                st.sampled_from([0.0, 0.5, 1.0]) | st.floats(0.0, 7.0)), min_size=1, max_size=20)
+
+
+@settings(max_examples=500, deadline=None)
+@given(_intervals, st.sampled_from([np.pi, 2.0 * np.pi, 2.0 * np.pi / 5, 1.0]))
+def test_arcs_holding_is_holding_arcs(pairs: list[tuple[float, float]], T: float) -> None:
+    """Random intervals (±0.0, repeated ends, ties between gaps, wider than T): the plain-float
+    arcs are the vectorised ones, bit for bit."""
+    lo = [a for a, _ in pairs]
+    hi = [a + w for a, w in pairs]
+    got, want = arcs_holding(lo, hi, T), holding_arcs(np.array(lo), np.array(hi), T)
+    assert len(got) == len(want) and _bits(got) == _bits(want)
+
+
+@pytest.mark.parametrize("S", _SETS)
+def test_circle_images_in_floats(S: SetTransfer) -> None:
+    """The arcs every robust function of the parts keeps are the vectorised ones."""
+    want = holding_arcs(np.array([a for a, _ in S.outcomes]), np.array([b for _, b in S.outcomes]), S.symmetry)
+    assert _bits(S.circle_images()) == _bits(want) and len(S.circle_images()) == len(want)
+    for F in (S.lower, S.upper):
+        lo = np.array([p.start if p.value is None else p.value for p in F.pieces])
+        hi = np.array([p.end if p.value is None else p.value for p in F.pieces])
+        assert _bits(F.circle_images(S.symmetry)) == _bits(holding_arcs(lo, hi, S.symmetry))
+
+
+def _lifted_arrays(F: TransferFunction) -> tuple[np.ndarray, ...]:
+    """The lifted pieces as first written: starts, ends and values (a ramp's start) of
+    every piece plus k·P for k = −1 … 3, and the ramp flags."""
+    starts = np.array([p.start for p in F.pieces])
+    values = np.array([np.nan if p.value is None else p.value for p in F.pieces])
+    ramp = np.isnan(values)
+    lift = (np.arange(-1, 4) * F.period)[:, None]
+    return ((starts + lift).ravel(), (np.array([p.end for p in F.pieces]) + lift).ravel(),
+            (np.where(ramp, starts, values) + lift).ravel(), np.concatenate([ramp] * 5))
+
+
+@pytest.mark.parametrize("F", [F for S in _SETS for F in (S.lower, S.upper)])
+def test_lifted_is_the_piecewise_lifting(F: TransferFunction) -> None:
+    got = F.lifted
+    assert all(g.tobytes() == w.tobytes() and g.dtype == w.dtype for g, w in zip(got, _lifted_arrays(F)))
+    assert not any(g.flags.writeable for g in got)
