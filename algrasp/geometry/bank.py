@@ -14,6 +14,7 @@ lengths of all features at once (used for the diameter/radius analysis).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
@@ -219,8 +220,9 @@ class FeatureTable:
         """Every feature a vertex (radius +0.0, no curve) and no centre coordinate −0.0: the
         support point is the centre itself, exactly c + 0·u(ψ), and the support value
         ⟨c, u⟩ + 0.0 (a polygon's hull)."""
-        return (not len(self.s0) and not self.radii.any() and not np.signbit(self.radii).any()
-                and not np.signbit(self.centers[self.centers == 0.0]).any())
+        # In plain floats (a few features; ~8 array calls otherwise): −0.0 has its sign bit.
+        return not len(self.s0) and all(r == 0.0 and math.copysign(1.0, r) > 0.0 for r in self.radii.tolist()) and \
+            not any(c == 0.0 and math.copysign(1.0, c) < 0.0 for xy in self.centers.tolist() for c in xy)
 
     @cached_property
     def _center_columns(self) -> tuple[FloatArray, FloatArray]:

@@ -236,5 +236,6 @@ def _grid(f: SupportPairFunction, tol: Tolerances, grid_rad: float) -> _Grid:
         out = _Grid(_contacts(cells[~curved], centres, radii), theta, cell, slope, value)
     c = out.contacts
     for a in (c.rho, c.R, c.phi0, c.a, c.b, out.theta, out.cell, out.slope, out.value):
-        a.setflags(write=False)
+        if a.flags.writeable:  # (the shared empty grid already is not)
+            a.setflags(write=False)
     return out

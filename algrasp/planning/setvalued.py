@@ -43,7 +43,7 @@ from algrasp.planning.barriers import barrier_sets, basin_cells, basins
 from algrasp.planning.edges import CURVE_GRID_RAD, crossings, slopes
 from algrasp.planning.setcells import Cells, bounds, rest_zones
 from algrasp.planning.symmetry import symmetry_period
-from algrasp.planning.transfer import TransferFunction, holding_arcs
+from algrasp.planning.transfer import TransferFunction, arcs_holding
 
 GRID_RAD = 2e-3
 """Largest cell of the classification grid (0.115°): dead-zone edges are placed to this
@@ -101,9 +101,7 @@ class SetTransfer:
 
     @cached_property
     def _circle_images(self) -> tuple[tuple[float, float], ...]:
-        lo = np.array([a for a, _ in self.outcomes])
-        hi = np.array([b for _, b in self.outcomes])
-        return tuple(holding_arcs(lo, hi, self.symmetry))
+        return tuple(arcs_holding([a for a, _ in self.outcomes], [b for _, b in self.outcomes], self.symmetry))
 
     def compose_after(self, inner: SetTransfer, tol_rad: float) -> SetTransfer:
         """self ∘ inner (inner acts first): bounds compose since both are monotone. The
@@ -111,16 +109,26 @@ class SetTransfer:
         image of one of inner's outcomes."""
         lower = self.lower.compose_after(inner.lower, tol_rad)
         upper = self.upper.compose_after(inner.upper, tol_rad)
-        lo = self.lower.apply_list([a for a, _ in inner.outcomes])  # self.image of inner's outcomes
-        hi = self.upper.apply_list([b for _, b in inner.outcomes])
-        # self's outcomes repeat with its period; the composition has inner's.
-        T = inner.symmetry
-        copies = np.arange(max(1, int(round(T / self.symmetry)))) * self.symmetry
-        mine = (np.array(self.outcomes)[None, :, :] + copies[:, None, None]).reshape(-1, 2)
-        start = np.mod(mine[:, 0] - lo[:, None], T)  # outcome start relative to each image start
-        meets = (start <= (hi - lo)[:, None]) | (start + (mine[:, 1] - mine[:, 0])[None, :] >= T)
-        kept = tuple(map(tuple, mine[meets.any(axis=0)].tolist()))
-        return SetTransfer(lower, upper, inner.period, inner.symmetry, inner.rest_zones, kept)
+        lo = self.lower.apply_list([a for a, _ in inner.outcomes]).tolist()  # self.image of inner's outcomes
+        hi = self.upper.apply_list([b for _, b in inner.outcomes]).tolist()
+        return SetTransfer(lower, upper, inner.period, inner.symmetry, inner.rest_zones,
+                           self._meeting(lo, hi, inner.symmetry))
+
+    def _meeting(self, lo: list[float], hi: list[float], T: float) -> tuple[tuple[float, float], ...]:
+        """self's outcomes, in each copy over the period T (they repeat with self's
+        symmetry), that meet one of the arcs [lo_i, hi_i] on the circle of circumference T
+        (radians, lifted). Plain floats, a few outcomes and arcs: O(n·m)."""
+        widths = [y - x for x, y in zip(lo, hi)]
+        kept = []
+        for c in [k * self.symmetry for k in range(max(1, int(round(T / self.symmetry))))]:
+            for a, b in self.outcomes:
+                a, b = float(a + c), float(b + c)
+                for x, w in zip(lo, widths):
+                    start = (a - x) % T  # the outcome's start relative to the arc's
+                    if start <= w or start + (b - a) >= T:
+                        kept.append((a, b))
+                        break
+        return tuple(kept)
 
 def _nodes(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatArray) -> tuple[FloatArray, np.ndarray]:
     """Cell nodes in [0, T): ``edges`` (threshold crossings), ``grid``, breakpoints (θ of

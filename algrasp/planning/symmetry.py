@@ -7,6 +7,7 @@ count by rolling, the others screened by a Fourier bound and confirmed on f itse
 
 from __future__ import annotations
 
+import bisect
 import functools
 
 import numpy as np
@@ -118,10 +119,49 @@ f, so the test it saves would have failed them too."""
 def _none_at(f: SupportPairFunction, theta: float, value: float, ks: np.ndarray, value_tol: float) -> bool:
     """Whether every order k fails at one extremum (θ, f(θ)) by more than the slack: then
     :func:`_extremum_orders` allows none (a part without symmetry, at half the cost of
-    trying two extrema; the lowest, where f rises on both sides). O(len(ks))."""
+    trying two extrema; the lowest, where f rises on both sides). O(len(ks)), or
+    O(r log len(ks)) for r runs when :func:`_none_by_runs` settles it."""
+    threshold = value_tol + SCREEN_SLACK * abs(value)
+    if ks is _ORDERS and _none_by_runs(f, theta, value, threshold):
+        return True
     shifts = _shifts(f.period, ks)
     shifted = f.values(theta + shifts)
-    return bool((np.abs(shifted - value) > value_tol + SCREEN_SLACK * abs(value)).all())
+    return bool((np.abs(shifted - value) > threshold).all())
+
+
+MONOTONE_SLACK = 1e-5
+"""Relative margin (to f's largest extremum, which bounds |f′|) by which the points
+:func:`_none_by_runs` evaluates must clear the threshold: a hundred times what a run's
+absorbed slivers (``sliver_rad``, 1e-7 rad) and merged cuts (``angle_rad``) can make f
+dip inside it, far above the evaluations' rounding."""
+_SHIFT_LISTS = {P: shifts.tolist() for P, shifts in _ALL_SHIFTS.items()}
+""":data:`_ALL_SHIFTS` as floats, ascending (the orders descend)."""
+
+
+def _none_by_runs(f: SupportPairFunction, theta: float, value: float, threshold: float) -> bool:
+    """True when every shifted point θ + P/k (k = 2 … ``MAX_SYMMETRY_ORDER``) lies more than
+    ``threshold`` + the slack above f(θ) = ``value`` (the lowest extremum), so that every
+    order fails there, judged from a few evaluations: f is monotone on each run (its
+    extrema are exact where every contact is point-like: closed forms), so on the
+    shifted points inside one run it is least at the first or the last of them. False
+    (undecided: the full evaluation decides) when one of those is not that far above, or
+    when a curve contact makes the runs' ends bracketed roots. O(r log k) for r runs."""
+    if len(f.hull.table.s0):
+        return False
+    P, shifts = f.period, _SHIFT_LISTS.get(f.period)
+    if shifts is None:
+        return False
+    cuts = sorted({(r.start - theta) % P for r in f.runs} | {0.0, P})  # run ends as offsets from θ
+    picks: list[int] = []
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        i, j = bisect.bisect_left(shifts, a), bisect.bisect_left(shifts, b)
+        if j > i:
+            picks += (i, j - 1)
+    if not picks:
+        return True
+    guard = threshold + MONOTONE_SLACK * max(e.value for e in f.extrema)
+    lows = f.values(theta + np.array([shifts[i] for i in picks]))
+    return bool((lows - value > guard).all())
 
 
 SCREEN_HARMONICS = 64

@@ -93,9 +93,11 @@ class TransferFunction:
 
     @cached_property
     def _floats(self) -> tuple[float, list[float], list[float]]:
-        """:attr:`_search` in plain floats, with the piece starts: what :meth:`steps_floats` reads."""
-        first, values = self._search
-        return first, self.starts, values.tolist()
+        """:attr:`_search` in plain floats, with the piece starts: what :meth:`steps_floats`
+        reads. Made from the pieces directly (the same floats: no array is needed)."""
+        starts = self.starts
+        values = [math.nan if p.value is None else float(p.value) for p in self.pieces]
+        return float(starts[0]), starts, [values[-1], *values]
 
     @property
     def starts_array(self) -> FloatArray:
@@ -107,14 +109,14 @@ class TransferFunction:
         """The pieces lifted over the periods −1 … 3 (``LIFTS``), as read-only arrays
         (5n,) sorted by start: starts, ends, values (a ramp's is its start) and ramp
         flags. Algorithm A′ searches these; built once per function, O(n)."""
-        starts, values = self._arrays
-        ramp = np.isnan(values)
-        lift = (np.arange(LIFTS.start, LIFTS.stop) * self.period)[:, None]
-        out = ((starts + lift).ravel(), (np.array([p.end for p in self.pieces]) + lift).ravel(),
-               (np.where(ramp, starts, values) + lift).ravel(), np.concatenate([ramp] * len(LIFTS)))
-        for a in out:
-            a.flags.writeable = False
-        return out
+        pieces = self.pieces
+        rows = np.array([self.starts, [p.end for p in pieces], [p.start if p.value is None else p.value for p in pieces]],
+                        dtype=float)
+        # (3, 1, n) + (LIFTS, 1): every row lifted by every k·P, period by period.
+        lifted = (rows[:, None, :] + (np.arange(LIFTS.start, LIFTS.stop) * self.period)[:, None]).reshape(3, -1)
+        ramp = np.array([p.value is None for p in pieces] * len(LIFTS))
+        lifted.flags.writeable = ramp.flags.writeable = False
+        return lifted[0], lifted[1], lifted[2], ramp
 
     def piece_at(self, theta: float) -> tuple[TransferPiece, float]:
         """The piece holding θ and the lift offset (a multiple of the period) to add."""
@@ -191,9 +193,9 @@ class TransferFunction:
         every orientation one action leaves the part in from any start — every step value
         and every ramp — each leaving out one gap between them, shortest first (radians,
         lifted, end − start ≤ T; :func:`holding_arcs`). O(n log n)."""
-        lo = np.array([p.start if p.value is None else p.value for p in self.pieces])
-        hi = np.array([p.end if p.value is None else p.value for p in self.pieces])
-        return holding_arcs(lo, hi, T)
+        lo = [p.start if p.value is None else p.value for p in self.pieces]
+        hi = [p.end if p.value is None else p.value for p in self.pieces]
+        return arcs_holding(lo, hi, T)
 
     def symmetry_period(self, tol_rad: float) -> float:
         """Smallest T = P/k with F(θ + T) = F(θ) + T (structure and values within tol)."""
@@ -269,7 +271,7 @@ def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> lis
     first start in [0, period) and sort. O(n log n), in plain Python (n is small)."""
     merged: list[TransferPiece] = []
     last_value: float | None = 0.0
-    for p in pieces:  # _same_kind inlined: this loop runs for every piece of every function made
+    for p in pieces:  # the kinds compared inline: this loop runs for every piece of every function made
         value = p.value
         if merged and (value is None if last_value is None else
                        value is not None and abs(last_value - value) <= tol_rad):
@@ -277,10 +279,18 @@ def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> lis
         else:
             merged.append(p)
             last_value = value
-    if len(merged) > 1 and _same_kind(merged[-1], merged[0].shifted(period), tol_rad):
+    wrapped = None if len(merged) < 2 or merged[0].value is None else merged[0].value + period  # merged[0].shifted's
+    if len(merged) > 1 and (last_value is None if wrapped is None else
+                            last_value is not None and abs(last_value - wrapped) <= tol_rad):
         last = merged.pop()
         merged[0] = TransferPiece(last.start - period, merged[0].end, None if last.value is None else last.value - period)
     top = period - tol_rad
+    if merged and merged[0].start >= 0.0 and merged[-1].start < top and \
+            math.floor(merged[-1].start / period + ROUNDING) == 0:
+        # Sorted and in [0, top) (the shift below is monotone in the start): nothing moves.
+        starts = [p.start for p in merged]
+        if starts == sorted(starts):
+            return merged
     out = []
     for p in merged:
         start = p.start
@@ -293,13 +303,6 @@ def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> lis
 
 
 _START = operator.itemgetter(0)
-
-
-def _same_kind(a: TransferPiece, b: TransferPiece, tol: float) -> bool:
-    av, bv = a.value, b.value
-    if av is None:
-        return bv is None
-    return bv is not None and abs(av - bv) <= tol
 
 
 def from_runs(runs: list[Run], period: float, tol_rad: float) -> TransferFunction:
@@ -336,6 +339,43 @@ def from_runs(runs: list[Run], period: float, tol_rad: float) -> TransferFunctio
         last = pieces[-1]
         pieces[-1] = TransferPiece(last.start, first + period, last.value)
     return TransferFunction(period, tuple(canonical(pieces, period, tol_rad)))
+
+
+FEW_ARCS = 64
+"""Up to this many intervals :func:`arcs_holding` works in plain floats (a vectorised
+pass costs ~20 array calls whatever its size)."""
+
+
+def arcs_holding(lo: list[float], hi: list[float], T: float) -> list[tuple[float, float]]:
+    """:func:`holding_arcs` of intervals given as lists (radians): in plain floats for up
+    to ``FEW_ARCS`` of them, the same operations in the same order (``math.floor`` made to
+    keep ``np.floor``'s −0.0, running maxima as ``np.maximum``'s a ≥ b ? a : b, stable
+    sorts), else vectorised; the same arcs either way. O(n log n)."""
+    if len(lo) > FEW_ARCS:
+        return holding_arcs(np.array(lo, dtype=float), np.array(hi, dtype=float), T)
+    if max(b - a for a, b in zip(lo, hi)) >= T:
+        return [(0.0, T)]
+    los, his = [], []
+    for a, b in zip(lo, hi):
+        q = a / T
+        f = math.floor(q)
+        shift = (float(f) if f or q else q) * T
+        los.append(a - shift)
+        his.append(b - shift)
+    pairs = sorted(zip([a - T for a in los] + los + [a + T for a in los], [b - T for b in his] + his + [b + T for b in his]),
+                   key=_START)
+    gaps: list[tuple[float, int, float]] = []  # (−gap, k, the reach before it)
+    reach = -math.inf
+    for k in range(len(pairs) - 1):
+        h = pairs[k][1]
+        reach = reach if reach >= h else h
+        gap = pairs[k + 1][0] - reach
+        if 0.0 <= reach < T and gap > 0.0:
+            gaps.append((-gap, k, reach))
+    if not gaps:
+        return [(0.0, T)]
+    gaps.sort(key=_START)  # stable: the widest gap left out first, ties in order
+    return [(float(pairs[k + 1][0]), float(reach_k + T)) for _, k, reach_k in gaps]
 
 
 def holding_arcs(lo: FloatArray, hi: FloatArray, T: float) -> list[tuple[float, float]]:

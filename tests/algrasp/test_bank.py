@@ -8,8 +8,9 @@ import math
 import numpy as np
 import pytest
 
-from algrasp.geometry.bank import POINT_ROWS, coefficient_stack
+from algrasp.geometry.bank import POINT_ROWS, FeatureTable, coefficient_stack
 from algrasp.geometry.curves import Piece, horner_rows
+from algrasp.geometry.gauss import HullFeature
 from algrasp.geometry.hull import unit
 from algrasp.geometry.part import load_part
 from algrasp.geometry.segments import loop_polyline
@@ -83,3 +84,23 @@ def test_loop_polyline_lies_on_the_curves() -> None:
         u = np.linspace(0.0, 1.0, len(chunk) + 1)[:-1]
         expected = np.array([_de_casteljau_point(seg.points, seg.weights, t) for t in u])
         assert chunk == pytest.approx(expected, abs=1e-12)
+
+
+def _vertices_only_arrays(t: FeatureTable) -> bool:
+    """The polygon test in arrays, as first written."""
+    return bool(not len(t.s0) and not t.radii.any() and not np.signbit(t.radii).any()
+                and not np.signbit(t.centers[t.centers == 0.0]).any())
+
+
+@pytest.mark.parametrize("radius", [0.0, -0.0, 1e-300, 0.5])
+@pytest.mark.parametrize("centre", [(1.0, 2.0), (0.0, 0.0), (-0.0, 1.0), (1.0, -0.0), (-0.0, -0.0)])
+def test_vertices_only_in_floats_is_the_array_test(radius: float, centre: tuple[float, float]) -> None:
+    """Tables of points and arcs with ±0.0 radii and centre coordinates, and the hulls of
+    polygons, arcs and curves: the plain-float test answers as the array one."""
+    base = FeatureTable.build([HullFeature("point", 0.0, 2.0, (1.0, 1.0)), HullFeature("point", 2.0, 4.0, (-1.0, 0.5))])
+    odd = HullFeature("circle" if radius else "point", 4.0, 2.0 * math.pi, centre, radius)
+    t = FeatureTable.build([HullFeature("point", 0.0, 2.0, (1.0, 1.0)), HullFeature("point", 2.0, 4.0, (-1.0, 0.5)), odd])
+    assert t.vertices_only == _vertices_only_arrays(t) and base.vertices_only is True
+    for doc in (shapes.rectangle(3.0, 1.0), shapes.random_polygon(7, 3), shapes.pie(5.0, 20.0), shapes.bezier_cam()):
+        table = load_part(doc).hull.table
+        assert table.vertices_only == _vertices_only_arrays(table)
