@@ -11,7 +11,7 @@ out with its rules; libm sin/cos, which numpy's match on this platform). Used th
 
 import numpy as np
 
-from libc.math cimport cos, fabs, fmod, copysign, isfinite, isnan, sin, INFINITY, NAN
+from libc.math cimport copysign, cos, fabs, floor, fmod, isfinite, isnan, sin, INFINITY, NAN
 from libc.stdlib cimport free, malloc, qsort
 
 cdef double ROUNDING = 0.0, TWO_PI = 0.0, EDGE_RAD = 0.0, INSIDE = 0.0, SLOPE_NOISE = 0.0
@@ -543,4 +543,67 @@ cdef list _merge(const double* x, const double* ends, const double* v, Py_ssize_
             continue
         out.append((x[first], ends[i - 1], None if isnan(v[first]) else v[first]))
         first = i
+    return out
+
+
+# ------------------------------------------------------------ transfer.canonical
+
+cdef object _Piece = None
+
+
+cdef inline object _piece(object a, object b, object v):
+    """TransferPiece(a, b, v), without its Python-level __new__ (the objects as given)."""
+    return tuple.__new__(_Piece, (a, b, v))
+
+
+cdef inline object _shift(object p, double d):
+    """TransferPiece.shifted."""
+    v = p[2]
+    return _piece(<double>p[0] + d, <double>p[1] + d, None if v is None else <double>v + d)  # floats, as p.shifted
+
+
+def canonical(list pieces, double period, double tol_rad):
+    """transfer.canonical in typed loops: the same pieces, the same floats."""
+    global _Piece
+    if _Piece is None:
+        from algrasp.planning.transfer import TransferPiece
+        _Piece = TransferPiece
+    if not _ready:
+        _init()
+    cdef list merged = []
+    cdef object last_value = 0.0, value, p, last
+    cdef double start, top, q, key
+    cdef Py_ssize_t i, j, n
+    cdef double k
+    for p in pieces:
+        value = p[2]
+        if merged and ((value is None) if last_value is None else
+                       (value is not None and fabs(<double>last_value - <double>value) <= tol_rad)):
+            merged[len(merged) - 1] = _piece(merged[len(merged) - 1][0], p[1], last_value)  # (no wraparound here)
+        else:
+            merged.append(p)
+            last_value = value
+    if len(merged) > 1:
+        last, p = merged[len(merged) - 1], merged[0]
+        if (p[2] is None) if last[2] is None else (
+                p[2] is not None and fabs(<double>last[2] - (<double>p[2] + period)) <= tol_rad):
+            merged.pop()
+            merged[0] = _piece(<double>last[0] - period, p[1], None if last[2] is None else <double>last[2] - period)
+    top = period - tol_rad
+    cdef list out = []
+    for p in merged:
+        start = p[0]
+        k = floor(start / period + ROUNDING) if start >= 0 else floor(start / period)
+        if k != 0.0:
+            p = _shift(p, (-k) * period)
+        out.append(_shift(p, -period) if <double>p[0] >= top else p)
+    n = len(out)
+    for i in range(1, n):  # stable insertion sort by start (few pieces)
+        p = out[i]
+        key = p[0]
+        j = i - 1
+        while j >= 0 and key < <double>out[j][0]:
+            out[j + 1] = out[j]
+            j -= 1
+        out[j + 1] = p
     return out

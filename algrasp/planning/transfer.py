@@ -20,6 +20,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from algrasp.compiled import KERNELS
 from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import Run
@@ -267,6 +268,8 @@ class TransferFunction:
 def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> list[TransferPiece]:
     """Merge neighbouring ramps and equal-valued steps (also across the wrap); put the
     first start in [0, period) and sort. O(n log n), in plain Python (n is small)."""
+    if KERNELS is not None:  # typed loops, the same pieces (algrasp.compiled)
+        return list(KERNELS.canonical(pieces, period, tol_rad))
     merged: list[TransferPiece] = []
     last_value: float | None = 0.0
     for p in pieces:  # _same_kind inlined: this loop runs for every piece of every function made

@@ -19,9 +19,10 @@ from algrasp.errors import NotOrientableError
 from algrasp.geometry.functions import SupportPairFunction, analyse
 from algrasp.geometry.part import load_part
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES as TOL
-from algrasp.planning import setcells, setvalued
+from algrasp.planning import setcells, setvalued, transfer
 from algrasp.planning.edges import CURVE_GRID_RAD, crossings
 from algrasp.planning.setvalued import GRID_RAD, _Band, _classify, set_transfer
+from algrasp.planning.transfer import TransferPiece, canonical
 from algrasp.testing import shapes
 
 pytestmark = pytest.mark.skipif(KERNELS is None, reason="compiled kernels not built (or ALGRASP_PURE set)")
@@ -30,12 +31,12 @@ pytestmark = pytest.mark.skipif(KERNELS is None, reason="compiled kernels not bu
 @contextmanager
 def _numpy_path() -> Iterator[None]:
     """The numpy reference: the hooks see no kernels."""
-    saved = setvalued.KERNELS, setcells.KERNELS
-    setvalued.KERNELS = setcells.KERNELS = None
+    saved = setvalued.KERNELS, setcells.KERNELS, transfer.KERNELS
+    setvalued.KERNELS = setcells.KERNELS = transfer.KERNELS = None
     try:
         yield
     finally:
-        setvalued.KERNELS, setcells.KERNELS = saved
+        setvalued.KERNELS, setcells.KERNELS, transfer.KERNELS = saved
 
 
 def _bits(value: Any) -> Any:
@@ -130,6 +131,21 @@ def test_classify_is_bit_identical(shape: str, seed: int, n: int, kind: str, ban
 
     compiled, numpy_ = _both(made)
     assert _bits(compiled) == _bits(numpy_)
+
+
+@settings(max_examples=300, deadline=None)
+@given(cuts=st.lists(st.floats(-0.5, 7.0), min_size=1, max_size=12), kinds=st.lists(st.integers(0, 3), min_size=12,
+       max_size=12), period=st.sampled_from([np.pi, 2.0 * np.pi, np.pi / 3]), tol=st.sampled_from([1e-9, 1e-3, 0.1]))
+def test_canonical_is_bit_identical(cuts: list[float], kinds: list[int], period: float, tol: float) -> None:
+    """Sorted cells over one period, ramps and steps (some equal to tol, some across the wrap)."""
+    starts = sorted(cuts)
+    ends = [*starts[1:], starts[0] + period]
+    values = [None, 0.5, 0.5 + tol / 2, starts[0] + period + 0.25]
+    pieces = [TransferPiece(a, b, values[k] if k != 3 else values[3] - (period if i == 0 else 0.0))
+              for i, (a, b, k) in enumerate(zip(starts, ends, kinds))]
+    compiled, numpy_ = _both(lambda: canonical(list(pieces), period, tol))
+    assert _bits(compiled) == _bits(numpy_)
+    assert all(type(p) is TransferPiece for p in compiled)
 
 
 def test_the_comparison_can_fail() -> None:
