@@ -12,6 +12,7 @@ out with its rules; libm sin/cos, which numpy's match on this platform). Used th
 import numpy as np
 
 from libc.math cimport copysign, cos, fabs, floor, fmod, isfinite, isnan, sin, INFINITY, NAN
+from cpython.tuple cimport PyTuple_GET_ITEM
 from libc.stdlib cimport free, malloc, qsort
 
 cdef double ROUNDING = 0.0, TWO_PI = 0.0, EDGE_RAD = 0.0, INSIDE = 0.0, SLOPE_NOISE = 0.0
@@ -548,61 +549,72 @@ cdef list _merge(const double* x, const double* ends, const double* v, Py_ssize_
 
 # ------------------------------------------------------------ transfer.canonical
 
+cdef inline object _item(object p, Py_ssize_t i):
+    """Field i of a piece (a tuple subclass): no bounds check, no index object."""
+    return <object>PyTuple_GET_ITEM(p, i)
+
+
 cdef object _Piece = None
+cdef object _new_piece = None
 
 
 cdef inline object _piece(object a, object b, object v):
-    """TransferPiece(a, b, v), without its Python-level __new__ (the objects as given)."""
-    return tuple.__new__(_Piece, (a, b, v))
+    """TransferPiece(a, b, v), as its own __new__ makes it (tuple.__new__), one call less."""
+    return _new_piece(_Piece, (a, b, v))
 
 
 cdef inline object _shift(object p, double d):
     """TransferPiece.shifted."""
-    v = p[2]
-    return _piece(<double>p[0] + d, <double>p[1] + d, None if v is None else <double>v + d)  # floats, as p.shifted
+    v = _item(p, 2)
+    return _piece(<double>_item(p, 0) + d, <double>_item(p, 1) + d, None if v is None else <double>v + d)  # as p.shifted
 
 
 def canonical(list pieces, double period, double tol_rad):
     """transfer.canonical in typed loops: the same pieces, the same floats."""
-    global _Piece
+    global _Piece, _new_piece
     if _Piece is None:
         from algrasp.planning.transfer import TransferPiece
-        _Piece = TransferPiece
+        _Piece, _new_piece = TransferPiece, tuple.__new__
     if not _ready:
         _init()
     cdef list merged = []
-    cdef object last_value = 0.0, value, p, last
-    cdef double start, top, q, key
+    cdef object last_value = 0.0, value
+    cdef object p, last
+    cdef double start, top, key, k
     cdef Py_ssize_t i, j, n
-    cdef double k
     for p in pieces:
-        value = p[2]
-        if merged and ((value is None) if last_value is None else
-                       (value is not None and fabs(<double>last_value - <double>value) <= tol_rad)):
-            merged[len(merged) - 1] = _piece(merged[len(merged) - 1][0], p[1], last_value)  # (no wraparound here)
+        if type(p) is not _Piece:  # _item reads tuples' slots unchecked
+            raise TypeError(f"canonical: a piece must be a TransferPiece, not {type(p).__name__}")
+        value = _item(p, 2)
+        n = len(merged)
+        if n and ((value is None) if last_value is None else
+                  (value is not None and fabs(<double>last_value - <double>value) <= tol_rad)):
+            merged[n - 1] = _piece(_item(merged[n - 1], 0), _item(p, 1), last_value)  # (no wraparound here)
         else:
             merged.append(p)
             last_value = value
-    if len(merged) > 1:
-        last, p = merged[len(merged) - 1], merged[0]
-        if (p[2] is None) if last[2] is None else (
-                p[2] is not None and fabs(<double>last[2] - (<double>p[2] + period)) <= tol_rad):
+    n = len(merged)
+    if n > 1:
+        last, p = merged[n - 1], merged[0]
+        if (_item(p, 2) is None) if _item(last, 2) is None else (
+                _item(p, 2) is not None and fabs(<double>_item(last, 2) - (<double>_item(p, 2) + period)) <= tol_rad):
             merged.pop()
-            merged[0] = _piece(<double>last[0] - period, p[1], None if last[2] is None else <double>last[2] - period)
+            merged[0] = _piece(<double>_item(last, 0) - period, _item(p, 1),
+                               None if _item(last, 2) is None else <double>_item(last, 2) - period)
     top = period - tol_rad
     cdef list out = []
     for p in merged:
-        start = p[0]
+        start = _item(p, 0)
         k = floor(start / period + ROUNDING) if start >= 0 else floor(start / period)
         if k != 0.0:
             p = _shift(p, (-k) * period)
-        out.append(_shift(p, -period) if <double>p[0] >= top else p)
+        out.append(_shift(p, -period) if <double>_item(p, 0) >= top else p)
     n = len(out)
     for i in range(1, n):  # stable insertion sort by start (few pieces)
         p = out[i]
-        key = p[0]
+        key = _item(p, 0)
         j = i - 1
-        while j >= 0 and key < <double>out[j][0]:
+        while j >= 0 and key < <double>_item(out[j], 0):
             out[j + 1] = out[j]
             j -= 1
         out[j + 1] = p
