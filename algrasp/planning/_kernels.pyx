@@ -11,7 +11,7 @@ out with its rules; libm sin/cos, which numpy's match on this platform). Used th
 
 import numpy as np
 
-from libc.math cimport copysign, cos, fabs, floor, fmod, isfinite, isnan, sin, INFINITY, NAN
+from libc.math cimport ceil, copysign, cos, fabs, floor, fmod, isfinite, isnan, sin, INFINITY, NAN
 from cpython.tuple cimport PyTuple_GET_ITEM
 from libc.stdlib cimport free, malloc, qsort
 
@@ -569,14 +569,19 @@ cdef inline object _shift(object p, double d):
     return _piece(<double>_item(p, 0) + d, <double>_item(p, 1) + d, None if v is None else <double>v + d)  # as p.shifted
 
 
-def canonical(list pieces, double period, double tol_rad):
-    """transfer.canonical in typed loops: the same pieces, the same floats."""
+cdef void _pieces_ready() except *:
+    """The piece type (transfer imports this module: read it at first use) and the constants."""
     global _Piece, _new_piece
     if _Piece is None:
         from algrasp.planning.transfer import TransferPiece
         _Piece, _new_piece = TransferPiece, tuple.__new__
     if not _ready:
         _init()
+
+
+def canonical(list pieces, double period, double tol_rad):
+    """transfer.canonical in typed loops: the same pieces, the same floats."""
+    _pieces_ready()
     cdef list merged = []
     cdef object last_value = 0.0, value
     cdef object p, last
@@ -618,4 +623,132 @@ def canonical(list pieces, double period, double tol_rad):
             out[j + 1] = out[j]
             j -= 1
         out[j + 1] = p
+    return out
+
+
+# ------------------------------------------------------ TransferFunction.compose_after
+
+cdef Py_ssize_t _bisect_right(const double* a, Py_ssize_t n, double x) noexcept nogil:
+    """bisect.bisect_right on a sorted C array."""
+    cdef Py_ssize_t lo = 0, hi = n, mid
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if x < a[mid]:
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
+
+
+cdef Py_ssize_t _lifted_starts(outer, double a, double b, double** out) except -1:
+    """TransferFunction._lifted_starts: every piece start lifted over [a, b] (with a
+    period to spare), sorted, into a malloc'd array (the caller frees it)."""
+    cdef list starts = outer.starts
+    cdef double base = _item(outer.pieces[0], 0), P = outer.period, s, v
+    cdef Py_ssize_t k0 = <Py_ssize_t>floor((a - base) / P) - 1, k1 = <Py_ssize_t>ceil((b - base) / P) + 1
+    cdef Py_ssize_t ns = len(starts), n = (k1 - k0 + 1) * ns, i, j, k, t = 0
+    cdef double* c = <double*>malloc(max(n, 1) * sizeof(double))
+    if c == NULL:
+        raise MemoryError()
+    for k in range(k0, k1 + 1):
+        for i in range(ns):
+            c[t] = <double>starts[i] + (<double>k) * P
+            t += 1
+    for i in range(1, n):  # insertion sort: the copies are sorted runs
+        v = c[i]
+        j = i - 1
+        while j >= 0 and v < c[j]:
+            c[j + 1] = c[j]
+            j -= 1
+        c[j + 1] = v
+    out[0] = c
+    return n
+
+
+def compose(outer, inner, double tol_rad):
+    """TransferFunction.compose_after's pieces (outer ∘ inner, canonical), the same
+    floats: inner's steps read outer at their values, its ramps cut at outer's lifted
+    starts and read at each cell's middle."""
+    cdef list cells_a = [], cells_b = [], steps = [], probes = []
+    cdef double* cuts = NULL
+    cdef Py_ssize_t nc = 0, i, j, q
+    cdef double ps, pe, lo, hi, c, prev
+    _pieces_ready()
+    pieces = inner.pieces
+    if any(type(p) is not _Piece for p in pieces) or type(outer.pieces[0]) is not _Piece:
+        raise TypeError("compose: pieces must be TransferPieces")  # _item reads tuples' slots unchecked
+    try:
+        for p in pieces:
+            v = _item(p, 2)
+            if v is not None:
+                cells_a.append(_item(p, 0))
+                cells_b.append(_item(p, 1))
+                steps.append(True)
+                probes.append(v)
+                continue
+            if cuts == NULL:
+                lo, hi = _item(pieces[0], 0), _item(pieces[0], 1)
+                for pq in pieces:
+                    lo = _min_py(lo, _item(pq, 0))
+                    hi = _max_py(hi, _item(pq, 1))
+                nc = _lifted_starts(outer, lo, hi, &cuts)
+            ps, pe = _item(p, 0), _item(p, 1)
+            i, j = _bisect_right(cuts, nc, ps), _bisect_right(cuts, nc, pe)
+            prev = ps
+            for q in range(i, j + 1):
+                if q < j:
+                    c = cuts[q]
+                    if not (ps < c < pe):
+                        continue
+                else:
+                    c = pe
+                cells_a.append(prev)
+                cells_b.append(c)
+                steps.append(False)
+                probes.append(0.5 * (prev + c))  # the middle: no rounding at boundaries
+                prev = c
+    finally:
+        free(cuts)
+    values = _values_at(outer, probes)
+    cdef list out = []
+    for i in range(len(probes)):
+        v = values[i]
+        out.append(_piece(cells_a[i], cells_b[i], (probes[i] if steps[i] else None) if v != v else v))
+    return canonical(out, inner.period, tol_rad)
+
+
+cdef inline double _min_py(double a, double b) noexcept nogil:
+    """Python's min(a, b) of floats (the first of equals)."""
+    return b if b < a else a
+
+
+cdef inline double _max_py(double a, double b) noexcept nogil:
+    """Python's max(a, b) of floats (the first of equals)."""
+    return b if b > a else a
+
+
+cdef list _values_at(outer, list thetas):
+    """TransferFunction.values_at: plain floats for up to FEW_PROBES θ (here), else its
+    vectorised pass."""
+    cdef Py_ssize_t m = len(thetas), i, n, at
+    if m > 16:
+        return outer.values_at(thetas)
+    first, cuts, after = outer._floats
+    cdef double f0 = first, P = outer.period, t, off
+    cdef list cl = cuts
+    n = len(cl)
+    cdef double* c = <double*>malloc(max(n, 1) * sizeof(double))
+    if c == NULL:
+        raise MemoryError()
+    for i in range(n):
+        c[i] = cl[i]
+    cdef list out = []
+    try:
+        for i in range(m):
+            t = thetas[i]
+            off = (floor((t - f0) / P) + 0.0) * P
+            at = _bisect_right(c, n, t - off)
+            out.append(<double>after[at if at > 1 else 1] + off)
+    finally:
+        free(c)
     return out

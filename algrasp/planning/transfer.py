@@ -221,6 +221,8 @@ class TransferFunction:
         """self ∘ inner (inner acts first), over inner's period (Appendix C).
         O((n + m) log n): self's starts are lifted once and cut each ramp by search; self
         is evaluated at every step value and every cut cell's middle in one pass."""
+        if KERNELS is not None:  # typed loops, the same pieces (algrasp.compiled)
+            return TransferFunction(inner.period, tuple(KERNELS.compose(self, inner, tol_rad)))
         cells: list[tuple[float, float, bool]] = []  # [a, b) and whether inner steps there
         probes: list[float] = []  # where self is read: the step's value, or the cell's middle
         cuts_all = None  # made for the first ramp of inner: steps need none

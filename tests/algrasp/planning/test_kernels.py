@@ -22,7 +22,7 @@ from algrasp.geometry.tolerances import DEFAULT_TOLERANCES as TOL
 from algrasp.planning import setcells, setvalued, transfer
 from algrasp.planning.edges import CURVE_GRID_RAD, crossings
 from algrasp.planning.setvalued import GRID_RAD, _Band, _classify, set_transfer
-from algrasp.planning.transfer import TransferPiece, canonical
+from algrasp.planning.transfer import TransferPiece, canonical, from_runs
 from algrasp.testing import shapes
 
 pytestmark = pytest.mark.skipif(KERNELS is None, reason="compiled kernels not built (or ALGRASP_PURE set)")
@@ -90,7 +90,7 @@ def _set_args(f: SupportPairFunction, s: tuple[float, ...]) -> dict[str, Any]:
             "jaw_friction": mu / scale if f.kind == "diameter" else 0.0, "value_err": err, "shallow": depth}
 
 
-BAND = st.tuples(st.sampled_from([0.0, 0.01, 0.05, 0.2]), st.floats(0.0, 0.1), st.sampled_from([0.0, 1e-3, 0.02]),
+BAND = st.tuples(st.sampled_from([0.0, 0.01, 0.05, 0.2]), st.floats(0.0, 0.1), st.sampled_from([0.0, 1e-3, 0.02, 2.0]),
                  st.sampled_from([1e-9, 1e-6, 1e-3]), st.sampled_from([0.0, 1e-4, 1e-2]), st.floats(0.0, 0.4),
                  st.sampled_from([0.0, 1e-4, 1e-2]))
 
@@ -146,6 +146,31 @@ def test_canonical_is_bit_identical(cuts: list[float], kinds: list[int], period:
     compiled, numpy_ = _both(lambda: canonical(list(pieces), period, tol))
     assert _bits(compiled) == _bits(numpy_)
     assert all(type(p) is TransferPiece for p in compiled)
+
+
+@settings(max_examples=80, deadline=None)
+@given(shape=st.sampled_from(sorted(DOCS)), seed=st.integers(0, 10_000), n=st.integers(3, 11), band=BAND)
+def test_compositions_are_bit_identical(shape: str, seed: int, n: int, band: tuple[float, ...]) -> None:
+    """Set-valued bounds (steps, ramps where a part may stay) and exact functions (ramps on
+    constant runs), composed both ways round."""
+    d, r = (_function(shape, seed, n, kind) for kind in ("diameter", "radius"))
+
+    def made() -> Any:
+        out: list[Any] = []
+        exact = [from_runs(list(f.runs), f.period, TOL.angle_rad) for f in (d, r)]
+        out += [exact[0].compose_after(exact[1], TOL.angle_rad).pieces, exact[1].compose_after(exact[0], TOL.angle_rad).pieces]
+        try:
+            sets = [set_transfer(f, **_set_args(f, band)) for f in (d, r)]
+        except NotOrientableError:
+            return out  # the exact compositions alone
+        for a, b in ((sets[0], sets[1]), (sets[1], sets[0]), (sets[0], sets[0])):
+            for fa, fb in ((a.lower, b.lower), (a.upper, b.upper), (a.lower, exact[1])):
+                out.append(fa.compose_after(fb, TOL.angle_rad).pieces)
+            out.append(a.compose_after(b, TOL.angle_rad).outcomes)
+        return out
+
+    compiled, numpy_ = _both(made)
+    assert _bits(compiled) == _bits(numpy_)
 
 
 def test_the_comparison_can_fail() -> None:
