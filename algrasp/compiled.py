@@ -17,7 +17,7 @@ def _load() -> ModuleType | None:
     if os.environ.get("ALGRASP_PURE", "") not in ("", "0"):
         return None
     try:
-        from algrasp.planning import _kernels
+        import algrasp.planning._kernels as _kernels
     except ImportError:  # no compiler at install: the numpy path
         return None
     return _kernels
