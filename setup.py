@@ -14,5 +14,7 @@ except ImportError:  # no Cython: no kernels
     modules = []
 else:
     modules = cythonize([KERNELS], compiler_directives={"language_level": "3"}, quiet=True)
+    for module in modules:  # cythonize's copies drop ``optional``
+        module.optional = True
 
 setup(ext_modules=modules)
