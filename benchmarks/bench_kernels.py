@@ -23,7 +23,8 @@ from algrasp.planning.analysis import analyse_document
 from algrasp.planning.plans import make_plan
 from algrasp.planning.setcells import Cells
 
-HOOKED = (setvalued, setcells, transfer)
+HOOKED: tuple[Any, ...] = (setvalued, setcells, transfer)
+sv: Any = setvalued  # patched and replayed below (its imported names too)
 
 
 def work() -> None:
@@ -36,8 +37,8 @@ def work() -> None:
 def record() -> dict[str, list[tuple[Any, ...]]]:
     """The arguments of every call of the ported functions in one work unit."""
     calls: dict[str, list[tuple[Any, ...]]] = {"classify": [], "bounds": [], "compose_after": []}  # (kw: first)
-    TF = transfer.TransferFunction
-    orig = setvalued._classify, setvalued.bounds, TF.compose_after
+    TF: Any = transfer.TransferFunction
+    orig = sv._classify, sv.bounds, TF.compose_after
 
     def classify(*a: Any, first: bool = False) -> Any:
         calls["classify"].append((*a, first))
@@ -51,11 +52,11 @@ def record() -> dict[str, list[tuple[Any, ...]]]:
         calls["compose_after"].append(a)
         return orig[2](*a)
 
-    setvalued._classify, setvalued.bounds, TF.compose_after = classify, bounds, compose  # type: ignore[assignment]
+    sv._classify, sv.bounds, TF.compose_after = classify, bounds, compose
     try:
         work()
     finally:
-        setvalued._classify, setvalued.bounds, TF.compose_after = orig  # type: ignore[assignment]
+        sv._classify, sv.bounds, TF.compose_after = orig
     return calls
 
 
@@ -73,11 +74,11 @@ def median_ms(fn: Callable[[], object], reps: int) -> float:
 def replays(calls: dict[str, list[tuple[Any, ...]]]) -> dict[str, Callable[[], None]]:
     def classify() -> None:
         for a in calls["classify"]:
-            setvalued._classify(*a)
+            sv._classify(*a[:-1], first=a[-1])
 
     def bounds() -> None:
         for c, *rest in calls["bounds"]:  # fresh cells: their runs are not cached
-            setvalued.bounds(Cells(c.x, c.T, c.right, c.left, c.rest, c.barrier_right, c.barrier_left), *rest)
+            sv.bounds(Cells(c.x, c.T, c.right, c.left, c.rest, c.barrier_right, c.barrier_left), *rest)
 
     def compose() -> None:
         for outer, *rest in calls["compose_after"]:
@@ -87,7 +88,7 @@ def replays(calls: dict[str, list[tuple[Any, ...]]]) -> dict[str, Callable[[], N
 
 
 def main() -> None:
-    kernels = setvalued.KERNELS
+    kernels = sv.KERNELS
     if kernels is None:
         print("compiled kernels not built (or ALGRASP_PURE set): nothing to compare")
         return
@@ -99,12 +100,12 @@ def main() -> None:
         reps = 300 if name == "work unit" else 2000
         fast = median_ms(fn, reps)
         for m in HOOKED:
-            m.KERNELS = None  # type: ignore[attr-defined]
+            m.KERNELS = None
         try:
             slow = median_ms(fn, reps)
         finally:
             for m in HOOKED:
-                m.KERNELS = kernels  # type: ignore[attr-defined]
+                m.KERNELS = kernels
         print(f"{name:<18}{fast:>10.4f}{slow:>10.4f}{1 - fast / slow:>8.0%}")
 
 
