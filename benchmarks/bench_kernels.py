@@ -18,12 +18,12 @@ from typing import Any
 
 from algrasp.errors import NotOrientableError
 from algrasp.pipeline import WARM_UP_PART
-from algrasp.planning import setcells, setvalued, transfer
+from algrasp.planning import edges, setcells, setvalued, transfer
 from algrasp.planning.analysis import analyse_document
 from algrasp.planning.plans import make_plan
 from algrasp.planning.setcells import Cells
 
-HOOKED: tuple[Any, ...] = (setvalued, setcells, transfer)
+HOOKED: tuple[Any, ...] = (edges, setvalued, setcells, transfer)
 sv: Any = setvalued  # patched and replayed below (its imported names too)
 
 
@@ -36,9 +36,9 @@ def work() -> None:
 
 def record() -> dict[str, list[tuple[Any, ...]]]:
     """The arguments of every call of the ported functions in one work unit."""
-    calls: dict[str, list[tuple[Any, ...]]] = {"classify": [], "bounds": [], "compose_after": []}  # (kw: first)
+    calls: dict[str, list[tuple[Any, ...]]] = {"classify": [], "bounds": [], "compose_after": [], "crossings": []}
     TF: Any = transfer.TransferFunction
-    orig = sv._classify, sv.bounds, TF.compose_after
+    orig = sv._classify, sv.bounds, TF.compose_after, sv.crossings
 
     def classify(*a: Any, first: bool = False) -> Any:
         calls["classify"].append((*a, first))
@@ -52,11 +52,15 @@ def record() -> dict[str, list[tuple[Any, ...]]]:
         calls["compose_after"].append(a)
         return orig[2](*a)
 
-    sv._classify, sv.bounds, TF.compose_after = classify, bounds, compose
+    def crossings(*a: Any, **kw: Any) -> Any:
+        calls["crossings"].append((a, kw))
+        return orig[3](*a, **kw)
+
+    sv._classify, sv.bounds, TF.compose_after, sv.crossings = classify, bounds, compose, crossings
     try:
         work()
     finally:
-        sv._classify, sv.bounds, TF.compose_after = orig
+        sv._classify, sv.bounds, TF.compose_after, sv.crossings = orig
     return calls
 
 
@@ -84,7 +88,11 @@ def replays(calls: dict[str, list[tuple[Any, ...]]]) -> dict[str, Callable[[], N
         for outer, *rest in calls["compose_after"]:
             outer.compose_after(*rest)
 
-    return {"classify": classify, "bounds": bounds, "compose_after": compose, "work unit": work}
+    def crossings() -> None:
+        for a, kw in calls["crossings"]:
+            sv.crossings(*a, **kw)
+
+    return {"classify": classify, "bounds": bounds, "compose_after": compose, "crossings": crossings, "work unit": work}
 
 
 def main() -> None:

@@ -752,3 +752,63 @@ cdef list _values_at(outer, list thetas):
     finally:
         free(c)
     return out
+
+
+# --------------------------------------------------------------- edges._point_roots
+
+def point_roots(c, slopes, jaw, levels):
+    """edges._point_roots (with its _equations): θ of every threshold crossing on the
+    point-like contact cells, in the same order, the same floats (arcsin, arctan and
+    hypot through numpy: libm's differ)."""
+    if not _ready:
+        _init()
+    cdef const double[:] rho = c.rho
+    cdef const double[:] R = c.R
+    cdef const double[:] phi0 = c.phi0
+    cdef const double[:] a = c.a
+    cdef const double[:] b = c.b
+    cdef Py_ssize_t m = rho.shape[0], ns = len(slopes), nl = len(levels), S = 2 * ns, i, e, r, t = 0
+    cdef Py_ssize_t E = S + nl + (0 if jaw is None else 2)
+    cdef double mu = 0.0, cc = 0.0, beta = 0.0, hyp = 0.0, kv, x, psi
+    if jaw is not None:
+        mu, cc = jaw
+        beta, hyp = float(np.arctan(mu)), float(np.hypot(1.0, mu))
+    cdef _Buf buf = _Buf(2 * E + ns + nl + m * E)
+    cdef double* delta = buf.p
+    cdef double* th = buf.p + E  # the slopes ±t, the levels
+    cdef double* k = th + S + nl  # (m, E)
+    for i in range(ns):
+        th[2 * i], th[2 * i + 1] = 1.0 * <double>slopes[i], -1.0 * <double>slopes[i]
+    for i in range(nl):
+        th[S + i] = levels[i]
+    for e in range(E):
+        delta[e] = 0.0 if e < S else (-PI / 2 if e < S + nl else (beta if e == S + nl else -beta))
+    clipped = np.empty((m, E))
+    cdef double[:, :] cl = clipped
+    for i in range(m):
+        for e in range(E):
+            if e < S:
+                kv = th[e] / rho[i]
+            elif e < S + nl:
+                kv = (th[e] - R[i]) / rho[i]
+            elif e == S + nl:
+                kv = (mu * R[i] + cc) / (rho[i] * hyp)
+            else:
+                kv = -k[i * E + e - 1]
+            k[i * E + e] = kv
+            cl[i, e] = _min(_max(kv, -1.0), 1.0)
+    cdef const double[:, :] s = np.arcsin(clipped)
+    out = np.empty(2 * m * E)
+    cdef double[:] o = out
+    for i in range(m):
+        for e in range(E):
+            if not fabs(k[i * E + e]) <= 1.0:
+                continue
+            for r in range(2):
+                x = delta[e] + s[i, e] if r == 0 else delta[e] + PI - s[i, e]
+                psi = phi0[i] + x
+                psi = a[i] + _mod(psi - a[i], TWO_PI)  # the root in [a, a + 2π)
+                if psi < b[i]:
+                    o[t] = HALF_PI - psi
+                    t += 1
+    return out[:t]

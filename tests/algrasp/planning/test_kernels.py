@@ -19,24 +19,28 @@ from algrasp.errors import NotOrientableError
 from algrasp.geometry.functions import SupportPairFunction, analyse
 from algrasp.geometry.part import load_part
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES as TOL
-from algrasp.planning import setcells, setvalued, transfer
+from algrasp.planning import edges, setcells, setvalued, transfer
 from algrasp.planning.edges import CURVE_GRID_RAD, crossings
 from algrasp.planning.setvalued import GRID_RAD, _Band, _classify, set_transfer
 from algrasp.planning.transfer import TransferPiece, canonical, from_runs
 from algrasp.testing import shapes
 
+HOOKED: tuple[Any, ...] = (edges, setcells, setvalued, transfer)
+"""The modules whose hooks read algrasp.compiled.KERNELS."""
 pytestmark = pytest.mark.skipif(KERNELS is None, reason="compiled kernels not built (or ALGRASP_PURE set)")
 
 
 @contextmanager
 def _numpy_path() -> Iterator[None]:
     """The numpy reference: the hooks see no kernels."""
-    saved = setvalued.KERNELS, setcells.KERNELS, transfer.KERNELS
-    setvalued.KERNELS = setcells.KERNELS = transfer.KERNELS = None
+    saved = [m.KERNELS for m in HOOKED]
+    for m in HOOKED:
+        m.KERNELS = None
     try:
         yield
     finally:
-        setvalued.KERNELS, setcells.KERNELS, transfer.KERNELS = saved
+        for m, k in zip(HOOKED, saved):
+            m.KERNELS = k
 
 
 def _bits(value: Any) -> Any:
@@ -170,6 +174,17 @@ def test_compositions_are_bit_identical(shape: str, seed: int, n: int, band: tup
         return out
 
     compiled, numpy_ = _both(made)
+    assert _bits(compiled) == _bits(numpy_)
+
+
+@settings(max_examples=120, deadline=None)
+@given(shape=st.sampled_from(sorted(DOCS)), seed=st.integers(0, 10_000), n=st.integers(3, 11),
+       kind=st.sampled_from(["diameter", "radius"]), slopes=st.lists(st.floats(1e-6, 2.0), min_size=1, max_size=4),
+       jaw=st.none() | st.tuples(st.floats(0.0, 0.6), st.floats(0.0, 0.5)), levels=st.lists(st.floats(0.0, 3.0), max_size=2))
+def test_crossings_are_bit_identical(shape: str, seed: int, n: int, kind: str, slopes: list[float],
+                                     jaw: tuple[float, float] | None, levels: list[float]) -> None:
+    f = _function(shape, seed, n, kind)
+    compiled, numpy_ = _both(lambda: crossings(f, tuple(slopes), jaw, TOL, CURVE_GRID_RAD, levels=tuple(levels)))
     assert _bits(compiled) == _bits(numpy_)
 
 
