@@ -6,7 +6,8 @@ STAMP := $(VENV)/.installed
 
 .PHONY: run test lint bench clean
 
-$(STAMP): pyproject.toml
+# The compiled kernels are built at install (setup.py): a changed .pyx re-installs.
+$(STAMP): pyproject.toml setup.py $(wildcard algrasp/*/*.pyx)
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e '.[all,dev]'
@@ -40,4 +41,4 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_cli.py
 
 clean:
-	rm -rf $(VENV) build *.egg-info
+	rm -rf $(VENV) build *.egg-info algrasp/*/_kernels.c algrasp/*/_kernels.*.so

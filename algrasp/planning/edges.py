@@ -35,6 +35,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from algrasp.compiled import KERNELS
 from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import SupportPairFunction, contact_cells
@@ -188,7 +189,7 @@ def crossings(f: SupportPairFunction, slopes: Sequence[float], jaw: tuple[float,
     crosses nothing below 0)."""
     grid = _grid(f, tol, grid_rad)
     positive = tuple(t for t in slopes if t > 0.0)
-    exact = _point_roots(grid.contacts, positive, jaw, levels)
+    exact = (_point_roots if KERNELS is None else KERNELS.point_roots)(grid.contacts, positive, jaw, levels)  # algrasp.compiled
     if not len(grid.theta):
         return exact, grid.theta
     return np.concatenate([exact, _curve_roots(f, grid, positive, jaw, levels)]), grid.theta

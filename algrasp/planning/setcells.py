@@ -7,11 +7,13 @@ the cells (the runs over three lifted copies), O(n) passes for n cells; pure, ra
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
 
+from algrasp.compiled import KERNELS
 from algrasp.errors import NotOrientableError
 from algrasp.geometry.curves import FloatArray
 from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical
@@ -53,6 +55,8 @@ class Cells:
         right-movable and of forced-right cells (neither left nor rest) containing each
         cell ends, and where the run of left-movable and of forced-left cells starts."""
         R, L, S = self.right, self.left, self.rest
+        if KERNELS is not None:  # typed loops, the same values (algrasp.compiled)
+            return np.asarray(KERNELS.runs(self.x, self.T, R, L, S))
         return self.at(_run_bounds(np.array([R, ~L & ~S, L, ~R & ~S])))
 
     @cached_property
@@ -68,14 +72,23 @@ def bounds(c: Cells, tol_rad: float) -> tuple[TransferFunction, TransferFunction
     """Lower and upper step/ramp functions from per-cell permissions and barriers."""
     R, L, S = c.right, c.left, c.rest
     run_right, run_left = c.run_limits
+    if KERNELS is not None:  # typed loops to the merged pieces, the same values (algrasp.compiled)
+        found = KERNELS.bound_pieces(c.x, c.T, R, L, S, run_right, run_left, c.runs, c.barrier_right, c.barrier_left, tol_rad)
+        if found is None:
+            raise _turning()
+        return _pieces_tf(found[0], c.T, tol_rad), _pieces_tf(found[1], c.T, tol_rad)
     up = np.where(R, np.minimum(run_right, c.barrier_right), np.where(S, np.nan, c.runs[3]))
     lo = np.where(L, np.maximum(run_left, c.barrier_left), np.where(S, np.nan, c.runs[1]))
     if not (np.isfinite(up[R]).all() and np.isfinite(lo[L]).all()):
-        raise NotOrientableError("dead_band", "with this dead band the part may turn without end: the slopes of "
-                                 "the drawing are all within the shape tolerance")
+        raise _turning()
     ends = np.concatenate([c.x[1:], [c.x[0] + c.T]])
     up, lo = _monotone(c.x, ends, up, lo, c.T)
     return _tf(c.x, ends, lo, c.T, tol_rad), _tf(c.x, ends, up, c.T, tol_rad)
+
+
+def _turning() -> NotOrientableError:
+    return NotOrientableError("dead_band", "with this dead band the part may turn without end: the slopes of "
+                              "the drawing are all within the shape tolerance")
 
 
 def _monotone(x: FloatArray, ends: FloatArray, up: FloatArray, lo: FloatArray, T: float) -> tuple[FloatArray, FloatArray]:
@@ -105,8 +118,12 @@ def _tf(starts: FloatArray, ends: FloatArray, values: FloatArray, T: float, tol_
     np.logical_not((nan[1:] & nan[:-1]) | (np.abs(values[1:] - values[:-1]) <= tol_rad), out=new[1:])
     first = new.nonzero()[0]
     last = np.concatenate([first[1:], [len(values)]]) - 1
-    pieces = [TransferPiece(a, b, None if v != v else v)  # v != v: NaN, a ramp
-              for a, b, v in zip(starts[first].tolist(), ends[last].tolist(), values[first].tolist())]
+    return _pieces_tf(zip(starts[first].tolist(), ends[last].tolist(), values[first].tolist()), T, tol_rad)
+
+
+def _pieces_tf(found: Iterable[tuple[float, float, float | None]], T: float, tol_rad: float) -> TransferFunction:
+    """The function of merged pieces (start, end, value; NaN or None: a ramp)."""
+    pieces = [TransferPiece(a, b, None if v is None or v != v else v) for a, b, v in found]  # v != v: NaN
     return TransferFunction(T, tuple(canonical(pieces, T, tol_rad)))
 
 

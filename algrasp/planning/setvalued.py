@@ -36,6 +36,7 @@ from typing import cast
 
 import numpy as np
 
+from algrasp.compiled import KERNELS
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import SupportPairFunction
 from algrasp.geometry.tolerances import ROUNDING, Tolerances
@@ -235,6 +236,9 @@ def _classify(f: SupportPairFunction, T: float, edges: FloatArray, grid: FloatAr
               first: bool = False) -> _Pass:
     """Nodes, samples, permissions and barriers of the cells between ``edges``, ``grid``
     and the breakpoints and extrema of f. O(c·K·log c)."""
+    if KERNELS is not None:  # the same arrays from typed loops (algrasp.compiled)
+        x, right, left, rest, b_right, b_left, g, rims, near_found = KERNELS.classify(f, T, edges, grid, band, first)
+        return _Pass(Cells(x, T, right, left, rest, b_right, b_left), g, rims, near_found)
     x, kink = _nodes(f, T, edges, grid)
     g, v = _samples(f, x, kink, T)
     right, left, rest = _permissions(g, v, band.stall, band.sigma, band.jaw_friction)

@@ -20,6 +20,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from algrasp.compiled import KERNELS
 from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import Run
@@ -222,6 +223,8 @@ class TransferFunction:
         """self ∘ inner (inner acts first), over inner's period (Appendix C).
         O((n + m) log n): self's starts are lifted once and cut each ramp by search; self
         is evaluated at every step value and every cut cell's middle in one pass."""
+        if KERNELS is not None:  # typed loops, the same pieces (algrasp.compiled)
+            return TransferFunction(inner.period, tuple(KERNELS.compose(self, inner, tol_rad)))
         cells: list[tuple[float, float, bool]] = []  # [a, b) and whether inner steps there
         probes: list[float] = []  # where self is read: the step's value, or the cell's middle
         cuts_all = None  # made for the first ramp of inner: steps need none
@@ -269,6 +272,8 @@ class TransferFunction:
 def canonical(pieces: list[TransferPiece], period: float, tol_rad: float) -> list[TransferPiece]:
     """Merge neighbouring ramps and equal-valued steps (also across the wrap); put the
     first start in [0, period) and sort. O(n log n), in plain Python (n is small)."""
+    if KERNELS is not None:  # typed loops, the same pieces (algrasp.compiled)
+        return list(KERNELS.canonical(pieces, period, tol_rad))
     merged: list[TransferPiece] = []
     last_value: float | None = 0.0
     for p in pieces:  # the kinds compared inline: this loop runs for every piece of every function made

@@ -1,0 +1,195 @@
+"""The compiled kernels (algrasp.planning._kernels) against the numpy path they replace:
+every array and every piece bit for bit, on random polygons, symmetric polygons (several
+copies of the symmetry period), circular arcs and Bezier curves, over random dead bands.
+The numpy path is the reference (run here with the hooks switched off)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import Any
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from algrasp.compiled import KERNELS
+from algrasp.errors import NotOrientableError
+from algrasp.geometry.functions import SupportPairFunction, analyse
+from algrasp.geometry.part import load_part
+from algrasp.geometry.tolerances import DEFAULT_TOLERANCES as TOL
+from algrasp.planning import edges, setcells, setvalued, transfer
+from algrasp.planning.edges import CURVE_GRID_RAD, crossings
+from algrasp.planning.setvalued import GRID_RAD, _Band, _classify, set_transfer
+from algrasp.planning.transfer import TransferPiece, canonical, from_runs
+from algrasp.testing import shapes
+
+HOOKED: tuple[Any, ...] = (edges, setcells, setvalued, transfer)
+"""The modules whose hooks read algrasp.compiled.KERNELS."""
+pytestmark = pytest.mark.skipif(KERNELS is None, reason="compiled kernels not built (or ALGRASP_PURE set)")
+
+
+@contextmanager
+def _numpy_path() -> Iterator[None]:
+    """The numpy reference: the hooks see no kernels."""
+    saved = [m.KERNELS for m in HOOKED]
+    for m in HOOKED:
+        m.KERNELS = None
+    try:
+        yield
+    finally:
+        for m, k in zip(HOOKED, saved):
+            m.KERNELS = k
+
+
+def _bits(value: Any) -> Any:
+    """A comparable form that tells apart every bit pattern (−0.0, NaN payloads, dtypes)."""
+    if isinstance(value, np.ndarray):
+        return ("array", value.dtype.str, value.shape, value.tobytes())
+    if isinstance(value, (list, tuple)):
+        return tuple(_bits(v) for v in value)
+    if isinstance(value, float):
+        return ("float", value.hex())
+    return repr(value)
+
+
+def _both(make: Callable[[], Any]) -> tuple[Any, Any]:
+    """(compiled, numpy) results of ``make`` (or the refusal's message)."""
+    out = []
+    for ctx in (_compiled_path, _numpy_path):
+        with ctx():
+            try:
+                out.append(make())
+            except NotOrientableError as e:
+                out.append(("refused", str(e)))
+    return out[0], out[1]
+
+
+@contextmanager
+def _compiled_path() -> Iterator[None]:
+    yield
+
+
+DOCS = {
+    "polygon": lambda seed, n: shapes.random_polygon(n, seed),
+    "regular": lambda seed, n: shapes.regular_polygon(n, 1.0 + seed % 7, phase_deg=seed % 90),
+    "reuleaux": lambda seed, n: shapes.reuleaux(1.0 + seed % 5),
+    "flats": lambda seed, n: shapes.disk_with_flats(1.0, 5.0 + seed % 30),
+    "pie": lambda seed, n: shapes.pie(5.0, 10.0 + seed % 40),
+    "blob": lambda seed, n: shapes.bezier_blob(max(n, 4), seed),
+}
+
+
+def _function(shape: str, seed: int, n: int, kind: str) -> SupportPairFunction:
+    part = load_part(DOCS[shape](seed, n))
+    return analyse(kind, part.hull, part.center_of_mass, part.size, TOL)  # type: ignore[arg-type]
+
+
+def _set_args(f: SupportPairFunction, s: tuple[float, ...]) -> dict[str, Any]:
+    """A dead band scaled to f (fractions ``s`` of its largest value)."""
+    scale = float(np.max(f.values(np.linspace(0.0, np.pi, 64))))
+    s_lo, s_extra, sigma, tol, err, mu, depth = (scale * v for v in s)
+    return {"stall": (s_lo, s_lo + s_extra), "sigma": sigma, "value_tol": tol, "tol_rad": TOL.angle_rad,
+            "jaw_friction": mu / scale if f.kind == "diameter" else 0.0, "value_err": err, "shallow": depth}
+
+
+BAND = st.tuples(st.sampled_from([0.0, 0.01, 0.05, 0.2]), st.floats(0.0, 0.1), st.sampled_from([0.0, 1e-3, 0.02, 2.0]),
+                 st.sampled_from([1e-9, 1e-6, 1e-3]), st.sampled_from([0.0, 1e-4, 1e-2]), st.floats(0.0, 0.4),
+                 st.sampled_from([0.0, 1e-4, 1e-2]))
+
+
+@settings(max_examples=120, deadline=None)
+@given(shape=st.sampled_from(sorted(DOCS)), seed=st.integers(0, 10_000), n=st.integers(3, 11),
+       kind=st.sampled_from(["diameter", "radius"]), band=BAND)
+def test_set_transfer_is_bit_identical(shape: str, seed: int, n: int, kind: str, band: tuple[float, ...]) -> None:
+    f = _function(shape, seed, n, kind)
+    args = _set_args(f, band)
+
+    def made() -> Any:
+        st_ = set_transfer(f, **args)
+        return (st_.lower.pieces, st_.upper.pieces, st_.symmetry, st_.rest_zones, st_.outcomes)
+
+    compiled, numpy_ = _both(made)
+    assert _bits(compiled) == _bits(numpy_)
+
+
+@settings(max_examples=80, deadline=None)
+@given(shape=st.sampled_from(sorted(DOCS)), seed=st.integers(0, 10_000), n=st.integers(3, 11),
+       kind=st.sampled_from(["diameter", "radius"]), band=BAND, first=st.booleans(), grid=st.booleans())
+def test_classify_is_bit_identical(shape: str, seed: int, n: int, kind: str, band: tuple[float, ...], first: bool,
+                                   grid: bool) -> None:
+    f = _function(shape, seed, n, kind)
+    a = _set_args(f, band)
+    b = _Band(a["stall"], a["sigma"], a["jaw_friction"], a["value_err"], a["shallow"])
+    slopes_at, jaw = b.thresholds()
+    edges, curves = crossings(f, slopes_at, jaw, TOL, CURVE_GRID_RAD)
+    T = f.period / (1 + seed % 3 if kind == "diameter" and shape == "regular" and n % 2 == 0 else 1)
+    if grid:  # the refinement grid of a second pass
+        curves = np.concatenate([curves, np.linspace(0.0, T, int(np.ceil(T / GRID_RAD)) // 7, endpoint=False)])
+
+    def made() -> Any:
+        p = _classify(f, T, edges, curves, b, first)
+        c = p.cells
+        return (c.x, c.right, c.left, c.rest, c.barrier_right, c.barrier_left, p.g, p.rims, p.near, c.runs)
+
+    compiled, numpy_ = _both(made)
+    assert _bits(compiled) == _bits(numpy_)
+
+
+@settings(max_examples=300, deadline=None)
+@given(cuts=st.lists(st.floats(-0.5, 7.0), min_size=1, max_size=12), kinds=st.lists(st.integers(0, 3), min_size=12,
+       max_size=12), period=st.sampled_from([np.pi, 2.0 * np.pi, np.pi / 3]), tol=st.sampled_from([1e-9, 1e-3, 0.1]))
+def test_canonical_is_bit_identical(cuts: list[float], kinds: list[int], period: float, tol: float) -> None:
+    """Sorted cells over one period, ramps and steps (some equal to tol, some across the wrap)."""
+    starts = sorted(cuts)
+    ends = [*starts[1:], starts[0] + period]
+    values = [None, 0.5, 0.5 + tol / 2, starts[0] + period + 0.25]
+    pieces = [TransferPiece(a, b, values[k] if k != 3 else values[3] - (period if i == 0 else 0.0))
+              for i, (a, b, k) in enumerate(zip(starts, ends, kinds))]
+    compiled, numpy_ = _both(lambda: canonical(list(pieces), period, tol))
+    assert _bits(compiled) == _bits(numpy_)
+    assert all(type(p) is TransferPiece for p in compiled)
+
+
+@settings(max_examples=80, deadline=None)
+@given(shape=st.sampled_from(sorted(DOCS)), seed=st.integers(0, 10_000), n=st.integers(3, 11), band=BAND)
+def test_compositions_are_bit_identical(shape: str, seed: int, n: int, band: tuple[float, ...]) -> None:
+    """Set-valued bounds (steps, ramps where a part may stay) and exact functions (ramps on
+    constant runs), composed both ways round."""
+    d, r = (_function(shape, seed, n, kind) for kind in ("diameter", "radius"))
+
+    def made() -> Any:
+        out: list[Any] = []
+        exact = [from_runs(list(f.runs), f.period, TOL.angle_rad) for f in (d, r)]
+        out += [exact[0].compose_after(exact[1], TOL.angle_rad).pieces, exact[1].compose_after(exact[0], TOL.angle_rad).pieces]
+        try:
+            sets = [set_transfer(f, **_set_args(f, band)) for f in (d, r)]
+        except NotOrientableError:
+            return out  # the exact compositions alone
+        for a, b in ((sets[0], sets[1]), (sets[1], sets[0]), (sets[0], sets[0])):
+            for fa, fb in ((a.lower, b.lower), (a.upper, b.upper), (a.lower, exact[1])):
+                out.append(fa.compose_after(fb, TOL.angle_rad).pieces)
+            out.append(a.compose_after(b, TOL.angle_rad).outcomes)
+        return out
+
+    compiled, numpy_ = _both(made)
+    assert _bits(compiled) == _bits(numpy_)
+
+
+@settings(max_examples=120, deadline=None)
+@given(shape=st.sampled_from(sorted(DOCS)), seed=st.integers(0, 10_000), n=st.integers(3, 11),
+       kind=st.sampled_from(["diameter", "radius"]), slopes=st.lists(st.floats(1e-6, 2.0), min_size=1, max_size=4),
+       jaw=st.none() | st.tuples(st.floats(0.0, 0.6), st.floats(0.0, 0.5)), levels=st.lists(st.floats(0.0, 3.0), max_size=2))
+def test_crossings_are_bit_identical(shape: str, seed: int, n: int, kind: str, slopes: list[float],
+                                     jaw: tuple[float, float] | None, levels: list[float]) -> None:
+    f = _function(shape, seed, n, kind)
+    compiled, numpy_ = _both(lambda: crossings(f, tuple(slopes), jaw, TOL, CURVE_GRID_RAD, levels=tuple(levels)))
+    assert _bits(compiled) == _bits(numpy_)
+
+
+def test_the_comparison_can_fail() -> None:
+    """_bits tells apart what float equality does not."""
+    assert _bits(np.array([0.0])) != _bits(np.array([-0.0]))
+    assert _bits([0.0]) != _bits([-0.0])
+    assert _bits(np.array([True])) != _bits(np.array([1], dtype=np.uint8))
