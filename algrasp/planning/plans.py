@@ -22,6 +22,7 @@ from algrasp.geometry.angles import shortest_turn, signed_diff, to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import wrap
 from algrasp.geometry.tolerances import MAX_UNCERTAINTY_RAD, ROUNDING, SYMMETRY_TOL_RAD, UNCERTAINTY_FLOOR_RAD
+from algrasp.planning import limits as lim
 from algrasp.planning.actions import Action
 from algrasp.planning.analysis import Analysis
 from algrasp.planning.planner import GUARD_RAD, Lifted, algorithm_a_prime, images, set_a_prime
@@ -259,8 +260,6 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0, l
         raise NotOrientableError(e.reason, e.message, search=_refusal_limits(analysis, action, e.message, min_margin_deg)) from None
     if limits in ("none", "refusal"):
         return replace(plan, analysis=analysis)
-    from algrasp.planning import limits as lim  # imported only when a search runs (cold start)
-
     wanted = lim.HEADLINE if limits == "headline" else tuple(lim.SEARCHES)
     return replace(plan, analysis=analysis, limits=lim.limits(analysis, action, plan_once, wanted, min_margin_deg, refused=False))
 
@@ -271,8 +270,6 @@ def _refusal_limits(analysis: Analysis, action: Action, message: str,
     message are first read (:class:`~algrasp.errors.NotOrientableError`): a caller that
     only needs to know that no plan exists does not pay the ~5–25 probes."""
     def search() -> tuple[str, dict[str, Any]]:
-        from algrasp.planning import limits as lim
-
         assert analysis.robust is not None
         found = lim.limits(analysis, action, plan_once, margin_deg=min_margin_deg, refused=True)
         if action == "squeeze":
