@@ -227,24 +227,14 @@ def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, 
     terms = part_terms(part, tol) if terms is None else terms
     memo = SetMemo() if memo is None else memo
     band = dead_band(part, physics, tol, terms)
-    # Creep: the weakest holding case holds nothing, so motion is possible wherever f slopes.
-    stall = (0.0 if physics.creep else band.stall_lo, band.stall_hi)
     reasons: dict[str, str] = {}
     funcs: dict[str, SetTransfer | None] = {}
-    keys: dict[str, tuple[object, ...]] = {}
+    keys = set_keys(d.kind, r.kind, band, physics, tol.angle_rad)
     needs_push = action != "squeeze" or physics.placement == "any"
-    # d has two contacts: its slope and value errors are twice one jaw's.
-    # Shallow basins: the real part's f is within the profile tolerance per contact (and
-    # r within ε_c more), so a basin less than twice that deep may not be one.
-    for name, f, sigma, eps, err, mu, depth in (
-            ("squeeze", d, band.sigma_d, 2.0 * band.value_tol, 2.0 * band.value_err, band.jaw_friction,
-             4.0 * band.profile_floor),
-            ("push", r, band.sigma_r, band.value_tol_r, band.value_err + band.com_tolerance, 0.0,
-             2.0 * (band.profile_floor + band.com_tolerance))):
+    for name, f in (("squeeze", d), ("push", r)):
         if name == "push" and (not needs_push or (action is not None and funcs["squeeze"] is None)):
             funcs[name], reasons[name] = None, NOT_BUILT
             continue
-        keys[name] = (f.kind, stall, sigma, eps, tol.angle_rad, mu, err, depth)
         made = _set_transfer(memo, f, keys[name])
         if isinstance(made, SetTransfer):
             funcs[name] = made
@@ -252,6 +242,41 @@ def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, 
             funcs[name], reasons[name] = None, made
     _compose(memo, funcs, reasons, keys, physics.placement == "any", action, tol.angle_rad)
     return RobustAnalysis(physics, band, funcs["squeeze"], funcs["push"], funcs["push_grasp"], reasons, terms, memo)
+
+
+def set_keys(d_kind: str, r_kind: str, band: DeadBand, physics: Physics, tol_rad: float) -> dict[str, tuple[object, ...]]:
+    """The arguments the squeeze's and the push's set-valued functions are built with
+    (:func:`~algrasp.planning.setvalued.set_transfer`'s after f, behind f's kind): their
+    :class:`SetMemo` keys. O(1)."""
+    # Creep: the weakest holding case holds nothing, so motion is possible wherever f slopes.
+    stall = (0.0 if physics.creep else band.stall_lo, band.stall_hi)
+    # d has two contacts: its slope and value errors are twice one jaw's.
+    # Shallow basins: the real part's f is within the profile tolerance per contact (and
+    # r within ε_c more), so a basin less than twice that deep may not be one.
+    return {"squeeze": (d_kind, stall, band.sigma_d, 2.0 * band.value_tol, tol_rad, band.jaw_friction,
+                        2.0 * band.value_err, 4.0 * band.profile_floor),
+            "push": (r_kind, stall, band.sigma_r, band.value_tol_r, tol_rad, 0.0, band.value_err + band.com_tolerance,
+                     2.0 * (band.profile_floor + band.com_tolerance))}
+
+
+def uses_sets(band: DeadBand, physics: Physics) -> bool:
+    """Whether plans under this dead band are made on the set-valued functions: False
+    only with no stall, slope error, jaw friction or centre-of-mass disk and centred
+    placement, where they are the exact functions (conventions §7)."""
+    return (band.kappa_d > 0.0 or band.kappa_r > 0.0 or band.jaw_friction > 0.0 or band.com_tolerance > 0.0
+            or physics.placement == "any")
+
+
+def plan_reads(keys: dict[str, tuple[object, ...]], band: DeadBand, physics: Physics, action: str) -> tuple[object, ...]:
+    """Everything a plan of ``action`` reads of a robust analysis (given its :func:`set_keys`),
+    so that two analyses of one part alike in it plan alike (the exact functions, the
+    part's hull and the tolerances being the part's): the functions the plan is built on,
+    whether it is made on them at all (:func:`uses_sets`), and the value error that tilts
+    its final orientations. The physics itself and the rest of the band only word a
+    refusal or fill the plan document. O(1)."""
+    off_centre = action == "squeeze" and physics.placement == "any"
+    built = (keys["squeeze"], keys["push"]) if off_centre or action != "squeeze" else (keys["squeeze"],)
+    return action, off_centre, uses_sets(band, physics), band.value_err, built
 
 
 def _compose(memo: SetMemo, funcs: dict[str, SetTransfer | None], reasons: dict[str, str],
@@ -281,7 +306,16 @@ class SetMemo(dict[tuple[object, ...], "SetTransfer | str"]):
     message), and their compositions by their parts' keys: what the probes of limit
     searches on one analysis share (probes that move only a range one function does not
     read, the jaw friction for the push; both actions' searches, which probe the same
-    ranges first). A cache: it pickles and copies empty."""
+    ranges first). A cache: it pickles and copies empty.
+
+    ``plans``: whether a plan exists, by what the plan reads (:func:`plan_reads`, behind the
+    planner and margin): the limit probes and plans of one analysis whose physics differ
+    only where no plan looks (a range end no dead-band term reads, a profile tolerance
+    given as the floor it defaults to) are answered once."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.plans: dict[tuple[object, ...], bool] = {}
 
     def __reduce__(self) -> tuple[type[SetMemo], tuple[()]]:
         return SetMemo, ()

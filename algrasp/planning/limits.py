@@ -16,8 +16,8 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from algrasp.errors import NotOrientableError
-from algrasp.planning.analysis import Analysis, robust_analysis
-from algrasp.planning.deadband import profile_floor
+from algrasp.planning.analysis import Analysis, plan_reads, robust_analysis, set_keys
+from algrasp.planning.deadband import dead_band, profile_floor
 from algrasp.planning.physics import Physics
 
 BISECTIONS = 8
@@ -91,13 +91,43 @@ class Known(dict[Physics, bool]):
 def plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float,
                 known: Known | None = None) -> bool:
     """Whether a robust plan of ``action`` exists for the part under ``physics``
-    (looked up in, and added to, ``known``)."""
+    (looked up in, and added to, ``known``; then by what the plan reads in the analysis's
+    :attr:`~algrasp.planning.analysis.SetMemo.plans`, shared by every probe and plan on it)."""
     if known is not None and physics in known:
         return known[physics]
-    exists = _plan_exists(analysis, physics, action, planner, margin_deg)
+    key = _reads(analysis, physics, action, planner, margin_deg)
+    plans = {} if key is None or analysis.robust is None else analysis.robust.sets.plans
+    exists = plans.get(key) if key is not None else None
+    if exists is None:
+        exists = _plan_exists(analysis, physics, action, planner, margin_deg)
+        if key is not None:
+            plans[key] = exists
     if known is not None:
         known[physics] = exists
     return exists
+
+
+def remember(analysis: Analysis, action: str, planner: Planner, margin_deg: float, exists: bool) -> None:
+    """Note whether ``planner`` found a plan of ``action`` on the analysis under its own
+    physics (a plan or refusal already made): a later probe reading the same (the
+    refusal's ``push_grasp_orients``, a search's start) is not planned again."""
+    key = _reads(analysis, None, action, planner, margin_deg)
+    if key is not None and analysis.robust is not None:
+        analysis.robust.sets.plans[key] = exists
+
+
+def _reads(analysis: Analysis, physics: Physics | None, action: str, planner: Planner,
+           margin_deg: float) -> tuple[object, ...] | None:
+    """What a plan of ``action`` under ``physics`` (None: the analysis's) reads
+    (:func:`~algrasp.planning.analysis.plan_reads`), behind the planner and margin; None
+    without the part's dead-band terms (the exact model). O(1): the dead band only."""
+    base = analysis.robust
+    if base is None or base.terms is None:
+        return None
+    physics = base.physics if physics is None else physics
+    band = dead_band(analysis.part, physics, analysis.tol, base.terms)
+    keys = set_keys(analysis.diameter.kind, analysis.radius.kind, band, physics, analysis.tol.angle_rad)
+    return (planner, margin_deg, *plan_reads(keys, band, physics, action))
 
 
 def _plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float) -> bool:

@@ -172,14 +172,8 @@ class Physics:
     creep: bool = True
 
     def __post_init__(self) -> None:
-        for name in PARAMETERS:
-            object.__setattr__(self, name, _span(name, getattr(self, name)))
-        for name in SCALARS:
-            object.__setattr__(self, name, _length(name, getattr(self, name)))
-        if not isinstance(self.creep, bool):
-            raise ConfigError("physics.creep", f"expected true or false, got {self.creep!r}")
-        if self.placement not in PLACEMENTS:
-            raise ConfigError("physics.placement", f"expected one of {', '.join(PLACEMENTS)}, got {self.placement!r}")
+        for name in _CHECKED:
+            object.__setattr__(self, name, _checked(name, getattr(self, name)))
 
     @staticmethod
     def from_mapping(raw: Any) -> Physics:
@@ -234,14 +228,40 @@ class Physics:
         return self.with_values(**{name: span})
 
     def with_values(self, **values: Any) -> Physics:
-        """A copy with the given fields replaced (checked again)."""
-        return replace(self, **values)
+        """A copy with the given fields replaced, each checked as at construction (the
+        others already were; a limit search makes a copy per probe). O(fields given)."""
+        if not values.keys() <= _CHECKED.keys():
+            return replace(self, **values)  # an unknown field: dataclasses' own TypeError
+        new = object.__new__(Physics)
+        new.__dict__.update(self.__dict__)
+        for name in _CHECKED:
+            if name in values:
+                object.__setattr__(new, name, _checked(name, values[name]))
+        return new
 
     def corners(self) -> Iterator[Physics]:
         """Every corner of the box of ranges (one cell each), degenerate axes once."""
         axes = [sorted(set(getattr(self, n))) for n in PARAMETERS]
         for values in itertools.product(*axes):
             yield self.with_values(**{n: (v, v) for n, v in zip(PARAMETERS, values)})
+
+
+def _checked(name: str, value: Any) -> Any:
+    """One field of :class:`Physics` checked (and ranges made float pairs), naming
+    ``physics.<name>`` in errors."""
+    if name in PARAMETERS:
+        return _span(name, value)
+    if name in SCALARS:
+        return _length(name, value)
+    if name == "creep" and not isinstance(value, bool):
+        raise ConfigError("physics.creep", f"expected true or false, got {value!r}")
+    if name == "placement" and value not in PLACEMENTS:
+        raise ConfigError("physics.placement", f"expected one of {', '.join(PLACEMENTS)}, got {value!r}")
+    return value
+
+
+_CHECKED: dict[str, None] = dict.fromkeys((*PARAMETERS, *SCALARS, "creep", "placement"))
+"""The fields of :class:`Physics` in the order they are checked."""
 
 
 DEFAULT_PHYSICS = Physics()

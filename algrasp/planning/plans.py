@@ -22,8 +22,9 @@ from algrasp.geometry.angles import shortest_turn, signed_diff, to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import wrap
 from algrasp.geometry.tolerances import MAX_UNCERTAINTY_RAD, ROUNDING, SYMMETRY_TOL_RAD, UNCERTAINTY_FLOOR_RAD
+from algrasp.planning import limits as lim
 from algrasp.planning.actions import Action
-from algrasp.planning.analysis import Analysis
+from algrasp.planning.analysis import Analysis, uses_sets
 from algrasp.planning.planner import GUARD_RAD, Lifted, algorithm_a_prime, images, set_a_prime
 from algrasp.planning.setvalued import SetTransfer
 from algrasp.planning.transfer import TransferFunction
@@ -254,13 +255,13 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0, l
     try:
         plan = plan_once(analysis, action, min_margin_deg)
     except NotOrientableError as e:
+        lim.remember(analysis, action, plan_once, min_margin_deg, False)
         if limits == "none":
             raise NotOrientableError(e.reason, f"{e.message} (physics limits not searched: limits 'none')") from None
         raise NotOrientableError(e.reason, e.message, search=_refusal_limits(analysis, action, e.message, min_margin_deg)) from None
+    lim.remember(analysis, action, plan_once, min_margin_deg, True)
     if limits in ("none", "refusal"):
         return replace(plan, analysis=analysis)
-    from algrasp.planning import limits as lim  # imported only when a search runs (cold start)
-
     wanted = lim.HEADLINE if limits == "headline" else tuple(lim.SEARCHES)
     return replace(plan, analysis=analysis, limits=lim.limits(analysis, action, plan_once, wanted, min_margin_deg, refused=False))
 
@@ -271,8 +272,6 @@ def _refusal_limits(analysis: Analysis, action: Action, message: str,
     message are first read (:class:`~algrasp.errors.NotOrientableError`): a caller that
     only needs to know that no plan exists does not pay the ~5–25 probes."""
     def search() -> tuple[str, dict[str, Any]]:
-        from algrasp.planning import limits as lim
-
         assert analysis.robust is not None
         found = lim.limits(analysis, action, plan_once, margin_deg=min_margin_deg, refused=True)
         if action == "squeeze":
@@ -289,8 +288,7 @@ def plan_once(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -
         raise ConfigError("min_margin_deg", f"must be in [0, 180), got {min_margin_deg}")
     band = None if analysis.robust is None else analysis.robust.band
     robust = analysis.robust
-    if band is not None and robust is not None and (band.kappa_d > 0.0 or band.kappa_r > 0.0 or band.jaw_friction > 0.0
-                                                    or band.com_tolerance > 0.0 or robust.physics.placement == "any"):
+    if band is not None and robust is not None and uses_sets(band, robust.physics):
         return _robust_plan_verified(analysis, action, to_rad(min_margin_deg))
     # κ = 0 (no friction, exact drawing): the paper's exact model, conventions §7.
     F = transfer_for(analysis, action)

@@ -112,28 +112,36 @@ def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SA
     end must lie within ``final_uncertainty`` of a claimed final orientation.
 
     The second action runs over every sample in one vectorised pass; the samples are
-    mostly sorted and the bounds monotone, so its images repeat in runs, and the later
-    actions run over each run once. When at most ``FEW_ARCS`` distinct images are left,
-    they and the check run in plain floats instead, each distinct arc once (the same
-    values: :meth:`~algrasp.planning.transfer.TransferFunction.apply_floats`). O(m) for
-    m samples, then O(runs) per action."""
+    mostly sorted and the bounds monotone, so its images repeat in runs, and each later
+    action runs over the runs the one before left, once each (they shrink as the plan
+    collapses orientations). As soon as at most ``FEW_ARCS`` runs are left, the rest of
+    the actions and the check run in plain floats instead, each distinct arc once (the
+    same values: :meth:`~algrasp.planning.transfer.TransferFunction.apply_floats`). O(m)
+    for m samples, then O(runs) per action."""
     assert plan.bounds is not None
     S = plan.bounds
     if not _outcomes_within(S, circle):
         return False
-    lo, hi = run_steps(S, plan.steps[1:2], *_samples(plan, circle, samples))
+    lo, hi = _runs(*run_steps(S, plan.steps[1:2], *_samples(plan, circle, samples)))
+    k = 2
+    while len(lo) > FEW_ARCS and k < len(plan.steps):
+        lo, hi = _runs(*run_steps(S, plan.steps[k:k + 1], lo, hi))
+        k += 1
+    want, bound = plan.final_orientations, plan.final_uncertainty + FINAL_CLUSTER_RAD
+    if len(lo) <= FEW_ARCS:
+        arcs = _run_floats(S, plan.steps[k:], dict.fromkeys(zip(lo.tolist(), hi.tolist())))
+        return all(min(abs(signed_diff(0.5 * (x + y), w)) for w in want) + 0.5 * (y - x) <= bound for x, y in arcs)
+    off = np.abs(signed_diff((0.5 * (lo + hi))[:, None], np.array(want))).min(axis=1)
+    return bool((off + 0.5 * (hi - lo) <= bound).all())
+
+
+def _runs(lo: FloatArray, hi: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The arcs [lo, hi] with runs of equal ones kept once (a repeat is run alike)."""
     new = np.empty(len(lo), dtype=bool)
     new[:1] = True
     np.not_equal(lo[1:], lo[:-1], out=new[1:])
     new[1:] |= hi[1:] != hi[:-1]
-    lo, hi = lo[new], hi[new]
-    want, bound = plan.final_orientations, plan.final_uncertainty + FINAL_CLUSTER_RAD
-    if len(lo) <= FEW_ARCS:
-        arcs = _run_floats(S, plan.steps[2:], dict.fromkeys(zip(lo.tolist(), hi.tolist())))
-        return all(min(abs(signed_diff(0.5 * (x + y), w)) for w in want) + 0.5 * (y - x) <= bound for x, y in arcs)
-    lo, hi = run_steps(S, plan.steps[2:], lo, hi)
-    off = np.abs(signed_diff((0.5 * (lo + hi))[:, None], np.array(want))).min(axis=1)
-    return bool((off + 0.5 * (hi - lo) <= bound).all())
+    return lo[new], hi[new]
 
 
 FEW_ARCS = 32

@@ -5,6 +5,7 @@ alone, and ``limits="none"`` refuses after one planning attempt."""
 from __future__ import annotations
 
 import pickle
+from collections.abc import Callable
 from typing import Any
 
 import pytest
@@ -12,7 +13,8 @@ import pytest
 from algrasp.errors import NotOrientableError
 from algrasp.pipeline import WARM_UP_PART
 from algrasp.planning import limits as lim
-from algrasp.planning.analysis import ROBUST, analyse_document
+from algrasp.planning.analysis import ROBUST, Model, analyse_document
+from algrasp.planning.physics import DEFAULT_PHYSICS, IDEAL_CELL, Physics
 from algrasp.planning.plans import make_plan, plan_once
 from algrasp.testing import shapes
 
@@ -53,6 +55,7 @@ def _count_probes(monkeypatch: pytest.MonkeyPatch) -> list[int]:
 
 
 def test_the_screen_saves_probes_when_no_single_range_helps(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(lim, "_reads", lambda *a: None)  # every probe planned: the screen's own saving
     calls = _count_probes(monkeypatch)
     found = _refused_limits(PARTS["random 5-gon"], "squeeze")
     screened = len(calls)
@@ -78,10 +81,12 @@ def test_limits_none_refuses_after_one_attempt_without_searching(monkeypatch: py
 @pytest.mark.parametrize("read", ["limits", "message", "to_dict", "pickle"])
 def test_a_refusal_searches_its_limits_when_first_read(read: str, monkeypatch: pytest.MonkeyPatch) -> None:
     """The refusal of make_plan probes nothing until its limits are read; then they (and
-    the sentence) equal an eager search of the same part, made here apart."""
+    the sentence) equal an eager search of the same part, made here apart (on an analysis
+    of its own: one analysis's probes share their answers)."""
+    apart = analyse_document(PARTS["random 5-gon"], ROBUST)
+    eager = lim.limits(apart, "squeeze", plan_once, refused=True)
+    eager["push_grasp_orients"] = lim.plan_exists(apart, apart.robust.physics, "push_grasp", plan_once, 0.0)  # type: ignore[union-attr]
     analysis = analyse_document(PARTS["random 5-gon"], ROBUST)
-    eager = lim.limits(analysis, "squeeze", plan_once, refused=True)
-    eager["push_grasp_orients"] = lim.plan_exists(analysis, analysis.robust.physics, "push_grasp", plan_once, 0.0)  # type: ignore[union-attr]
     calls = _count_probes(monkeypatch)
     with pytest.raises(NotOrientableError) as refused:
         make_plan(analysis, "squeeze")
@@ -115,3 +120,69 @@ def test_the_set_memo_crosses_no_process() -> None:
     analysis = analyse_document(PARTS["triangle"], ROBUST)
     assert analysis.robust is not None and analysis.robust.sets
     assert pickle.loads(pickle.dumps(analysis.robust)).sets == {}
+
+
+def _fresh_answer(doc: dict[str, Any], physics: Physics, action: str, margin_deg: float = 0.0) -> bool:
+    """Whether a plan exists, from an analysis of the part under ``physics`` made for it
+    alone: no probe, memo or limit search involved."""
+    try:
+        plan_once(analyse_document(doc, Model(physics=physics)), action, margin_deg)  # type: ignore[arg-type]
+    except NotOrientableError:
+        return False
+    return True
+
+
+def _lo_moved(physics: Physics, key: str) -> Physics:
+    """The range ``key`` with its low end moved (to its high end, or half of it)."""
+    lo, hi = getattr(physics, key)
+    return physics.with_range(key, (hi, hi) if lo != hi else (0.5 * hi, hi))
+
+
+VARIANTS: dict[str, tuple[Callable[[Physics, float], Physics], Callable[[Physics], bool]]] = {
+    # name: (the physics from a base and the part's profile floor, whether a plan reads it alike)
+    "support μ lo": (lambda p, _: _lo_moved(p, "support_friction"), lambda p: p.creep),  # creep: the weakest hold holds nothing
+    "part mass lo": (lambda p, _: _lo_moved(p, "part_mass_kg"), lambda p: p.creep),
+    "jaw μ lo": (lambda p, _: _lo_moved(p, "jaw_friction"), lambda p: True),  # only the largest jaw μ is read
+    "profile tolerance given as its floor": (lambda p, floor: p.with_values(profile_tolerance=floor), lambda p: True),
+    "jaw μ hi": (lambda p, _: p.with_range("jaw_friction", (p.jaw_friction[0], p.jaw_friction[1] + 0.1)), lambda p: False),
+    "creep": (lambda p, _: p.with_values(creep=not p.creep), lambda p: False),
+}
+BASES = {"default": DEFAULT_PHYSICS, "near-ideal": IDEAL_CELL.with_values(creep=True, support_friction=(0.2, 0.3))}
+
+
+@pytest.mark.parametrize("name", PARTS)
+@pytest.mark.parametrize("action", ["squeeze", "push_grasp"])
+@pytest.mark.parametrize("base_name", BASES)
+def test_probes_alike_in_what_the_plan_reads_share_the_answer_of_fresh_ones(name: str, action: str, base_name: str,
+                                                                           monkeypatch: pytest.MonkeyPatch) -> None:
+    """A probe whose physics reads alike (:func:`~algrasp.planning.analysis.plan_reads`)
+    to one already made on the analysis is answered by it, not planned: that answer is
+    the one an analysis under its physics alone finds; physics that read differently are
+    planned."""
+    doc, base = PARTS[name], BASES[base_name]
+    analysis = analyse_document(doc, Model(physics=base))
+    assert analysis.robust is not None and analysis.robust.terms is not None
+    floor = lim.profile_floor(analysis.part, base, analysis.robust.terms.nominal_size)
+    assert lim.plan_exists(analysis, base, action, plan_once, 0.0) == _fresh_answer(doc, base, action)
+    calls = _count_probes(monkeypatch)
+    for label, (vary, alike) in VARIANTS.items():
+        physics = vary(base, floor)
+        calls.clear()
+        got = lim.plan_exists(analysis, physics, action, plan_once, 0.0)
+        assert (calls == []) == alike(base), label
+        assert got == _fresh_answer(doc, physics, action), label
+    assert analysis.robust.sets.plans and pickle.loads(pickle.dumps(analysis.robust)).sets.plans == {}
+
+
+def test_a_plan_made_answers_the_probe_that_reads_the_same(monkeypatch: pytest.MonkeyPatch) -> None:
+    """make_plan notes its answer (a plan, or a refusal) on the analysis: a probe of the
+    same action under the same physics (a squeeze refusal's ``push_grasp_orients``) is
+    not planned again, and under another margin it is."""
+    analysis = analyse_document(PARTS["triangle"], ROBUST)
+    assert analysis.robust is not None
+    make_plan(analysis, "push_grasp")
+    calls = _count_probes(monkeypatch)
+    assert lim.plan_exists(analysis, analysis.robust.physics, "push_grasp", plan_once, 0.0) and calls == []
+    assert lim.plan_exists(analysis, analysis.robust.physics, "push_grasp", plan_once, 1.0) == \
+        _fresh_answer(PARTS["triangle"], DEFAULT_PHYSICS, "push_grasp", 1.0) and calls == [1]
+

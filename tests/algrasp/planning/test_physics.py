@@ -13,6 +13,7 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -20,7 +21,7 @@ import pytest
 from algrasp.errors import ConfigError, NotOrientableError
 from algrasp.geometry.arcforms import document
 from algrasp.planning.analysis import Model, analyse_document
-from algrasp.planning.physics import DEFAULT_PHYSICS, IDEAL_CELL, Physics, cell_from_text
+from algrasp.planning.physics import DEFAULT_PHYSICS, IDEAL_CELL, PARAMETERS, Physics, cell_from_text
 from algrasp.planning.plans import make_plan
 from tests.algrasp.brute import ExactPart, Flow, worst_miss_deg
 from tests.algrasp.test_robust import _generalized_polygon, _lens
@@ -219,3 +220,28 @@ def test_cells_and_presets() -> None:
     assert len(list(DEFAULT_PHYSICS.corners())) == 16  # μ_s, μ_j, m, F vary; gravity is one value
     with pytest.raises(ConfigError):
         cell_from_text("[1, 2]")
+
+
+@pytest.mark.parametrize("changes", [{"jaw_friction": 0.3}, {"support_friction": [0.1, 0.2], "part_mass_kg": (1, 2)},
+                                     {"profile_tolerance": 1, "placement": "centred", "creep": False},
+                                     {"com_tolerance": None}, {}])
+def test_with_values_equals_a_physics_built_whole(changes: dict[str, Any]) -> None:
+    """with_values checks only the fields it is given: the copy equals (and hashes as)
+    the physics constructed from every field, the changed ones included."""
+    from dataclasses import asdict
+
+    base = Physics(support_friction=(0.3, 0.4), com_tolerance=0.5)
+    whole = Physics(**{**asdict(base), **changes})
+    got = base.with_values(**changes)
+    assert got == whole and hash(got) == hash(whole) and got.to_dict() == whole.to_dict()
+    assert all(type(v) is float for n in PARAMETERS for v in getattr(got, n))
+
+
+@pytest.mark.parametrize("changes", [{"jaw_friction": -1}, {"creep": 1}, {"placement": "x"}, {"profile_tolerance": -2},
+                                     {"grip_force_n": 0.0}, {"part_mass_kg": [1, 2, 3]}])
+def test_with_values_refuses_what_construction_refuses(changes: dict[str, Any]) -> None:
+    with pytest.raises(ConfigError) as whole:
+        Physics(**changes)
+    with pytest.raises(ConfigError) as copied:
+        DEFAULT_PHYSICS.with_values(**changes)
+    assert str(copied.value) == str(whole.value)

@@ -11,7 +11,8 @@ import pytest
 from algrasp.geometry.tolerances import PROBE_RAD
 from algrasp.pipeline import WARM_UP_PART
 from algrasp.planning.actions import Action
-from algrasp.planning.analysis import ROBUST, analyse_document
+from algrasp.planning.analysis import ROBUST, Model, analyse_document
+from algrasp.planning.physics import IDEAL_CELL
 from algrasp.planning.plans import Plan, make_plan
 from algrasp.planning.verification import FINAL_CLUSTER_RAD, VERIFY_SAMPLES, run_steps, verify_set
 from algrasp.testing import shapes
@@ -78,3 +79,27 @@ def test_verify_set_in_floats_answers_as_vectorised(doc: dict[str, object], acti
             monkeypatch.setattr(verification, "FEW_ARCS", few)
             answers.append(verify_set(p, circle))
         assert answers[0] == answers[1]
+
+
+@pytest.mark.parametrize("doc", [shapes.random_polygon(7, 4), shapes.bezier_blob(50, 2)])
+def test_verify_set_switching_to_floats_mid_plan_answers_as_every_sample(doc: dict[str, object],
+                                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    """Long plans whose images still run in more than ``FEW_ARCS`` arcs after the second
+    action: each later action runs over the runs the one before left, and the floats take
+    over wherever the count falls below the threshold (never, at once, midway): the
+    answer is the sample-by-sample one, for claimed finals on and off the truth."""
+    from algrasp.planning import verification
+
+    physics = IDEAL_CELL.with_values(creep=True, support_friction=(0.2, 0.3))
+    plan = make_plan(analyse_document(doc, Model(physics=physics)), "push_grasp", limits="none")
+    assert plan.bounds is not None and len(plan.steps) > 4
+    truths = []
+    u = plan.final_uncertainty
+    for circle in plan.bounds.circle_images():  # the plan was placed on one of them
+        for shift in (0.0, 1.001 * u):
+            p = dataclasses.replace(plan, final_orientations=tuple(f + shift for f in plan.final_orientations))
+            truths.append(_every_sample(p, circle))
+            for few in (0, 4, 16, 32, 10**9):
+                monkeypatch.setattr(verification, "FEW_ARCS", few)
+                assert verify_set(p, circle) == truths[-1], (circle, shift, few)
+    assert any(truths) and not all(truths)
