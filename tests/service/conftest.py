@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 import httpx
+import psutil
 import pytest
 
 from service.launch import LocalServer
@@ -33,6 +34,21 @@ def dxf_bytes(build: Callable[[Any], None]) -> bytes:
     out = io.StringIO()
     doc.write(out)
     return out.getvalue().encode()
+
+
+def pool_workers(pid: int) -> list[psutil.Process]:
+    """The pool workers (spawned interpreters; not the resource tracker) under server
+    ``pid`` that are alive now. A worker a fault just killed can still be listed as a
+    child, then be gone or a zombie (not yet reaped) when its command line is read: it is
+    no worker any more, so it is left out rather than failing the test."""
+    out = []
+    for p in psutil.Process(pid).children(recursive=True):
+        try:
+            if "spawn_main" in " ".join(p.cmdline()):
+                out.append(p)
+        except psutil.NoSuchProcess:  # gone, or a zombie (ZombieProcess is one)
+            continue
+    return out
 
 
 def start_server(log_dir: Path, **env: str) -> LocalServer:

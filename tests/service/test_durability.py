@@ -17,7 +17,7 @@ import psutil
 
 from algrasp.testing.shapes import rectangle
 from service.store import Store
-from tests.service.conftest import Server, start_server
+from tests.service.conftest import Server, pool_workers, start_server
 
 PARTS = 2000
 WINDOW = 8  # parts in flight: 2 chunks of 4 for the one worker
@@ -29,8 +29,13 @@ GUARD_S = 300.0  # a hang guard per wait, not a performance bound
 
 
 def _busy_worker(server: Server) -> psutil.Process | None:
-    workers = [p for p in psutil.Process(server.proc.pid).children(recursive=True) if "spawn_main" in " ".join(p.cmdline())]
-    return max(workers, key=lambda p: p.cpu_times().user, default=None)
+    """The live worker that has used the most CPU (one that dies meanwhile counts 0)."""
+    def used(p: psutil.Process) -> float:
+        try:
+            return float(p.cpu_times().user)
+        except psutil.NoSuchProcess:
+            return -1.0
+    return max(pool_workers(server.proc.pid), key=used, default=None)
 
 
 def _finished(c: httpx.Client, job_id: str) -> tuple[int, str]:

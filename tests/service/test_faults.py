@@ -17,21 +17,16 @@ import psutil
 import pytest
 
 from algrasp.testing.shapes import bezier_blob
-from tests.service.conftest import start_server
+from tests.service.conftest import pool_workers, start_server
 
 SQUARE = {"name": "sq", "units": "mm", "boundary": [[0, 0], [4, 0], [4, 3], [0, 3]]}
-
-
-def _workers(pid: int) -> list[psutil.Process]:
-    """The server's pool workers (spawned interpreters; not the resource tracker)."""
-    return [p for p in psutil.Process(pid).children(recursive=True) if "spawn_main" in " ".join(p.cmdline())]
 
 
 def _idle(c: httpx.Client, pid: int) -> dict[int, float]:
     """Every pool has answered a readiness ping (one worker each: all warm, none busy);
     then each worker's CPU so far."""
     assert c.get("/readyz").status_code == 200
-    return {p.pid: p.cpu_times().user for p in _workers(pid)}
+    return {p.pid: p.cpu_times().user for p in pool_workers(pid)}
 
 
 def _wait_busy(pid: int, before: dict[int, float], cpu_s: float = 0.3, limit_s: float = 120.0) -> psutil.Process:
@@ -41,7 +36,7 @@ def _wait_busy(pid: int, before: dict[int, float], cpu_s: float = 0.3, limit_s: 
     against a hang)."""
     deadline = time.monotonic() + limit_s
     while time.monotonic() < deadline:
-        for p in _workers(pid):
+        for p in pool_workers(pid):
             if p.cpu_times().user - before.get(p.pid, 0.0) >= cpu_s:
                 return p
         time.sleep(0.02)
@@ -128,7 +123,7 @@ def test_kill_9_leaves_no_orphans(tmp_path: Path) -> None:
     s = start_server(tmp_path)
     with s.client() as c:
         assert c.get("/readyz").status_code == 200  # every pool has started its workers
-    workers = _workers(s.proc.pid)
+    workers = pool_workers(s.proc.pid)
     assert len(workers) >= 3
     os.kill(s.proc.pid, signal.SIGKILL)
     s.proc.wait(10)
@@ -145,7 +140,7 @@ def test_sigterm_with_work_in_flight_stops_promptly(tmp_path: Path) -> None:
     try:
         with s.client() as c:
             before = _idle(c, s.proc.pid)
-        workers = _workers(s.proc.pid)
+        workers = pool_workers(s.proc.pid)
         out: dict[str, Any] = {}
 
         def slow() -> None:
@@ -169,7 +164,7 @@ def test_sigterm_with_work_in_flight_stops_promptly(tmp_path: Path) -> None:
 
 def _sim_workers(pid: int) -> list[psutil.Process]:
     """Drake's simulation workers: spawned by a pool worker (grandchildren of the server)."""
-    return [p for p in _workers(pid) if p.ppid() != pid]
+    return [p for p in pool_workers(pid) if p.ppid() != pid]
 
 
 @pytest.mark.sim
