@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from algrasp.compiled import KERNELS
 from algrasp.errors import NotOrientableError
 from algrasp.geometry.angles import to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
@@ -51,6 +52,8 @@ class _Pieces:
     @staticmethod
     def of(F: TransferFunction) -> _Pieces:
         s, e, v, r = F.lifted
+        if KERNELS is not None:  # typed loops, the same keys (algrasp.compiled)
+            return _Pieces(s, e, v, r, KERNELS.keys(s, v, r, STRICT_RAD))
         keys = np.maximum.accumulate(np.where(r, s, v + STRICT_RAD))
         return _Pieces(s, e, v, r, keys)
 
