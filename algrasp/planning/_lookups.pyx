@@ -9,7 +9,7 @@ as bisect_right). Re-exported by :mod:`algrasp.planning._kernels` and used throu
 
 import numpy as np
 
-from libc.math cimport floor, isnan
+from libc.math cimport copysign, floor, fmod, isnan
 from libc.stdlib cimport free, malloc
 from cpython.float cimport PyFloat_AS_DOUBLE
 from cpython.list cimport PyList_GET_ITEM, PyList_GET_SIZE
@@ -165,3 +165,135 @@ def keys(const double[:] starts, const double[:] values, ramp, double strict):
         acc = x if i == 0 else (acc if (acc >= x or isnan(acc)) else x)
         out[i] = acc
     return out_
+
+
+# ----------------------------------------------------------------- placement.pointwise
+
+cdef object _Piece = None
+
+
+cdef inline object _piece(double a, double b, object v):
+    """TransferPiece(a, b, v), as its own __new__ makes it (tuple.__new__)."""
+    return tuple.__new__(_Piece, (a, b, v))
+
+
+cdef inline double _mod(double a, double b) noexcept nogil:
+    """Python's float remainder: the sign of the divisor, +0.0 for none."""
+    cdef double m = fmod(a, b)
+    if m != 0.0:
+        if (b < 0.0) != (m < 0.0):
+            m += b
+    else:
+        m = copysign(0.0, b)
+    return m
+
+
+cdef Py_ssize_t _cuts(list fs, double a, double P, double* out) noexcept:
+    """placement._cuts into ``out`` (room for 2 + every piece): the first of equal values
+    kept, as the set does; sorted, in [a, a + P]."""
+    cdef Py_ssize_t n = 0, i, j
+    cdef double x
+    cdef tuple pieces
+    out[0], out[1], n = a, a + P, (2 if a + P != a else 1)
+    for F in fs:
+        pieces = F.pieces
+        for i in range(len(pieces)):
+            x = a + _mod(<double>(<object>PyTuple_GET_ITEM(<object>PyTuple_GET_ITEM(pieces, i), 0)) - a, P)
+            for j in range(n):
+                if out[j] == x:
+                    break
+            else:
+                out[n] = x
+                n += 1
+    j = 0
+    for i in range(n):  # kept in [a, a + P], then an insertion sort (distinct values)
+        if a <= out[i] <= a + P:
+            out[j] = out[i]
+            j += 1
+    for i in range(1, j):
+        x = out[i]
+        n = i - 1
+        while n >= 0 and x < out[n]:
+            out[n + 1] = out[n]
+            n -= 1
+        out[n + 1] = x
+    return j
+
+
+cdef void _steps(F, const double* mids, Py_ssize_t m, double* out, Py_ssize_t stride) except *:
+    """steps_floats(F, mids) into out[0], out[stride], …"""
+    cdef double first, P = F.period, kP, t
+    cdef double* starts = NULL
+    cdef double* values = NULL
+    cdef Py_ssize_t n, i
+    _table(F, &first, &starts, &values, &n)
+    for i in range(m):
+        t = mids[i]
+        kP = floor((t - first) / P) * P
+        out[i * stride] = kP + values[_bisect_right(starts, n, t - kP)]
+    free(starts)
+    free(values)
+
+
+def pointwise(list fs, bint take_max):
+    """placement.pointwise's pieces before canonical: the min (or max) of the functions
+    cell by cell between their breakpoints, split where the identity crosses the extreme
+    constant; the same floats."""
+    global _Piece
+    if _Piece is None:
+        from algrasp.planning.transfer import TransferPiece
+        _Piece = TransferPiece
+    F0 = fs[0]
+    cdef double P = F0.period, a = F0.pieces[0].start, c, v, lo, hi
+    cdef Py_ssize_t total = 2, nc, nf = 0, i, k, ncell = 0, nconst
+    cdef list live = []
+    for F in fs:
+        total += len(F.pieces)
+        if any(not isinstance(p, tuple) or len(p) != 3 for p in F.pieces):  # slots read unchecked
+            raise TypeError("pointwise: pieces must be TransferPieces")
+        if len(F.pieces) > 1 or F.pieces[0].value is not None:  # the identity: a ramp everywhere
+            live.append(F)
+    cdef bint ramp_always = len(live) < len(fs), ramp
+    cdef double* cuts = <double*>malloc(total * sizeof(double))
+    cdef double* mids = <double*>malloc(total * sizeof(double))
+    cdef double* ends = <double*>malloc(total * sizeof(double))
+    cdef double* vals = <double*>malloc(max(total * len(live), 1) * sizeof(double))
+    cdef list out = []
+    try:
+        if cuts == NULL or mids == NULL or ends == NULL or vals == NULL:
+            raise MemoryError()
+        nc = _cuts(fs, a, P, cuts)
+        for i in range(nc - 1):
+            if cuts[i + 1] - cuts[i] > 0.0:
+                mids[ncell], ends[ncell] = 0.5 * (cuts[i] + cuts[i + 1]), cuts[i + 1]
+                cuts[ncell] = cuts[i]  # (ncell ≤ i: read before written)
+                ncell += 1
+        nf = len(live)
+        for k in range(nf):
+            _steps(live[k], mids, ncell, vals + k, nf)
+        for i in range(ncell):
+            lo, hi = cuts[i], ends[i]
+            nconst = 0
+            for k in range(nf):
+                v = vals[i * nf + k]
+                if v == v:
+                    if nconst == 0 or (v > c if take_max else v < c):  # max/min: the first of equals
+                        c = v
+                    nconst += 1
+            ramp = ramp_always or nconst < nf
+            if nconst == 0:
+                out.append(_piece(lo, hi, None))
+            elif not ramp or (c >= hi if take_max else c <= lo):
+                out.append(_piece(lo, hi, c))
+            elif (c <= lo) if take_max else (c >= hi):
+                out.append(_piece(lo, hi, None))
+            elif take_max:
+                out += [_piece(lo, c, c), _piece(c, hi, None)]
+            else:
+                out += [_piece(lo, c, None), _piece(c, hi, c)]
+    finally:
+        free(cuts)
+        free(mids)
+        free(ends)
+        free(vals)
+    return out

@@ -19,13 +19,13 @@ from algrasp.errors import NotOrientableError
 from algrasp.geometry.functions import SupportPairFunction, analyse
 from algrasp.geometry.part import load_part
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES as TOL
-from algrasp.planning import edges, planner, setcells, setvalued, transfer
+from algrasp.planning import edges, placement, planner, setcells, setvalued, transfer
 from algrasp.planning.edges import CURVE_GRID_RAD, crossings
 from algrasp.planning.setvalued import GRID_RAD, _Band, _classify, set_transfer
 from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical, from_runs
 from algrasp.testing import shapes
 
-HOOKED: tuple[Any, ...] = (edges, planner, setcells, setvalued, transfer)
+HOOKED: tuple[Any, ...] = (edges, placement, planner, setcells, setvalued, transfer)
 """The modules whose hooks read algrasp.compiled.KERNELS."""
 pytestmark = pytest.mark.skipif(KERNELS is None, reason="compiled kernels not built (or ALGRASP_PURE set)")
 
@@ -211,7 +211,8 @@ def _lookups(F: TransferFunction, thetas: list[float]) -> list[Any]:
 @given(shape=st.sampled_from(sorted(DOCS)), seed=st.integers(0, 10_000), n=st.integers(3, 11), band=BAND)
 def test_lookups_and_plans_are_bit_identical(shape: str, seed: int, n: int, band: tuple[float, ...]) -> None:
     """Exact functions and set-valued bounds (and their compositions): the lifted pieces,
-    A′'s keys, the vectorised and plain-float lookups, and the plans A′ finds."""
+    A′'s keys, the vectorised and plain-float lookups, pointwise minima and maxima, and the
+    plans A′ finds."""
     d, r = (_function(shape, seed, n, kind) for kind in ("diameter", "radius"))
     with _numpy_path():
         fs = [from_runs(list(f.runs), f.period, TOL.angle_rad) for f in (d, r)]
@@ -231,6 +232,11 @@ def test_lookups_and_plans_are_bit_identical(shape: str, seed: int, n: int, band
                 out.append(planner.algorithm_a_prime(G, G.period / (1 + seed % 2)))
             except NotOrientableError as e:
                 out.append(str(e))
+        for P in {F.period for F in fs}:  # min and max of the functions of one period, with the identity
+            same = [TransferFunction(P, F.pieces) for F in fs if F.period == P]
+            groups = [same, [placement.identity(P), *same], [placement.identity(P), *(placement.shifted(F, 0.5 * P)
+                                                                                      for F in same)]]
+            out += [placement.pointwise(g, m, tol).pieces for g in groups for m in (False, True) for tol in (0.0, 1e-9)]
         for s_ in sets:
             lo, up = TransferFunction(s_.period, s_.lower.pieces), TransferFunction(s_.period, s_.upper.pieces)
             try:
