@@ -297,3 +297,73 @@ def pointwise(list fs, bint take_max):
         free(ends)
         free(vals)
     return out
+
+
+# ------------------------------------------------------------------- planner._widest
+
+cdef inline Py_ssize_t _bisect_left(const double[:] a, double x) noexcept nogil:
+    """searchsorted(side="left") on a sorted array."""
+    cdef Py_ssize_t lo = 0, hi = a.shape[0], mid
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if a[mid] < x:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+cdef inline Py_ssize_t _right(const double[:] a, double x) noexcept nogil:
+    """searchsorted(side="right") on a sorted array."""
+    return _bisect_right(&a[0], a.shape[0], x) if a.shape[0] else 0
+
+
+cdef inline Py_ssize_t _wrap(Py_ssize_t i, Py_ssize_t n) noexcept nogil:
+    """numpy's index −1: the last."""
+    return i + n if i < 0 else i
+
+
+def widest(const double[:] starts, const double[:] ramp_starts, const double[:] ramp_ends, const double[:] tops,
+           const double[:] at_starts, lower, upper, double room):
+    """planner._widest after _fixed: the top-right candidates inside ramps (tops a ramp's
+    box reaches), each left end's right end, the first widest; the same floats."""
+    cdef const double[:] ls = lower.starts, lv = lower.values, keys = upper.keys, ue = upper.ends, us = upper.starts
+    cdef const unsigned char[:] lr = lower.ramp.view(np.uint8), ur = upper.ramp.view(np.uint8)
+    cdef Py_ssize_t ns = starts.shape[0], nr = ramp_starts.shape[0], nt = tops.shape[0], t, k, i, j, c, d
+    cdef Py_ssize_t n = ns + (nt if nr else 0)
+    cdef double x, y, at, b, w, mw = 0.0, bb = 0.0, bx = 0.0
+    cdef bint found = False
+    cdef Py_ssize_t* lo = <Py_ssize_t*>malloc(max(2 * nr, 1) * sizeof(Py_ssize_t))
+    if lo == NULL:
+        raise MemoryError()
+    for k in range(nr):  # _ramp_candidates' lo and hi (sorted: the ramps are)
+        lo[k], lo[nr + k] = _bisect_left(tops, ramp_starts[k] + room), _bisect_left(tops, ramp_ends[k] + room)
+    try:
+        for i in range(n):
+            if i < ns:
+                x, at = starts[i], at_starts[i]
+            else:  # tops[t] − room where more ranges start than end by t
+                t = i - ns
+                c = d = 0
+                for k in range(nr):
+                    c += lo[k] <= t
+                    d += lo[nr + k] <= t
+                if not c > d:
+                    continue
+                x = tops[t] - room
+                j = _wrap(_right(ls, x) - 1, ls.shape[0])
+                at = x if lr[j] else lv[j]
+            y = at + room
+            j = _bisect_left(keys, y)
+            if j >= us.shape[0]:
+                raise IndexError(f"index {j} is out of bounds for axis 0 with size {us.shape[0]}")
+            k = _wrap(j - 1, us.shape[0])
+            b = y if (ur[k] and ue[k] > y) else us[j]
+            w = b - x
+            if not found or (not isnan(mw) and not (w <= mw)):  # argmax: the first maximum, a NaN first
+                found, mw, bb, bx = True, w, b, x
+    finally:
+        free(lo)
+    if not found:
+        raise ValueError("attempt to get argmax of an empty sequence")
+    return float(bx), float(bb)

@@ -180,6 +180,8 @@ def _widest(F: TransferFunction, lifted: Lifted, room: float) -> tuple[float, fl
     values are fixed), then the points of ramps :func:`_ramp_candidates` gives (the first
     widest wins)."""
     starts, ramp_starts, ramp_ends, tops, at_starts = _fixed(F, lifted)
+    if KERNELS is not None:  # typed loops, the same interval (algrasp.compiled)
+        return KERNELS.widest(starts, ramp_starts, ramp_ends, tops, at_starts, lifted.lower, lifted.upper, room)  # type: ignore[no-any-return]
     inner = _ramp_candidates(ramp_starts, ramp_ends, tops, room)
     if len(inner):  # one search for both kinds; argmax's first maximum keeps the starts' priority
         starts, at_starts = np.concatenate((starts, inner)), np.concatenate((at_starts, lifted.value_at(inner)))

@@ -239,6 +239,8 @@ def test_lookups_and_plans_are_bit_identical(shape: str, seed: int, n: int, band
             out += [placement.pointwise(g, m, tol).pieces for g in groups for m in (False, True) for tol in (0.0, 1e-9)]
         for s_ in sets:
             lo, up = TransferFunction(s_.period, s_.lower.pieces), TransferFunction(s_.period, s_.upper.pieces)
+            lifted = planner.Lifted.of(lo, up)
+            out += [planner._widest(lo, lifted, room) for room in (1e-9, 0.01, 0.1, 0.5, 1.0, 3.0, float(seed % 5))]
             try:
                 plan = planner.set_a_prime(lo, up, s_.symmetry, s_.circle_width())
                 out += [plan, planner.images(lo, plan, up)]
