@@ -367,3 +367,43 @@ def widest(const double[:] starts, const double[:] ramp_starts, const double[:] 
     if not found:
         raise ValueError("attempt to get argmax of an empty sequence")
     return float(bx), float(bb)
+
+
+# ------------------------------------------------------------------ setcells.rest_zones
+
+def rest_zones(const double[:] nodes, double T, rest, double P, Py_ssize_t K):
+    """setcells.rest_zones with K = round(P / T) copies: the maximal rest zones, the one
+    through 0 starting at the last start (− P); the same floats."""
+    cdef const unsigned char[:] r = rest.view(np.uint8)
+    cdef Py_ssize_t n = nodes.shape[0], N = n * (K if K > 1 else 1), i, na = 0, nb = 0, nr = 0
+    cdef double* x = <double*>malloc(max(3 * N, 1) * sizeof(double))
+    if x == NULL:
+        raise MemoryError()
+    cdef double* a = x + N
+    cdef double* b = x + 2 * N
+    cdef list out = []
+    try:
+        for i in range(N):  # (nodes + k·T for every copy; one copy as it is)
+            x[i] = nodes[i % n] + (<double>(i // n)) * T if K > 1 else nodes[i]
+            nr += r[i % n] != 0
+        if nr == N:
+            return ((0.0, P),)
+        if nr == 0:
+            return ()
+        for i in range(N):
+            if r[i % n] and not r[(i + N - 1) % N % n]:
+                a[na] = x[i]
+                na += 1
+            if r[i % n] and not r[(i + 1) % N % n]:
+                b[nb] = x[i + 1] if i + 1 < N else P
+                nb += 1
+        if r[0] and r[(N - 1) % n]:  # the zone through 0: from the last start to the first end
+            a[na - 1] -= P
+            for i in range(na):
+                out.append((a[i], b[(i + 1) % nb]))
+        else:
+            for i in range(min(na, nb)):
+                out.append((a[i], b[i]))
+    finally:
+        free(x)
+    return tuple(out)

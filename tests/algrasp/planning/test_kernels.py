@@ -252,6 +252,18 @@ def test_lookups_and_plans_are_bit_identical(shape: str, seed: int, n: int, band
     assert _bits(compiled) == _bits(numpy_)
 
 
+@settings(max_examples=300, deadline=None)
+@given(cuts=st.lists(st.floats(0.0, 1.0), max_size=12), rest=st.lists(st.booleans(), min_size=12, max_size=12),
+       T=st.sampled_from([np.pi, 2.0 * np.pi, np.pi / 3, 0.7]), K=st.integers(1, 4))
+def test_rest_zones_are_bit_identical(cuts: list[float], rest: list[bool], T: float, K: int) -> None:
+    """Zones over K copies of random cells: all, none, runs through 0 and ±0.0 nodes."""
+    nodes = np.array(sorted({c * T for c in cuts}) or [0.0])
+    nodes[0] = -0.0 if K % 2 else nodes[0]
+    r = np.array(rest[:len(nodes)])
+    compiled, numpy_ = _both(lambda: setcells.rest_zones(nodes, T, r, K * T))
+    assert _bits(compiled) == _bits(numpy_)
+
+
 def test_the_comparison_can_fail() -> None:
     """_bits tells apart what float equality does not."""
     assert _bits(np.array([0.0])) != _bits(np.array([-0.0]))
