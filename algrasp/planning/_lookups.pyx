@@ -9,7 +9,7 @@ as bisect_right). Re-exported by :mod:`algrasp.planning._kernels` and used throu
 
 import numpy as np
 
-from libc.math cimport copysign, floor, fmod, isnan
+from libc.math cimport copysign, floor, fmod, isnan, NAN
 from libc.stdlib cimport free, malloc
 from cpython.float cimport PyFloat_AS_DOUBLE
 from cpython.list cimport PyList_GET_ITEM, PyList_GET_SIZE
@@ -39,29 +39,29 @@ cdef inline Py_ssize_t _bisect_right(const double* a, Py_ssize_t n, double x) no
     return lo
 
 
-cdef double* _doubles(list xs, Py_ssize_t* n) except NULL:
-    """A list of floats as a malloc'd C array (the caller frees it)."""
-    cdef Py_ssize_t i, m = PyList_GET_SIZE(xs)
-    cdef double* out = <double*>malloc(max(m, 1) * sizeof(double))
-    if out == NULL:
+cdef int _table(F, double* first, double** starts, double** values, Py_ssize_t* n) except -1:
+    """F._floats in C, read from the pieces (the same floats): the first start, the piece
+    starts and [last, *values], NaN on ramps (the caller frees both arrays)."""
+    cdef tuple pieces = F.pieces
+    cdef Py_ssize_t m = len(pieces), i
+    if m == 0:
+        raise IndexError("list index out of range")
+    for p in pieces:
+        if not isinstance(p, tuple) or len(p) != 3:  # slots read unchecked below
+            raise TypeError("lookup: pieces must be TransferPieces")
+    cdef double* s = <double*>malloc(m * sizeof(double))
+    cdef double* v = <double*>malloc((m + 1) * sizeof(double))
+    if s == NULL or v == NULL:
+        free(s)
+        free(v)
         raise MemoryError()
     for i in range(m):
-        out[i] = <double>(<object>PyList_GET_ITEM(xs, i))
-    n[0] = m
-    return out
-
-
-cdef int _table(F, double* first, double** starts, double** values, Py_ssize_t* n) except -1:
-    """F._floats (its first start, piece starts and [last, *values], NaN on ramps) in C."""
-    f0, st, vals = F._floats
-    cdef Py_ssize_t nv
-    first[0] = f0
-    starts[0] = _doubles(st, n)
-    try:
-        values[0] = _doubles(vals, &nv)
-    except BaseException:
-        free(starts[0])
-        raise
+        p = <object>PyTuple_GET_ITEM(pieces, i)
+        s[i] = <double>(<object>PyTuple_GET_ITEM(p, 0))
+        val = <object>PyTuple_GET_ITEM(p, 2)
+        v[i + 1] = NAN if val is None else <double>val
+    v[0] = v[m]
+    first[0], starts[0], values[0], n[0] = s[0], s, v, m
     return 0
 
 
@@ -235,14 +235,31 @@ cdef void _steps(F, const double* mids, Py_ssize_t m, double* out, Py_ssize_t st
     free(values)
 
 
-def pointwise(list fs, bint take_max):
-    """placement.pointwise's pieces before canonical: the min (or max) of the functions
-    cell by cell between their breakpoints, split where the identity crosses the extreme
-    constant; the same floats."""
+def shifted(F, double d):
+    """[p.shifted(d) for p in F.pieces] (placement.shifted's, before canonical)."""
+    _piece_type()
+    cdef list out = []
+    for p in F.pieces:
+        if type(p) is not _Piece:  # slots read unchecked
+            raise TypeError("shifted: pieces must be TransferPieces")
+        v = <object>PyTuple_GET_ITEM(p, 2)
+        out.append(_piece(<double>(<object>PyTuple_GET_ITEM(p, 0)) + d, <double>(<object>PyTuple_GET_ITEM(p, 1)) + d,
+                          None if v is None else <double>v + d))
+    return out
+
+
+cdef void _piece_type() except *:
     global _Piece
     if _Piece is None:
         from algrasp.planning.transfer import TransferPiece
         _Piece = TransferPiece
+
+
+def pointwise(list fs, bint take_max):
+    """placement.pointwise's pieces before canonical: the min (or max) of the functions
+    cell by cell between their breakpoints, split where the identity crosses the extreme
+    constant; the same floats."""
+    _piece_type()
     F0 = fs[0]
     cdef double P = F0.period, a = F0.pieces[0].start, c, v, lo, hi
     cdef Py_ssize_t total = 2, nc, nf = 0, i, k, ncell = 0, nconst

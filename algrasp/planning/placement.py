@@ -30,6 +30,8 @@ def identity(period: float) -> TransferFunction:
 
 def shifted(F: TransferFunction, d: float) -> TransferFunction:
     """θ ↦ F(θ + d) − d (radians)."""
+    if KERNELS is not None:  # typed loops, the same pieces (algrasp.compiled)
+        return TransferFunction(F.period, tuple(canonical(KERNELS.shifted(F, -d), F.period, 0.0)))
     return TransferFunction(F.period, tuple(canonical([p.shifted(-d) for p in F.pieces], F.period, 0.0)))
 
 

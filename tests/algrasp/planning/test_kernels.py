@@ -211,8 +211,8 @@ def _lookups(F: TransferFunction, thetas: list[float]) -> list[Any]:
 @given(shape=st.sampled_from(sorted(DOCS)), seed=st.integers(0, 10_000), n=st.integers(3, 11), band=BAND)
 def test_lookups_and_plans_are_bit_identical(shape: str, seed: int, n: int, band: tuple[float, ...]) -> None:
     """Exact functions and set-valued bounds (and their compositions): the lifted pieces,
-    A′'s keys, the vectorised and plain-float lookups, pointwise minima and maxima, and the
-    plans A′ finds."""
+    A′'s keys, the vectorised and plain-float lookups, shifts, pointwise minima and maxima,
+    and the plans A′ finds."""
     d, r = (_function(shape, seed, n, kind) for kind in ("diameter", "radius"))
     with _numpy_path():
         fs = [from_runs(list(f.runs), f.period, TOL.angle_rad) for f in (d, r)]
@@ -237,6 +237,7 @@ def test_lookups_and_plans_are_bit_identical(shape: str, seed: int, n: int, band
             groups = [same, [placement.identity(P), *same], [placement.identity(P), *(placement.shifted(F, 0.5 * P)
                                                                                       for F in same)]]
             out += [placement.pointwise(g, m, tol).pieces for g in groups for m in (False, True) for tol in (0.0, 1e-9)]
+            out += [placement.shifted(F, d).pieces for F in same for d in (0.5 * P, np.pi, -1.3, 0.0, -0.0)]
         for s_ in sets:
             lo, up = TransferFunction(s_.period, s_.lower.pieces), TransferFunction(s_.period, s_.upper.pieces)
             lifted = planner.Lifted.of(lo, up)
