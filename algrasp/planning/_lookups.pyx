@@ -424,3 +424,52 @@ def rest_zones(const double[:] nodes, double T, rest, double P, Py_ssize_t K):
     finally:
         free(x)
     return tuple(out)
+
+
+# -------------------------------------------------------------------- planner._fixed
+
+cdef inline double _value_at(const double[:] ls, const unsigned char[:] lr, const double[:] lv, double x) noexcept nogil:
+    """Lifted.value_at of one θ: the lower bound's piece holding it (numpy's index −1: the last)."""
+    cdef Py_ssize_t j = _wrap(_right(ls, x) - 1, ls.shape[0])
+    return x if lr[j] else lv[j]
+
+
+cdef object _distinct(const double[:] a):
+    """planner._unique: np.array(sorted(set(a.tolist()))) (the first of equal values kept)."""
+    cdef Py_ssize_t n = a.shape[0], m = 0, i, j
+    out_ = np.empty(n)
+    cdef double[:] out = out_
+    cdef double x
+    for i in range(n):
+        x = a[i]
+        for j in range(m):
+            if out[j] == x:
+                break
+        else:
+            j = m - 1  # an insertion sort as it goes (distinct values)
+            while j >= 0 and x < out[j]:
+                out[j + 1] = out[j]
+                j -= 1
+            out[j + 1] = x
+            m += 1
+    return out_[:m].copy()
+
+
+def fixed(double base, double period, lower, upper, double rounding):
+    """planner._fixed: the lower bound's piece starts of one period, its ramps' starts and
+    ends there, the upper bound's distinct values and the lower bound at those starts."""
+    cdef const double[:] ls = lower.starts, le = lower.ends, lv = lower.values
+    cdef const unsigned char[:] lr = lower.ramp.view(np.uint8)
+    cdef Py_ssize_t n = ls.shape[0], i, k = 0, q = 0
+    cdef double lo = base - rounding, hi = base + period - rounding
+    s_, a_, rs_, re_ = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    cdef double[:] s = s_, a = a_, rs = rs_, re = re_
+    for i in range(n):
+        if ls[i] >= lo and ls[i] < hi:
+            s[k] = ls[i]
+            a[k] = _value_at(ls, lr, lv, ls[i])
+            k += 1
+            if lr[i]:
+                rs[q], re[q] = ls[i], le[i]
+                q += 1
+    return s_[:k].copy(), rs_[:q].copy(), re_[:q].copy(), _distinct(upper.values), a_[:k].copy()

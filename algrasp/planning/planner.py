@@ -121,6 +121,8 @@ def _fixed(F: TransferFunction, lifted: Lifted) -> _Fixed:
     values of the upper bound and the lower bound at the piece starts; once per function
     and lifting."""
     got = lifted.fixed.get(id(F))
+    if got is None and KERNELS is not None:  # typed loops, the same arrays (algrasp.compiled)
+        got = lifted.fixed[id(F)] = KERNELS.fixed(F.pieces[0].start, F.period, lifted.lower, lifted.upper, ROUNDING)
     if got is None:
         base = F.pieces[0].start
         low = lifted.lower
