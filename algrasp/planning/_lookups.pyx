@@ -9,7 +9,7 @@ as bisect_right). Re-exported by :mod:`algrasp.planning._kernels` and used throu
 
 import numpy as np
 
-from libc.math cimport copysign, floor, fmod, isnan, NAN
+from libc.math cimport copysign, floor, fmod, isnan, rint, NAN
 from libc.stdlib cimport free, malloc
 from cpython.float cimport PyFloat_AS_DOUBLE
 from cpython.list cimport PyList_GET_ITEM, PyList_GET_SIZE
@@ -473,3 +473,33 @@ def fixed(double base, double period, lower, upper, double rounding):
                 rs[q], re[q] = ls[i], le[i]
                 q += 1
     return s_[:k].copy(), rs_[:q].copy(), re_[:q].copy(), _distinct(upper.values), a_[:k].copy()
+
+
+# --------------------------------------------------------------- planner._sink_widths
+
+def sink_widths(lower_F, upper_F, lower, double max_rad, Py_ssize_t max_sinks):
+    """planner._sink_widths: upper(x) − lower(x) at every piece start of both bounds, those
+    in [0, max_rad] rounded to 10 decimals as numpy's round does (× 1e10, rint, ÷ 1e10),
+    distinct and sorted, the ``max_sinks`` smallest; the same floats."""
+    cdef const double[:] ls = lower.starts, lv = lower.values
+    cdef const unsigned char[:] lr = lower.ramp.view(np.uint8)
+    cdef double first, P = upper_F.period, kP, v, x, w
+    cdef double* starts = NULL
+    cdef double* values = NULL
+    cdef Py_ssize_t n, i, m = 0
+    xs = [p.start for p in lower_F.pieces] + [p.start for p in upper_F.pieces]
+    _table(upper_F, &first, &starts, &values, &n)
+    ws_ = np.empty(len(xs))
+    cdef double[:] ws = ws_
+    try:
+        for x in xs:
+            kP = floor((x - first) / P) * P
+            v = values[_bisect_right(starts, n, x - kP)]
+            w = (x if isnan(v) else kP + v) - _value_at(ls, lr, lv, x)
+            if w >= 0.0 and w <= max_rad:
+                ws[m] = rint(w * 1e10) / 1e10
+                m += 1
+    finally:
+        free(starts)
+        free(values)
+    return _distinct(ws_[:m])[:max_sinks].tolist()

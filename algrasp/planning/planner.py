@@ -236,6 +236,8 @@ MAX_SINKS = 8
 
 def _sink_widths(lower: TransferFunction, upper: TransferFunction, lifted: Lifted, max_rad: float) -> list[float]:
     """Distinct image widths upper(x) − lower(x) at piece starts, smallest first."""
+    if KERNELS is not None:  # typed loops, the same widths (algrasp.compiled)
+        return KERNELS.sink_widths(lower, upper, lifted.lower, max_rad, MAX_SINKS)  # type: ignore[no-any-return]
     xs = np.array(lower.starts + upper.starts)
     width = upper.apply(xs) - lifted.value_at(xs)
     sinks: list[float] = _unique(width[(width >= 0.0) & (width <= max_rad)].round(10))[:MAX_SINKS].tolist()

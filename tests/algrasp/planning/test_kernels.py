@@ -242,6 +242,7 @@ def test_lookups_and_plans_are_bit_identical(shape: str, seed: int, n: int, band
             lo, up = TransferFunction(s_.period, s_.lower.pieces), TransferFunction(s_.period, s_.upper.pieces)
             lifted = planner.Lifted.of(lo, up)
             out += [planner._fixed(lo, lifted), planner._fixed(up, planner.Lifted.of(up))]
+            out += [planner._sink_widths(lo, up, lifted, m) for m in (0.0, 1e-3, 0.3, np.pi)]
             out += [planner._widest(lo, lifted, room) for room in (1e-9, 0.01, 0.1, 0.5, 1.0, 3.0, float(seed % 5))]
             try:
                 plan = planner.set_a_prime(lo, up, s_.symmetry, s_.circle_width())
