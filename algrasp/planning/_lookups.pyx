@@ -1,10 +1,13 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True, initializedcheck=False
-"""Typed loops for transfer-function lookups (:mod:`algrasp.planning.transfer`) and the
-lifted pieces A′ searches (:mod:`algrasp.planning.planner`), bit-identical to their
-numpy / plain-float reference: the same IEEE operations in the same order (built with
--ffp-contract=off; numpy's maximum written out with its rules; searchsorted(side="right")
-as bisect_right). Re-exported by :mod:`algrasp.planning._kernels` and used through
-:mod:`algrasp.compiled` only. Radians throughout; O(m log n) for m θ and n pieces.
+"""Typed loops for transfer-function lookups and what is made of them, bit-identical to
+their numpy / plain-float reference: :mod:`algrasp.planning.transfer`'s lookups and lifted
+pieces, :mod:`algrasp.planning.placement`'s shifts and pointwise extremes,
+:mod:`algrasp.planning.planner`'s keys, fixed tables, widest fits, sink widths and images,
+:mod:`algrasp.planning.setcells`' rest zones. The same IEEE operations in the same order
+(built with -ffp-contract=off; numpy's maximum, argmax, index −1 and round written out with
+its rules; searchsorted as bisection; sets as "the first of equal values kept").
+Re-exported by :mod:`algrasp.planning._kernels`, used through :mod:`algrasp.compiled`
+only. Radians throughout; O(m log n) for m θ and n pieces.
 """
 
 import numpy as np
@@ -503,3 +506,20 @@ def sink_widths(lower_F, upper_F, lower, double max_rad, Py_ssize_t max_sinks):
         free(starts)
         free(values)
     return _distinct(ws_[:m])[:max_sinks].tolist()
+
+
+# ------------------------------------------------------------------- planner.images
+
+def images(lower, upper, list intervals):
+    """planner.images after the lifting: [lower(a), upper(b⁻)] of each [a, b) (numpy's
+    index −1: the last piece); the same floats."""
+    cdef const double[:] ls = lower.starts, lv = lower.values, us = upper.starts, uv = upper.values
+    cdef const unsigned char[:] lr = lower.ramp.view(np.uint8), ur = upper.ramp.view(np.uint8)
+    cdef double a, b
+    cdef Py_ssize_t j
+    cdef list out = []
+    for pair in intervals:
+        a, b = pair
+        j = _wrap(_bisect_left(us, b) - 1, us.shape[0])
+        out.append((_value_at(ls, lr, lv, a), b if ur[j] else uv[j]))
+    return out

@@ -258,6 +258,8 @@ def images(F: TransferFunction, intervals: list[tuple[float, float]], upper: Tra
     if not intervals:
         return []
     lifted = Lifted.of(F, upper) if lifted is None else lifted
+    if KERNELS is not None:  # typed loops, the same floats (algrasp.compiled)
+        return KERNELS.images(lifted.lower, lifted.upper, intervals)  # type: ignore[no-any-return]
     lo = lifted.value_at(np.array([a for a, _ in intervals]))
     hi, _ = lifted.top(np.array([b for _, b in intervals]))
     return [(float(x), float(y)) for x, y in zip(lo, hi)]

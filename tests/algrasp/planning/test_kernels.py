@@ -247,6 +247,9 @@ def test_lookups_and_plans_are_bit_identical(shape: str, seed: int, n: int, band
             try:
                 plan = planner.set_a_prime(lo, up, s_.symmetry, s_.circle_width())
                 out += [plan, planner.images(lo, plan, up)]
+                again = np.random.default_rng(seed)  # the same θ on both paths
+                probes_ = list(zip(_probes(lo, again), _probes(up, again)))  # at and beside every piece
+                out.append(planner.images(lo, probes_, up, planner.Lifted.of(lo, up)))
             except NotOrientableError as e:
                 out.append(str(e))
         return out
