@@ -41,4 +41,4 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_cli.py
 
 clean:
-	rm -rf $(VENV) build *.egg-info algrasp/*/_kernels.c algrasp/*/_kernels.*.so
+	rm -rf $(VENV) build *.egg-info algrasp/*/_kernels.c algrasp/*/_kernels.*.so algrasp/*/_lookups.c algrasp/*/_lookups.*.so

@@ -18,13 +18,15 @@ from typing import Any
 
 from algrasp.errors import NotOrientableError
 from algrasp.pipeline import WARM_UP_PART
-from algrasp.planning import edges, setcells, setvalued, transfer
+from algrasp.planning import edges, placement, planner, plans, setcells, setvalued, transfer
 from algrasp.planning.analysis import analyse_document
 from algrasp.planning.plans import make_plan
 from algrasp.planning.setcells import Cells
 
-HOOKED: tuple[Any, ...] = (edges, setvalued, setcells, transfer)
+HOOKED: tuple[Any, ...] = (edges, placement, planner, setvalued, setcells, transfer)
 sv: Any = setvalued  # patched and replayed below (its imported names too)
+pl: Any = plans
+TF: Any = transfer.TransferFunction
 
 
 def work() -> None:
@@ -36,9 +38,33 @@ def work() -> None:
 
 def record() -> dict[str, list[tuple[Any, ...]]]:
     """The arguments of every call of the ported functions in one work unit."""
-    calls: dict[str, list[tuple[Any, ...]]] = {"classify": [], "bounds": [], "compose_after": [], "crossings": []}
-    TF: Any = transfer.TransferFunction
+    calls: dict[str, list[tuple[Any, ...]]] = {"classify": [], "bounds": [], "compose_after": [], "crossings": [],
+                                               "set_a_prime": [], "rest_zones": [], "lookups": [], "pointwise": []}
     orig = sv._classify, sv.bounds, TF.compose_after, sv.crossings
+    more = pl.set_a_prime, sv.rest_zones, TF.apply_on_ramp, TF.steps_floats, placement.pointwise
+
+    def pointwise(*a: Any) -> Any:
+        calls["pointwise"].append(a)
+        return more[4](*a)
+
+    def a_prime(*a: Any, **kw: Any) -> Any:
+        calls["set_a_prime"].append((a, {k: v for k, v in kw.items() if k != "lifted"}))
+        return more[0](*a, **kw)
+
+    def zones(*a: Any) -> Any:
+        calls["rest_zones"].append(a)
+        return more[1](*a)
+
+    def on_ramp(F: Any, thetas: Any) -> Any:
+        calls["lookups"].append((F, thetas, True))
+        return more[2](F, thetas)
+
+    def steps(F: Any, thetas: Any) -> Any:
+        calls["lookups"].append((F, list(thetas), False))
+        return more[3](F, thetas)
+
+    pl.set_a_prime, sv.rest_zones, TF.apply_on_ramp, TF.steps_floats = a_prime, zones, on_ramp, steps
+    placement.pointwise = pointwise
 
     def classify(*a: Any, first: bool = False) -> Any:
         calls["classify"].append((*a, first))
@@ -61,6 +87,7 @@ def record() -> dict[str, list[tuple[Any, ...]]]:
         work()
     finally:
         sv._classify, sv.bounds, TF.compose_after, sv.crossings = orig
+        pl.set_a_prime, sv.rest_zones, TF.apply_on_ramp, TF.steps_floats, placement.pointwise = more
     return calls
 
 
@@ -92,7 +119,25 @@ def replays(calls: dict[str, list[tuple[Any, ...]]]) -> dict[str, Callable[[], N
         for a, kw in calls["crossings"]:
             sv.crossings(*a, **kw)
 
-    return {"classify": classify, "bounds": bounds, "compose_after": compose, "crossings": crossings, "work unit": work}
+    def a_prime() -> None:  # fresh copies: lifted pieces, keys, _fixed, _widest, sink widths
+        for (lo, up, *rest), kw in calls["set_a_prime"]:
+            with contextlib.suppress(NotOrientableError):
+                planner.set_a_prime(TF(lo.period, lo.pieces), TF(up.period, up.pieces), *rest, **kw)
+
+    def pointwise() -> None:
+        for a in calls["pointwise"]:
+            placement.pointwise(*a)
+
+    def zones() -> None:
+        for a in calls["rest_zones"]:
+            setcells.rest_zones(*a)
+
+    def lookups() -> None:  # apply_on_ramp and steps_floats
+        for F, thetas, vectorised in calls["lookups"]:
+            F.apply_on_ramp(thetas) if vectorised else F.steps_floats(thetas)
+
+    return {"classify": classify, "bounds": bounds, "compose_after": compose, "crossings": crossings,
+            "set_a_prime": a_prime, "pointwise": pointwise, "rest_zones": zones, "lookups": lookups, "work unit": work}
 
 
 def main() -> None:

@@ -15,6 +15,9 @@ from libc.math cimport ceil, copysign, cos, fabs, floor, fmod, isfinite, isnan, 
 from cpython.tuple cimport PyTuple_GET_ITEM
 from libc.stdlib cimport free, malloc, qsort
 
+from algrasp.planning._lookups import (fixed, images, keys, lifted, lookup, pointwise, rest_zones, shifted,
+                                      sink_widths, steps_floats, widest)  # re-exported: one KERNELS
+
 cdef double ROUNDING = 0.0, TWO_PI = 0.0, EDGE_RAD = 0.0, INSIDE = 0.0, SLOPE_NOISE = 0.0
 cdef double HALF_PI = np.pi / 2, PI = np.pi
 cdef bint _ready = False

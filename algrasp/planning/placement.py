@@ -18,6 +18,7 @@ from __future__ import annotations
 import functools
 import math
 
+from algrasp.compiled import KERNELS
 from algrasp.planning.setvalued import SetTransfer
 from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical
 
@@ -29,6 +30,8 @@ def identity(period: float) -> TransferFunction:
 
 def shifted(F: TransferFunction, d: float) -> TransferFunction:
     """θ ↦ F(θ + d) − d (radians)."""
+    if KERNELS is not None:  # typed loops, the same pieces (algrasp.compiled)
+        return TransferFunction(F.period, tuple(canonical(KERNELS.shifted(F, -d), F.period, 0.0)))
     return TransferFunction(F.period, tuple(canonical([p.shifted(-d) for p in F.pieces], F.period, 0.0)))
 
 
@@ -49,6 +52,8 @@ def pointwise(fs: list[TransferFunction], take_max: bool, tol_rad: float) -> Tra
     Plain floats: a few cells and functions, where numpy's per-call cost would dominate.
     """
     P = fs[0].period
+    if KERNELS is not None:  # typed loops, the same pieces (algrasp.compiled)
+        return TransferFunction(P, tuple(canonical(KERNELS.pointwise(fs, take_max), P, tol_rad)))
     cuts = _cuts(fs, fs[0].pieces[0].start, P)
     cells = [(a, b) for a, b in zip(cuts[:-1], cuts[1:]) if b - a > 0.0]
     mids = [0.5 * (a + b) for a, b in cells]

@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from algrasp.compiled import KERNELS
 from algrasp.errors import NotOrientableError
 from algrasp.geometry.angles import to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
@@ -51,6 +52,8 @@ class _Pieces:
     @staticmethod
     def of(F: TransferFunction) -> _Pieces:
         s, e, v, r = F.lifted
+        if KERNELS is not None:  # typed loops, the same keys (algrasp.compiled)
+            return _Pieces(s, e, v, r, KERNELS.keys(s, v, r, STRICT_RAD))
         keys = np.maximum.accumulate(np.where(r, s, v + STRICT_RAD))
         return _Pieces(s, e, v, r, keys)
 
@@ -118,6 +121,8 @@ def _fixed(F: TransferFunction, lifted: Lifted) -> _Fixed:
     values of the upper bound and the lower bound at the piece starts; once per function
     and lifting."""
     got = lifted.fixed.get(id(F))
+    if got is None and KERNELS is not None:  # typed loops, the same arrays (algrasp.compiled)
+        got = lifted.fixed[id(F)] = KERNELS.fixed(F.pieces[0].start, F.period, lifted.lower, lifted.upper, ROUNDING)
     if got is None:
         base = F.pieces[0].start
         low = lifted.lower
@@ -177,6 +182,8 @@ def _widest(F: TransferFunction, lifted: Lifted, room: float) -> tuple[float, fl
     values are fixed), then the points of ramps :func:`_ramp_candidates` gives (the first
     widest wins)."""
     starts, ramp_starts, ramp_ends, tops, at_starts = _fixed(F, lifted)
+    if KERNELS is not None:  # typed loops, the same interval (algrasp.compiled)
+        return KERNELS.widest(starts, ramp_starts, ramp_ends, tops, at_starts, lifted.lower, lifted.upper, room)  # type: ignore[no-any-return]
     inner = _ramp_candidates(ramp_starts, ramp_ends, tops, room)
     if len(inner):  # one search for both kinds; argmax's first maximum keeps the starts' priority
         starts, at_starts = np.concatenate((starts, inner)), np.concatenate((at_starts, lifted.value_at(inner)))
@@ -229,6 +236,8 @@ MAX_SINKS = 8
 
 def _sink_widths(lower: TransferFunction, upper: TransferFunction, lifted: Lifted, max_rad: float) -> list[float]:
     """Distinct image widths upper(x) − lower(x) at piece starts, smallest first."""
+    if KERNELS is not None:  # typed loops, the same widths (algrasp.compiled)
+        return KERNELS.sink_widths(lower, upper, lifted.lower, max_rad, MAX_SINKS)  # type: ignore[no-any-return]
     xs = np.array(lower.starts + upper.starts)
     width = upper.apply(xs) - lifted.value_at(xs)
     sinks: list[float] = _unique(width[(width >= 0.0) & (width <= max_rad)].round(10))[:MAX_SINKS].tolist()
@@ -249,6 +258,8 @@ def images(F: TransferFunction, intervals: list[tuple[float, float]], upper: Tra
     if not intervals:
         return []
     lifted = Lifted.of(F, upper) if lifted is None else lifted
+    if KERNELS is not None:  # typed loops, the same floats (algrasp.compiled)
+        return KERNELS.images(lifted.lower, lifted.upper, intervals)  # type: ignore[no-any-return]
     lo = lifted.value_at(np.array([a for a, _ in intervals]))
     hi, _ = lifted.top(np.array([b for _, b in intervals]))
     return [(float(x), float(y)) for x, y in zip(lo, hi)]

@@ -131,6 +131,8 @@ def rest_zones(nodes: FloatArray, T: float, rest: np.ndarray, P: float) -> tuple
     """Maximal rest-possible zones over one natural period P (K = P/T copies of the cells),
     [start, end) in radians; a zone wrapping past P starts below 0. Vectorised."""
     K = int(round(P / T))
+    if KERNELS is not None:  # typed loops, the same zones (algrasp.compiled)
+        return KERNELS.rest_zones(nodes, T, rest, P, K)  # type: ignore[no-any-return]
     x, r = nodes, rest  # one copy (nodes are never −0.0: + 0·T would change nothing)
     if K > 1:
         x, r = (nodes[None, :] + (np.arange(K) * T)[:, None]).ravel(), np.concatenate([rest] * K)

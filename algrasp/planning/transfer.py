@@ -110,6 +110,8 @@ class TransferFunction:
         """The pieces lifted over the periods −1 … 3 (``LIFTS``), as read-only arrays
         (5n,) sorted by start: starts, ends, values (a ramp's is its start) and ramp
         flags. Algorithm A′ searches these; built once per function, O(n)."""
+        if KERNELS is not None:  # typed loops, the same arrays (algrasp.compiled)
+            return KERNELS.lifted(self)  # type: ignore[no-any-return]
         pieces = self.pieces
         rows = np.array([self.starts, [p.end for p in pieces], [p.start if p.value is None else p.value for p in pieces]],
                         dtype=float)
@@ -141,6 +143,8 @@ class TransferFunction:
         thetas = np.asarray(thetas, dtype=float)
         if len(self.pieces) == 1 and self.pieces[0].value is None:  # the identity: no lookup
             return thetas.copy(), np.ones(thetas.shape, dtype=bool)
+        if KERNELS is not None and thetas.ndim == 1:  # typed loops, the same values (algrasp.compiled)
+            return KERNELS.lookup(self, thetas, True)  # type: ignore[no-any-return]
         out, vals = self._lookup(thetas)
         ramp = np.isnan(vals)
         out += vals  # in place: the lift offset k·P plus the step's value, θ on ramps
@@ -156,6 +160,8 @@ class TransferFunction:
         """For each θ (radians) the lifted value of the step holding it, NaN on a ramp:
         :meth:`apply_on_ramp`'s lookup in plain floats, the same operations in the same
         order (``math.floor`` made to keep ``np.floor``'s −0.0); O(m log n)."""
+        if KERNELS is not None:  # typed loops, the same floats (algrasp.compiled)
+            return KERNELS.steps_floats(self, thetas)  # type: ignore[no-any-return]
         first, starts, values = self._floats
         P = self.period
         out = []
@@ -179,6 +185,8 @@ class TransferFunction:
 
     def _lookup(self, thetas: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Lift offsets k·P (radians) and step values (NaN on ramps) of each θ."""
+        if KERNELS is not None and thetas.ndim == 1:  # typed loops, the same values (algrasp.compiled)
+            return KERNELS.lookup(self, thetas, False)  # type: ignore[no-any-return]
         first, values = self._search
         kP = np.empty_like(thetas)  # in place (0-d arrays too)
         np.subtract(thetas, first, out=kP)

@@ -6,7 +6,7 @@ The numpy path is the reference (run here with the hooks switched off)."""
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from typing import Any
 
 import numpy as np
@@ -19,13 +19,13 @@ from algrasp.errors import NotOrientableError
 from algrasp.geometry.functions import SupportPairFunction, analyse
 from algrasp.geometry.part import load_part
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES as TOL
-from algrasp.planning import edges, setcells, setvalued, transfer
+from algrasp.planning import edges, placement, planner, setcells, setvalued, transfer
 from algrasp.planning.edges import CURVE_GRID_RAD, crossings
 from algrasp.planning.setvalued import GRID_RAD, _Band, _classify, set_transfer
-from algrasp.planning.transfer import TransferPiece, canonical, from_runs
+from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical, from_runs
 from algrasp.testing import shapes
 
-HOOKED: tuple[Any, ...] = (edges, setcells, setvalued, transfer)
+HOOKED: tuple[Any, ...] = (edges, placement, planner, setcells, setvalued, transfer)
 """The modules whose hooks read algrasp.compiled.KERNELS."""
 pytestmark = pytest.mark.skipif(KERNELS is None, reason="compiled kernels not built (or ALGRASP_PURE set)")
 
@@ -185,6 +185,88 @@ def test_crossings_are_bit_identical(shape: str, seed: int, n: int, kind: str, s
                                      jaw: tuple[float, float] | None, levels: list[float]) -> None:
     f = _function(shape, seed, n, kind)
     compiled, numpy_ = _both(lambda: crossings(f, tuple(slopes), jaw, TOL, CURVE_GRID_RAD, levels=tuple(levels)))
+    assert _bits(compiled) == _bits(numpy_)
+
+
+def _probes(F: TransferFunction, rng: np.random.Generator) -> list[float]:
+    """θ where a lookup can go wrong: every piece start, end and value, lifted by −2 … 3
+    periods, with their float neighbours, ±0.0, and random θ."""
+    base = [v for p in F.pieces for v in (p.start, p.end, p.value) if v is not None]
+    lifted = [v + k * F.period for v in base for k in range(-2, 4)]
+    near = [float(np.nextafter(v, d)) for v in lifted for d in (-np.inf, np.inf)]
+    return [*lifted, *near, 0.0, -0.0, *rng.uniform(-10.0, 20.0, 16).tolist()]
+
+
+def _lookups(F: TransferFunction, thetas: list[float]) -> list[Any]:
+    """Every lookup of a fresh copy of F (no cached tables) at ``thetas``, and A′'s pieces."""
+    G = TransferFunction(F.period, F.pieces)
+    th = np.array(thetas)
+    pieces = planner._Pieces.of(G)
+    flags = [a.flags.writeable for a in G.lifted]
+    return [G.lifted, flags, pieces.keys, G.apply_on_ramp(th), G.on_ramp(th), G._lookup(th), G.apply(th[::2]),
+            G.steps_floats(thetas), G.apply_floats(thetas), G.apply_list(thetas[:16]), G.apply_list(thetas)]
+
+
+@settings(max_examples=80, deadline=None)
+@given(shape=st.sampled_from(sorted(DOCS)), seed=st.integers(0, 10_000), n=st.integers(3, 11), band=BAND)
+def test_lookups_and_plans_are_bit_identical(shape: str, seed: int, n: int, band: tuple[float, ...]) -> None:
+    """Exact functions and set-valued bounds (and their compositions): the lifted pieces,
+    A′'s keys, the vectorised and plain-float lookups, shifts, pointwise minima and maxima,
+    and the plans A′ finds."""
+    d, r = (_function(shape, seed, n, kind) for kind in ("diameter", "radius"))
+    with _numpy_path():
+        fs = [from_runs(list(f.runs), f.period, TOL.angle_rad) for f in (d, r)]
+        sets = []
+        for f in (d, r):
+            with suppress(NotOrientableError):
+                sets.append(set_transfer(f, **_set_args(f, band)))
+        fs += [F for s in sets for F in (s.lower, s.upper)] + [fs[0].compose_after(fs[1], TOL.angle_rad)]
+    rng = np.random.default_rng(seed)
+    probes = [_probes(F, rng) for F in fs]
+
+    def made() -> Any:
+        out: list[Any] = [_lookups(F, th) for F, th in zip(fs, probes)]
+        for F in fs[:2]:
+            G = TransferFunction(F.period, F.pieces)
+            try:
+                out.append(planner.algorithm_a_prime(G, G.period / (1 + seed % 2)))
+            except NotOrientableError as e:
+                out.append(str(e))
+        for P in {F.period for F in fs}:  # min and max of the functions of one period, with the identity
+            same = [TransferFunction(P, F.pieces) for F in fs if F.period == P]
+            groups = [same, [placement.identity(P), *same], [placement.identity(P), *(placement.shifted(F, 0.5 * P)
+                                                                                      for F in same)]]
+            out += [placement.pointwise(g, m, tol).pieces for g in groups for m in (False, True) for tol in (0.0, 1e-9)]
+            out += [placement.shifted(F, d).pieces for F in same for d in (0.5 * P, np.pi, -1.3, 0.0, -0.0)]
+        for s_ in sets:
+            lo, up = TransferFunction(s_.period, s_.lower.pieces), TransferFunction(s_.period, s_.upper.pieces)
+            lifted = planner.Lifted.of(lo, up)
+            out += [planner._fixed(lo, lifted), planner._fixed(up, planner.Lifted.of(up))]
+            out += [planner._sink_widths(lo, up, lifted, m) for m in (0.0, 1e-3, 0.3, np.pi)]
+            out += [planner._widest(lo, lifted, room) for room in (1e-9, 0.01, 0.1, 0.5, 1.0, 3.0, float(seed % 5))]
+            try:
+                plan = planner.set_a_prime(lo, up, s_.symmetry, s_.circle_width())
+                out += [plan, planner.images(lo, plan, up)]
+                again = np.random.default_rng(seed)  # the same θ on both paths
+                probes_ = list(zip(_probes(lo, again), _probes(up, again)))  # at and beside every piece
+                out.append(planner.images(lo, probes_, up, planner.Lifted.of(lo, up)))
+            except NotOrientableError as e:
+                out.append(str(e))
+        return out
+
+    compiled, numpy_ = _both(made)
+    assert _bits(compiled) == _bits(numpy_)
+
+
+@settings(max_examples=300, deadline=None)
+@given(cuts=st.lists(st.floats(0.0, 1.0), max_size=12), rest=st.lists(st.booleans(), min_size=12, max_size=12),
+       T=st.sampled_from([np.pi, 2.0 * np.pi, np.pi / 3, 0.7]), K=st.integers(1, 4))
+def test_rest_zones_are_bit_identical(cuts: list[float], rest: list[bool], T: float, K: int) -> None:
+    """Zones over K copies of random cells: all, none, runs through 0 and ±0.0 nodes."""
+    nodes = np.array(sorted({c * T for c in cuts}) or [0.0])
+    nodes[0] = -0.0 if K % 2 else nodes[0]
+    r = np.array(rest[:len(nodes)])
+    compiled, numpy_ = _both(lambda: setcells.rest_zones(nodes, T, r, K * T))
     assert _bits(compiled) == _bits(numpy_)
 
 

@@ -1,0 +1,525 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True, initializedcheck=False
+"""Typed loops for transfer-function lookups and what is made of them, bit-identical to
+their numpy / plain-float reference: :mod:`algrasp.planning.transfer`'s lookups and lifted
+pieces, :mod:`algrasp.planning.placement`'s shifts and pointwise extremes,
+:mod:`algrasp.planning.planner`'s keys, fixed tables, widest fits, sink widths and images,
+:mod:`algrasp.planning.setcells`' rest zones. The same IEEE operations in the same order
+(built with -ffp-contract=off; numpy's maximum, argmax, index −1 and round written out with
+its rules; searchsorted as bisection; sets as "the first of equal values kept").
+Re-exported by :mod:`algrasp.planning._kernels`, used through :mod:`algrasp.compiled`
+only. Radians throughout; O(m log n) for m θ and n pieces.
+"""
+
+import numpy as np
+
+from libc.math cimport copysign, floor, fmod, isnan, rint, NAN
+from libc.stdlib cimport free, malloc
+from cpython.float cimport PyFloat_AS_DOUBLE
+from cpython.list cimport PyList_GET_ITEM, PyList_GET_SIZE
+from cpython.tuple cimport PyTuple_GET_ITEM
+
+cdef Py_ssize_t LIFTS_LO = -1, LIFTS_HI = 4  # transfer.LIFTS: checked against it at first use
+cdef bint _ready = False
+
+
+cdef void _check() except *:
+    global _ready
+    from algrasp.planning.transfer import LIFTS
+    if (LIFTS.start, LIFTS.stop, LIFTS.step) != (LIFTS_LO, LIFTS_HI, 1):
+        raise RuntimeError("_lookups: transfer.LIFTS changed; rebuild the kernels")
+    _ready = True
+
+
+cdef inline Py_ssize_t _bisect_right(const double* a, Py_ssize_t n, double x) noexcept nogil:
+    """bisect.bisect_right / searchsorted(side="right") on a sorted C array (a NaN x: n)."""
+    cdef Py_ssize_t lo = 0, hi = n, mid
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if x < a[mid]:
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
+
+
+cdef int _table(F, double* first, double** starts, double** values, Py_ssize_t* n) except -1:
+    """F._floats in C, read from the pieces (the same floats): the first start, the piece
+    starts and [last, *values], NaN on ramps (the caller frees both arrays)."""
+    cdef tuple pieces = F.pieces
+    cdef Py_ssize_t m = len(pieces), i
+    if m == 0:
+        raise IndexError("list index out of range")
+    for p in pieces:
+        if not isinstance(p, tuple) or len(p) != 3:  # slots read unchecked below
+            raise TypeError("lookup: pieces must be TransferPieces")
+    cdef double* s = <double*>malloc(m * sizeof(double))
+    cdef double* v = <double*>malloc((m + 1) * sizeof(double))
+    if s == NULL or v == NULL:
+        free(s)
+        free(v)
+        raise MemoryError()
+    for i in range(m):
+        p = <object>PyTuple_GET_ITEM(pieces, i)
+        s[i] = <double>(<object>PyTuple_GET_ITEM(p, 0))
+        val = <object>PyTuple_GET_ITEM(p, 2)
+        v[i + 1] = NAN if val is None else <double>val
+    v[0] = v[m]
+    first[0], starts[0], values[0], n[0] = s[0], s, v, m
+    return 0
+
+
+def lookup(F, const double[:] thetas, bint apply):
+    """TransferFunction._lookup of a 1-d θ array: (k·P, step values, NaN on ramps); with
+    ``apply``, apply_on_ramp's (F(θ), on-ramp flags) from it."""
+    cdef double first, P = F.period, kP, v, t
+    cdef double* starts = NULL
+    cdef double* values = NULL
+    cdef Py_ssize_t n, i, m = thetas.shape[0]
+    _table(F, &first, &starts, &values, &n)
+    a = np.empty(m)
+    b = np.empty(m) if not apply else np.empty(m, dtype=np.bool_)
+    cdef double[:] out = a
+    cdef double[:] vals
+    cdef unsigned char[:] ramp
+    if apply:
+        ramp = b.view(np.uint8)
+    else:
+        vals = b
+    try:
+        for i in range(m):
+            t = thetas[i]
+            kP = floor((t - first) / P) * P
+            v = values[_bisect_right(starts, n, t - kP)]
+            if apply:
+                out[i] = t if isnan(v) else kP + v
+                ramp[i] = isnan(v)
+            else:
+                out[i], vals[i] = kP, v
+    finally:
+        free(starts)
+        free(values)
+    return a, b
+
+
+def steps_floats(F, thetas):
+    """TransferFunction.steps_floats: per θ the lifted value of the step holding it, NaN
+    on a ramp (C floor keeps np.floor's −0.0 as the Python path does by hand)."""
+    cdef double first, P = F.period, q, kP, t
+    cdef double* starts = NULL
+    cdef double* values = NULL
+    cdef Py_ssize_t n
+    _table(F, &first, &starts, &values, &n)
+    cdef list out = []
+    try:
+        for x in thetas:
+            t = x
+            q = (t - first) / P
+            kP = floor(q) * P
+            out.append(kP + values[_bisect_right(starts, n, t - kP)])
+    finally:
+        free(starts)
+        free(values)
+    return out
+
+
+def lifted(F):
+    """TransferFunction.lifted: starts, ends, values (a ramp's is its start) and ramp flags
+    over the periods LIFTS, period by period, as read-only arrays (5n,)."""
+    if not _ready:
+        _check()
+    cdef tuple pieces = F.pieces
+    cdef Py_ssize_t n = len(pieces), k, i, j, q
+    cdef double P = F.period, off
+    for p in pieces:
+        if not isinstance(p, tuple) or len(p) != 3:  # slots read unchecked below
+            raise TypeError("lifted: pieces must be TransferPieces")
+    s_, e_, v_ = np.empty(5 * n), np.empty(5 * n), np.empty(5 * n)
+    r_ = np.empty(5 * n, dtype=np.bool_)
+    cdef double[:] S = s_, E = e_, V = v_
+    cdef unsigned char[:] R = r_.view(np.uint8)
+    j = (0 - LIFTS_LO) * n  # the unlifted row (k = 0), then every k from it
+    for i in range(n):
+        p = <object>PyTuple_GET_ITEM(pieces, i)
+        val = <object>PyTuple_GET_ITEM(p, 2)
+        S[j + i] = <double>(<object>PyTuple_GET_ITEM(p, 0))
+        E[j + i] = <double>(<object>PyTuple_GET_ITEM(p, 1))
+        V[j + i] = S[j + i] if val is None else <double>val
+        R[j + i] = val is None
+    for k in (*range(LIFTS_LO, 0), *range(1, LIFTS_HI), 0):  # k = 0 last: in place
+        off = (<double>k) * P  # np.arange(...) * P: the int made a double, times P
+        for i in range(j, j + n):
+            q = i + k * n
+            S[q], E[q], V[q], R[q] = S[i] + off, E[i] + off, V[i] + off, R[i]
+    for a in (s_, e_, v_, r_):
+        a.flags.writeable = False
+    return s_, e_, v_, r_
+
+
+def keys(const double[:] starts, const double[:] values, ramp, double strict):
+    """planner._Pieces.of's keys: np.maximum.accumulate(np.where(ramp, starts, values +
+    strict)), numpy's maximum (a ≥ b or a NaN: a) running left to right."""
+    cdef Py_ssize_t i, m = starts.shape[0]
+    cdef const unsigned char[:] r = ramp.view(np.uint8)  # a bool array
+    out_ = np.empty(m)
+    cdef double[:] out = out_
+    cdef double acc = 0.0, x
+    for i in range(m):
+        x = starts[i] if r[i] else values[i] + strict
+        acc = x if i == 0 else (acc if (acc >= x or isnan(acc)) else x)
+        out[i] = acc
+    return out_
+
+
+# ----------------------------------------------------------------- placement.pointwise
+
+cdef object _Piece = None
+
+
+cdef inline object _piece(double a, double b, object v):
+    """TransferPiece(a, b, v), as its own __new__ makes it (tuple.__new__)."""
+    return tuple.__new__(_Piece, (a, b, v))
+
+
+cdef inline double _mod(double a, double b) noexcept nogil:
+    """Python's float remainder: the sign of the divisor, +0.0 for none."""
+    cdef double m = fmod(a, b)
+    if m != 0.0:
+        if (b < 0.0) != (m < 0.0):
+            m += b
+    else:
+        m = copysign(0.0, b)
+    return m
+
+
+cdef Py_ssize_t _cuts(list fs, double a, double P, double* out) noexcept:
+    """placement._cuts into ``out`` (room for 2 + every piece): the first of equal values
+    kept, as the set does; sorted, in [a, a + P]."""
+    cdef Py_ssize_t n = 0, i, j
+    cdef double x
+    cdef tuple pieces
+    out[0], out[1], n = a, a + P, (2 if a + P != a else 1)
+    for F in fs:
+        pieces = F.pieces
+        for i in range(len(pieces)):
+            x = a + _mod(<double>(<object>PyTuple_GET_ITEM(<object>PyTuple_GET_ITEM(pieces, i), 0)) - a, P)
+            for j in range(n):
+                if out[j] == x:
+                    break
+            else:
+                out[n] = x
+                n += 1
+    j = 0
+    for i in range(n):  # kept in [a, a + P], then an insertion sort (distinct values)
+        if a <= out[i] <= a + P:
+            out[j] = out[i]
+            j += 1
+    for i in range(1, j):
+        x = out[i]
+        n = i - 1
+        while n >= 0 and x < out[n]:
+            out[n + 1] = out[n]
+            n -= 1
+        out[n + 1] = x
+    return j
+
+
+cdef void _steps(F, const double* mids, Py_ssize_t m, double* out, Py_ssize_t stride) except *:
+    """steps_floats(F, mids) into out[0], out[stride], …"""
+    cdef double first, P = F.period, kP, t
+    cdef double* starts = NULL
+    cdef double* values = NULL
+    cdef Py_ssize_t n, i
+    _table(F, &first, &starts, &values, &n)
+    for i in range(m):
+        t = mids[i]
+        kP = floor((t - first) / P) * P
+        out[i * stride] = kP + values[_bisect_right(starts, n, t - kP)]
+    free(starts)
+    free(values)
+
+
+def shifted(F, double d):
+    """[p.shifted(d) for p in F.pieces] (placement.shifted's, before canonical)."""
+    _piece_type()
+    cdef list out = []
+    for p in F.pieces:
+        if type(p) is not _Piece:  # slots read unchecked
+            raise TypeError("shifted: pieces must be TransferPieces")
+        v = <object>PyTuple_GET_ITEM(p, 2)
+        out.append(_piece(<double>(<object>PyTuple_GET_ITEM(p, 0)) + d, <double>(<object>PyTuple_GET_ITEM(p, 1)) + d,
+                          None if v is None else <double>v + d))
+    return out
+
+
+cdef void _piece_type() except *:
+    global _Piece
+    if _Piece is None:
+        from algrasp.planning.transfer import TransferPiece
+        _Piece = TransferPiece
+
+
+def pointwise(list fs, bint take_max):
+    """placement.pointwise's pieces before canonical: the min (or max) of the functions
+    cell by cell between their breakpoints, split where the identity crosses the extreme
+    constant; the same floats."""
+    _piece_type()
+    F0 = fs[0]
+    cdef double P = F0.period, a = F0.pieces[0].start, c, v, lo, hi
+    cdef Py_ssize_t total = 2, nc, nf = 0, i, k, ncell = 0, nconst
+    cdef list live = []
+    for F in fs:
+        total += len(F.pieces)
+        if any(not isinstance(p, tuple) or len(p) != 3 for p in F.pieces):  # slots read unchecked
+            raise TypeError("pointwise: pieces must be TransferPieces")
+        if len(F.pieces) > 1 or F.pieces[0].value is not None:  # the identity: a ramp everywhere
+            live.append(F)
+    cdef bint ramp_always = len(live) < len(fs), ramp
+    cdef double* cuts = <double*>malloc(total * sizeof(double))
+    cdef double* mids = <double*>malloc(total * sizeof(double))
+    cdef double* ends = <double*>malloc(total * sizeof(double))
+    cdef double* vals = <double*>malloc(max(total * len(live), 1) * sizeof(double))
+    cdef list out = []
+    try:
+        if cuts == NULL or mids == NULL or ends == NULL or vals == NULL:
+            raise MemoryError()
+        nc = _cuts(fs, a, P, cuts)
+        for i in range(nc - 1):
+            if cuts[i + 1] - cuts[i] > 0.0:
+                mids[ncell], ends[ncell] = 0.5 * (cuts[i] + cuts[i + 1]), cuts[i + 1]
+                cuts[ncell] = cuts[i]  # (ncell ≤ i: read before written)
+                ncell += 1
+        nf = len(live)
+        for k in range(nf):
+            _steps(live[k], mids, ncell, vals + k, nf)
+        for i in range(ncell):
+            lo, hi = cuts[i], ends[i]
+            nconst = 0
+            for k in range(nf):
+                v = vals[i * nf + k]
+                if v == v:
+                    if nconst == 0 or (v > c if take_max else v < c):  # max/min: the first of equals
+                        c = v
+                    nconst += 1
+            ramp = ramp_always or nconst < nf
+            if nconst == 0:
+                out.append(_piece(lo, hi, None))
+            elif not ramp or (c >= hi if take_max else c <= lo):
+                out.append(_piece(lo, hi, c))
+            elif (c <= lo) if take_max else (c >= hi):
+                out.append(_piece(lo, hi, None))
+            elif take_max:
+                out += [_piece(lo, c, c), _piece(c, hi, None)]
+            else:
+                out += [_piece(lo, c, None), _piece(c, hi, c)]
+    finally:
+        free(cuts)
+        free(mids)
+        free(ends)
+        free(vals)
+    return out
+
+
+# ------------------------------------------------------------------- planner._widest
+
+cdef inline Py_ssize_t _bisect_left(const double[:] a, double x) noexcept nogil:
+    """searchsorted(side="left") on a sorted array."""
+    cdef Py_ssize_t lo = 0, hi = a.shape[0], mid
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if a[mid] < x:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+cdef inline Py_ssize_t _right(const double[:] a, double x) noexcept nogil:
+    """searchsorted(side="right") on a sorted array."""
+    return _bisect_right(&a[0], a.shape[0], x) if a.shape[0] else 0
+
+
+cdef inline Py_ssize_t _wrap(Py_ssize_t i, Py_ssize_t n) noexcept nogil:
+    """numpy's index −1: the last."""
+    return i + n if i < 0 else i
+
+
+def widest(const double[:] starts, const double[:] ramp_starts, const double[:] ramp_ends, const double[:] tops,
+           const double[:] at_starts, lower, upper, double room):
+    """planner._widest after _fixed: the top-right candidates inside ramps (tops a ramp's
+    box reaches), each left end's right end, the first widest; the same floats."""
+    cdef const double[:] ls = lower.starts, lv = lower.values, keys = upper.keys, ue = upper.ends, us = upper.starts
+    cdef const unsigned char[:] lr = lower.ramp.view(np.uint8), ur = upper.ramp.view(np.uint8)
+    cdef Py_ssize_t ns = starts.shape[0], nr = ramp_starts.shape[0], nt = tops.shape[0], t, k, i, j, c, d
+    cdef Py_ssize_t n = ns + (nt if nr else 0)
+    cdef double x, y, at, b, w, mw = 0.0, bb = 0.0, bx = 0.0
+    cdef bint found = False
+    cdef Py_ssize_t* lo = <Py_ssize_t*>malloc(max(2 * nr, 1) * sizeof(Py_ssize_t))
+    if lo == NULL:
+        raise MemoryError()
+    for k in range(nr):  # _ramp_candidates' lo and hi (sorted: the ramps are)
+        lo[k], lo[nr + k] = _bisect_left(tops, ramp_starts[k] + room), _bisect_left(tops, ramp_ends[k] + room)
+    try:
+        for i in range(n):
+            if i < ns:
+                x, at = starts[i], at_starts[i]
+            else:  # tops[t] − room where more ranges start than end by t
+                t = i - ns
+                c = d = 0
+                for k in range(nr):
+                    c += lo[k] <= t
+                    d += lo[nr + k] <= t
+                if not c > d:
+                    continue
+                x = tops[t] - room
+                j = _wrap(_right(ls, x) - 1, ls.shape[0])
+                at = x if lr[j] else lv[j]
+            y = at + room
+            j = _bisect_left(keys, y)
+            if j >= us.shape[0]:
+                raise IndexError(f"index {j} is out of bounds for axis 0 with size {us.shape[0]}")
+            k = _wrap(j - 1, us.shape[0])
+            b = y if (ur[k] and ue[k] > y) else us[j]
+            w = b - x
+            if not found or (not isnan(mw) and not (w <= mw)):  # argmax: the first maximum, a NaN first
+                found, mw, bb, bx = True, w, b, x
+    finally:
+        free(lo)
+    if not found:
+        raise ValueError("attempt to get argmax of an empty sequence")
+    return float(bx), float(bb)
+
+
+# ------------------------------------------------------------------ setcells.rest_zones
+
+def rest_zones(const double[:] nodes, double T, rest, double P, Py_ssize_t K):
+    """setcells.rest_zones with K = round(P / T) copies: the maximal rest zones, the one
+    through 0 starting at the last start (− P); the same floats."""
+    cdef const unsigned char[:] r = rest.view(np.uint8)
+    cdef Py_ssize_t n = nodes.shape[0], N = n * (K if K > 1 else 1), i, na = 0, nb = 0, nr = 0
+    cdef double* x = <double*>malloc(max(3 * N, 1) * sizeof(double))
+    if x == NULL:
+        raise MemoryError()
+    cdef double* a = x + N
+    cdef double* b = x + 2 * N
+    cdef list out = []
+    try:
+        for i in range(N):  # (nodes + k·T for every copy; one copy as it is)
+            x[i] = nodes[i % n] + (<double>(i // n)) * T if K > 1 else nodes[i]
+            nr += r[i % n] != 0
+        if nr == N:
+            return ((0.0, P),)
+        if nr == 0:
+            return ()
+        for i in range(N):
+            if r[i % n] and not r[(i + N - 1) % N % n]:
+                a[na] = x[i]
+                na += 1
+            if r[i % n] and not r[(i + 1) % N % n]:
+                b[nb] = x[i + 1] if i + 1 < N else P
+                nb += 1
+        if r[0] and r[(N - 1) % n]:  # the zone through 0: from the last start to the first end
+            a[na - 1] -= P
+            for i in range(na):
+                out.append((a[i], b[(i + 1) % nb]))
+        else:
+            for i in range(min(na, nb)):
+                out.append((a[i], b[i]))
+    finally:
+        free(x)
+    return tuple(out)
+
+
+# -------------------------------------------------------------------- planner._fixed
+
+cdef inline double _value_at(const double[:] ls, const unsigned char[:] lr, const double[:] lv, double x) noexcept nogil:
+    """Lifted.value_at of one θ: the lower bound's piece holding it (numpy's index −1: the last)."""
+    cdef Py_ssize_t j = _wrap(_right(ls, x) - 1, ls.shape[0])
+    return x if lr[j] else lv[j]
+
+
+cdef object _distinct(const double[:] a):
+    """planner._unique: np.array(sorted(set(a.tolist()))) (the first of equal values kept)."""
+    cdef Py_ssize_t n = a.shape[0], m = 0, i, j
+    out_ = np.empty(n)
+    cdef double[:] out = out_
+    cdef double x
+    for i in range(n):
+        x = a[i]
+        for j in range(m):
+            if out[j] == x:
+                break
+        else:
+            j = m - 1  # an insertion sort as it goes (distinct values)
+            while j >= 0 and x < out[j]:
+                out[j + 1] = out[j]
+                j -= 1
+            out[j + 1] = x
+            m += 1
+    return out_[:m].copy()
+
+
+def fixed(double base, double period, lower, upper, double rounding):
+    """planner._fixed: the lower bound's piece starts of one period, its ramps' starts and
+    ends there, the upper bound's distinct values and the lower bound at those starts."""
+    cdef const double[:] ls = lower.starts, le = lower.ends, lv = lower.values
+    cdef const unsigned char[:] lr = lower.ramp.view(np.uint8)
+    cdef Py_ssize_t n = ls.shape[0], i, k = 0, q = 0
+    cdef double lo = base - rounding, hi = base + period - rounding
+    s_, a_, rs_, re_ = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    cdef double[:] s = s_, a = a_, rs = rs_, re = re_
+    for i in range(n):
+        if ls[i] >= lo and ls[i] < hi:
+            s[k] = ls[i]
+            a[k] = _value_at(ls, lr, lv, ls[i])
+            k += 1
+            if lr[i]:
+                rs[q], re[q] = ls[i], le[i]
+                q += 1
+    return s_[:k].copy(), rs_[:q].copy(), re_[:q].copy(), _distinct(upper.values), a_[:k].copy()
+
+
+# --------------------------------------------------------------- planner._sink_widths
+
+def sink_widths(lower_F, upper_F, lower, double max_rad, Py_ssize_t max_sinks):
+    """planner._sink_widths: upper(x) − lower(x) at every piece start of both bounds, those
+    in [0, max_rad] rounded to 10 decimals as numpy's round does (× 1e10, rint, ÷ 1e10),
+    distinct and sorted, the ``max_sinks`` smallest; the same floats."""
+    cdef const double[:] ls = lower.starts, lv = lower.values
+    cdef const unsigned char[:] lr = lower.ramp.view(np.uint8)
+    cdef double first, P = upper_F.period, kP, v, x, w
+    cdef double* starts = NULL
+    cdef double* values = NULL
+    cdef Py_ssize_t n, i, m = 0
+    xs = [p.start for p in lower_F.pieces] + [p.start for p in upper_F.pieces]
+    _table(upper_F, &first, &starts, &values, &n)
+    ws_ = np.empty(len(xs))
+    cdef double[:] ws = ws_
+    try:
+        for x in xs:
+            kP = floor((x - first) / P) * P
+            v = values[_bisect_right(starts, n, x - kP)]
+            w = (x if isnan(v) else kP + v) - _value_at(ls, lr, lv, x)
+            if w >= 0.0 and w <= max_rad:
+                ws[m] = rint(w * 1e10) / 1e10
+                m += 1
+    finally:
+        free(starts)
+        free(values)
+    return _distinct(ws_[:m])[:max_sinks].tolist()
+
+
+# ------------------------------------------------------------------- planner.images
+
+def images(lower, upper, list intervals):
+    """planner.images after the lifting: [lower(a), upper(b⁻)] of each [a, b) (numpy's
+    index −1: the last piece); the same floats."""
+    cdef const double[:] ls = lower.starts, lv = lower.values, us = upper.starts, uv = upper.values
+    cdef const unsigned char[:] lr = lower.ramp.view(np.uint8), ur = upper.ramp.view(np.uint8)
+    cdef double a, b
+    cdef Py_ssize_t j
+    cdef list out = []
+    for pair in intervals:
+        a, b = pair
+        j = _wrap(_bisect_left(us, b) - 1, us.shape[0])
+        out.append((_value_at(ls, lr, lv, a), b if ur[j] else uv[j]))
+    return out
