@@ -11,9 +11,11 @@ out with its rules; libm sin/cos, which numpy's match on this platform). Used th
 
 import numpy as np
 
-from libc.math cimport ceil, copysign, cos, fabs, floor, fmod, isfinite, isnan, sin, INFINITY, NAN
+from libc.math cimport ceil, cos, fabs, floor, isfinite, isnan, sin, INFINITY, NAN
 from cpython.tuple cimport PyTuple_GET_ITEM
 from libc.stdlib cimport free, malloc, qsort
+
+from algrasp.planning._floats cimport _bisect_right, _insertion_sort, _max, _min, _mod
 
 from algrasp.planning._lookups import (fixed, images, keys, lifted, lookup, pointwise, rest_zones, shifted,
                                       sink_widths, steps_floats, widest)  # re-exported: one KERNELS
@@ -33,27 +35,6 @@ cdef void _init() except *:
     ROUNDING, TWO_PI, EDGE_RAD, INSIDE, SLOPE_NOISE = rounding, two_pi, sv.EDGE_RAD, sv._INSIDE, sv.SLOPE_NOISE
     _NONE = sv._NONE
     _ready = True
-
-
-cdef inline double _mod(double a, double b) noexcept nogil:
-    """numpy's (and Python's) float remainder: the sign of the divisor, +0.0 for none."""
-    cdef double m = fmod(a, b)
-    if m != 0.0:
-        if (b < 0.0) != (m < 0.0):
-            m += b
-    else:
-        m = copysign(0.0, b)
-    return m
-
-
-cdef inline double _max(double a, double b) noexcept nogil:
-    """np.maximum(a, b)."""
-    return a if (a >= b or isnan(a)) else b
-
-
-cdef inline double _min(double a, double b) noexcept nogil:
-    """np.minimum(a, b)."""
-    return a if (a <= b or isnan(a)) else b
 
 
 cdef struct Pair:
@@ -631,25 +612,13 @@ def canonical(list pieces, double period, double tol_rad):
 
 # ------------------------------------------------------ TransferFunction.compose_after
 
-cdef Py_ssize_t _bisect_right(const double* a, Py_ssize_t n, double x) noexcept nogil:
-    """bisect.bisect_right on a sorted C array."""
-    cdef Py_ssize_t lo = 0, hi = n, mid
-    while lo < hi:
-        mid = (lo + hi) >> 1
-        if x < a[mid]:
-            hi = mid
-        else:
-            lo = mid + 1
-    return lo
-
-
 cdef Py_ssize_t _lifted_starts(outer, double a, double b, double** out) except -1:
     """TransferFunction._lifted_starts: every piece start lifted over [a, b] (with a
     period to spare), sorted, into a malloc'd array (the caller frees it)."""
     cdef list starts = outer.starts
-    cdef double base = _item(outer.pieces[0], 0), P = outer.period, s, v
+    cdef double base = _item(outer.pieces[0], 0), P = outer.period, s
     cdef Py_ssize_t k0 = <Py_ssize_t>floor((a - base) / P) - 1, k1 = <Py_ssize_t>ceil((b - base) / P) + 1
-    cdef Py_ssize_t ns = len(starts), n = (k1 - k0 + 1) * ns, i, j, k, t = 0
+    cdef Py_ssize_t ns = len(starts), n = (k1 - k0 + 1) * ns, i, k, t = 0
     cdef double* c = <double*>malloc(max(n, 1) * sizeof(double))
     if c == NULL:
         raise MemoryError()
@@ -657,13 +626,7 @@ cdef Py_ssize_t _lifted_starts(outer, double a, double b, double** out) except -
         for i in range(ns):
             c[t] = <double>starts[i] + (<double>k) * P
             t += 1
-    for i in range(1, n):  # insertion sort: the copies are sorted runs
-        v = c[i]
-        j = i - 1
-        while j >= 0 and v < c[j]:
-            c[j + 1] = c[j]
-            j -= 1
-        c[j + 1] = v
+    _insertion_sort(c, n)  # the copies are sorted runs
     out[0] = c
     return n
 

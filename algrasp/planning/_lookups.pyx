@@ -12,11 +12,13 @@ only. Radians throughout; O(m log n) for m θ and n pieces.
 
 import numpy as np
 
-from libc.math cimport copysign, floor, fmod, isnan, rint, NAN
+from libc.math cimport floor, isnan, rint, NAN
 from libc.stdlib cimport free, malloc
 from cpython.float cimport PyFloat_AS_DOUBLE
 from cpython.list cimport PyList_GET_ITEM, PyList_GET_SIZE
 from cpython.tuple cimport PyTuple_GET_ITEM
+
+from algrasp.planning._floats cimport _bisect_right, _insertion_sort, _mod
 
 cdef Py_ssize_t LIFTS_LO = -1, LIFTS_HI = 4  # transfer.LIFTS: checked against it at first use
 cdef bint _ready = False
@@ -28,18 +30,6 @@ cdef void _check() except *:
     if (LIFTS.start, LIFTS.stop, LIFTS.step) != (LIFTS_LO, LIFTS_HI, 1):
         raise RuntimeError("_lookups: transfer.LIFTS changed; rebuild the kernels")
     _ready = True
-
-
-cdef inline Py_ssize_t _bisect_right(const double* a, Py_ssize_t n, double x) noexcept nogil:
-    """bisect.bisect_right / searchsorted(side="right") on a sorted C array (a NaN x: n)."""
-    cdef Py_ssize_t lo = 0, hi = n, mid
-    while lo < hi:
-        mid = (lo + hi) >> 1
-        if x < a[mid]:
-            hi = mid
-        else:
-            lo = mid + 1
-    return lo
 
 
 cdef int _table(F, double* first, double** starts, double** values, Py_ssize_t* n) except -1:
@@ -180,17 +170,6 @@ cdef inline object _piece(double a, double b, object v):
     return tuple.__new__(_Piece, (a, b, v))
 
 
-cdef inline double _mod(double a, double b) noexcept nogil:
-    """Python's float remainder: the sign of the divisor, +0.0 for none."""
-    cdef double m = fmod(a, b)
-    if m != 0.0:
-        if (b < 0.0) != (m < 0.0):
-            m += b
-    else:
-        m = copysign(0.0, b)
-    return m
-
-
 cdef Py_ssize_t _cuts(list fs, double a, double P, double* out) noexcept:
     """placement._cuts into ``out`` (room for 2 + every piece): the first of equal values
     kept, as the set does; sorted, in [a, a + P]."""
@@ -213,13 +192,7 @@ cdef Py_ssize_t _cuts(list fs, double a, double P, double* out) noexcept:
         if a <= out[i] <= a + P:
             out[j] = out[i]
             j += 1
-    for i in range(1, j):
-        x = out[i]
-        n = i - 1
-        while n >= 0 and x < out[n]:
-            out[n + 1] = out[n]
-            n -= 1
-        out[n + 1] = x
+    _insertion_sort(out, j)
     return j
 
 
