@@ -1,14 +1,15 @@
-"""The optional compiled kernels (algrasp/planning/_kernels.pyx and _lookups.pyx; everything else is in
-pyproject.toml). ``optional=True``: without a C compiler (or without Cython, outside
-build isolation) the package installs and runs on its numpy path (algrasp.compiled)."""
+"""The optional compiled kernels (algrasp/planning/_kernels.pyx and _lookups.pyx,
+algrasp/geometry/_geometry.pyx; everything else is in pyproject.toml). ``optional=True``:
+without a C compiler (or without Cython, outside build isolation) the package installs and
+runs on its numpy path (algrasp.compiled)."""
 
 from setuptools import Extension, setup
 
 # -ffp-contract=off: no fused multiply-adds, so every product rounds as numpy's does.
-# (_floats.pxd holds inline helpers both cimport: no module of its own.)
-EXTENSIONS = [Extension(f"algrasp.planning.{name}", [f"algrasp/planning/{name}.pyx"],
+# (_floats.pxd holds inline helpers both planning kernels cimport: no module of its own.)
+EXTENSIONS = [Extension(f"algrasp.{package}.{name}", [f"algrasp/{package}/{name}.pyx"],
                         extra_compile_args=["-O2", "-ffp-contract=off", "-fno-fast-math"], optional=True)
-              for name in ("_kernels", "_lookups")]
+              for package, name in (("planning", "_kernels"), ("planning", "_lookups"), ("geometry", "_geometry"))]
 
 try:
     from Cython.Build import cythonize

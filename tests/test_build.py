@@ -23,8 +23,9 @@ def _can_compile() -> bool:
 @pytest.mark.skipif(not _can_compile(), reason="no C compiler or Python headers: the numpy path is expected")
 @pytest.mark.skipif(os.environ.get("ALGRASP_PURE", "") not in ("", "0"), reason="ALGRASP_PURE chooses the numpy path")
 def test_kernels_built_where_a_compiler_is() -> None:
-    from algrasp.compiled import KERNELS
+    from algrasp.compiled import GEOMETRY, KERNELS
 
-    assert KERNELS is not None, "a C compiler and Python.h are here, but algrasp.planning._kernels was not built"
-    # A compiled module, not a .py of the same name shadowing it.
-    assert KERNELS.__file__ is not None and Path(KERNELS.__file__).suffix in (".so", ".pyd")
+    for name, module in (("algrasp.planning._kernels", KERNELS), ("algrasp.geometry._geometry", GEOMETRY)):
+        assert module is not None, f"a C compiler and Python.h are here, but {name} was not built"
+        # A compiled module, not a .py of the same name shadowing it.
+        assert module.__file__ is not None and Path(module.__file__).suffix in (".so", ".pyd")

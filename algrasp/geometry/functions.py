@@ -32,6 +32,7 @@ from typing import Literal, NamedTuple
 
 import numpy as np
 
+from algrasp.compiled import GEOMETRY
 from algrasp.geometry.angles import TWO_PI, wrap_from
 from algrasp.geometry.bank import IntArray
 from algrasp.geometry.curves import FloatArray
@@ -138,8 +139,12 @@ def _cells(kind: Kind, hull: ConvexHull, angle_rad: float) -> tuple[Cell, ...]:
     (cuts closer than ``angle_rad`` are one), with the features at ψ and at ψ + π in
     between (near −1 for the radius: the centre of mass). O(n log n) for n features, in
     plain floats (a few per feature; numpy's per-call cost would dominate). Once per hull
-    (identity), kind and tolerance: the runs and the dead-zone edges both read them."""
+    (identity), kind and tolerance: the runs and the dead-zone edges both read them.
+    Compiled when built (:mod:`algrasp.compiled`), with the same cells."""
     bp = hull.table.breakpoint_list
+    made = None if GEOMETRY is None else GEOMETRY.cells(bp, kind == "diameter", angle_rad)
+    if made is not None:
+        return made  # type: ignore[no-any-return]
     raw = [b - math.pi for b in bp]  # where the far feature changes; raw[0] is the least cut
     if kind == "diameter":
         raw += bp
@@ -317,6 +322,9 @@ def theta_runs(kind: Kind, hull: ConvexHull, com: tuple[float, float], size: flo
     cells = _cells(kind, hull, tol.angle_rad)
     centers = [f.center if f.point_like else None for f in hull.features]
     centers.append(com)  # near index −1: the centre of mass, a point
+    if GEOMETRY is not None and not len(hull.table.s0):  # all point-like: compiled, the same runs
+        return GEOMETRY.point_runs(cells, centers, tol.concentric_rel * size, tol.angle_rad,  # type: ignore[no-any-return]
+                                   tol.sliver_rad, Run)
     curved = [c for c in cells if centers[c[0]] is None or centers[c[1]] is None]
     curve_runs = iter(_curve_cell_runs(_Derivative(hull, np.asarray(com, dtype=float)), curved, tol) if curved else [])
     psi_runs: list[Run] = []
@@ -331,19 +339,31 @@ def theta_runs(kind: Kind, hull: ConvexHull, com: tuple[float, float], size: flo
     return [Run(np.pi / 2 - r.end, np.pi / 2 - r.start, -r.sign) for r in reversed(merged)]
 
 
+_LABELS = [[_CLASSIFY.get((p, q)) for q in (-1, 0, 1)] for p in (-1, 0, 1)]
+""":data:`_CLASSIFY` as a table by (sign before + 1, sign after + 1), for the kernel."""
+
+
+def _extremum_keys(runs: list[Run], period: float, angle_rad: float) -> list[tuple[float, float, tuple[str, Equilibrium]]]:
+    """(start, θ wrapped into the period, label) of each extremum between the cyclic
+    ``runs``, once per period (the diameter's turn holds two copies): by θ rounded to 9
+    digits, the first kept. O(n); compiled when built (:mod:`algrasp.compiled`)."""
+    if GEOMETRY is not None:
+        return GEOMETRY.extremum_keys(runs, period, angle_rad, _LABELS)  # type: ignore[no-any-return]
+    labelled: dict[float, tuple[float, float, tuple[str, Equilibrium]]] = {}
+    for prev, nxt in zip([runs[-1], *runs[:-1]], runs):
+        label = _CLASSIFY.get((prev.sign, nxt.sign))
+        if label is not None:
+            key = wrap(nxt.start, period, angle_rad)
+            labelled.setdefault(round(key, 9), (nxt.start, key, label))
+    return list(labelled.values())
+
+
 def analyse(kind: Kind, hull: ConvexHull, com: tuple[float, float], size: float, tol: Tolerances) -> SupportPairFunction:
     """Exact runs, extrema and constant regions of the diameter or radius function."""
     runs = theta_runs(kind, hull, com, size, tol)
     shell = SupportPairFunction(kind, hull, com, tuple(runs), (), ())
     period = shell.period
-    # Each extremum once per period (the diameter's turn holds two copies), by its key.
-    labelled: dict[float, tuple[float, float, tuple[str, Equilibrium]]] = {}
-    for prev, nxt in zip([runs[-1], *runs[:-1]], runs):
-        label = _CLASSIFY.get((prev.sign, nxt.sign))
-        if label is not None:
-            key = wrap(nxt.start, period, tol.angle_rad)
-            labelled.setdefault(round(key, 9), (nxt.start, key, label))
-    found = list(labelled.values())
+    found = _extremum_keys(runs, period, tol.angle_rad)
     values = shell.values(np.array([t for t, _, _ in found])).tolist() if found else []
     extrema = [Extremum(key, value, label[0], label[1]) for (_, key, label), value in zip(found, values)]
     const = {round(wrap(r.start, period, tol.angle_rad), 9): (wrap(r.start, period, tol.angle_rad),

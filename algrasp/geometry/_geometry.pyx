@@ -1,0 +1,213 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True, initializedcheck=False
+"""Typed loops for the diameter/radius analysis of point-like hulls
+(:mod:`algrasp.geometry.functions`), bit-identical to its Python reference.
+
+Every value is made by the same IEEE operations in the same order as the Python path (no
+FMA: built with -ffp-contract=off; Python's float remainder written out with its rule;
+libm's atan2, sin and cos, which Python's math module calls). The one comparison whose
+Python form is not libm's (``math.hypot(dx, dy) <= limit``: CPython's own hypot) is
+decided here only where a bound proves it (|Δ| far above the limit) and otherwise by
+Python's math.hypot itself. Used through :mod:`algrasp.compiled` only;
+``tests/algrasp/geometry/test_geometry_kernels.py`` compares the two paths. Radians
+throughout; O(c log c) for c cells.
+"""
+
+import math
+
+from libc.math cimport atan2, ceil, copysign, cos, fmod, sin, sqrt, INFINITY
+from libc.stdlib cimport free, malloc
+
+from algrasp.geometry.angles import TWO_PI as _TWO_PI_PY
+
+cdef double TWO_PI = _TWO_PI_PY
+cdef double PI = math.pi
+cdef double HALF_PI = math.pi / 2
+cdef double HYPOT_FLOOR = 1e-100  # above it |Δ|² is a normal number: sqrt(dx² + dy²) is within 3 ulp
+cdef object _hypot = math.hypot
+cdef object _round = round
+
+
+cdef inline double _mod(double a, double b) noexcept nogil:
+    """Python's float remainder: the sign of the divisor, +0.0 for none."""
+    cdef double m = fmod(a, b)
+    if m != 0.0:
+        if (b < 0.0) != (m < 0.0):
+            m += b
+    else:
+        m = copysign(0.0, b)
+    return m
+
+
+cdef struct RunC:
+    double start
+    double end
+    int sign
+
+
+def cells(list bp, bint diameter, double angle_rad):
+    """:func:`algrasp.geometry.functions._cells` from the breakpoint list ``bp``: the same
+    tuple of (near, far, ψ_a, ψ_b); None when a breakpoint is NaN (the Python path then)."""
+    cdef Py_ssize_t n = len(bp), m = 2 * n if diameter else n, i, j, k, e = 0, near = -1, far = 0
+    cdef double base, c, prev = -INFINITY, v
+    cdef double* cuts = <double*> malloc(m * sizeof(double))
+    cdef double* ea = <double*> malloc(m * sizeof(double))
+    cdef Py_ssize_t* order = <Py_ssize_t*> malloc(3 * m * sizeof(Py_ssize_t))
+    cdef Py_ssize_t* en = order + m
+    cdef Py_ssize_t* ef = order + 2 * m
+    try:
+        for i in range(n):
+            v = bp[i]
+            if v != v:
+                return None
+            cuts[i] = v - PI
+            if diameter:
+                cuts[n + i] = v
+        base = cuts[0]
+        for i in range(m):
+            cuts[i] = base + _mod(cuts[i] - base, TWO_PI)
+        for i in range(m):  # stable insertion sort of the indices by cut (sorted(key=...))
+            k = i
+            j = i - 1
+            while j >= 0 and cuts[k] < cuts[order[j]]:
+                order[j + 1] = order[j]
+                j -= 1
+            order[j + 1] = k
+        for i in range(m - 1, -1, -1):  # the features before the first cut: the last of each term
+            if order[i] < n:
+                far = order[i]
+                break
+        for i in range(m - 1, -1, -1):
+            if order[i] >= n:
+                near = order[i] - n
+                break
+        for i in range(m):
+            k = order[i]
+            c = cuts[k]
+            if k < n:
+                far = k
+            else:
+                near = k - n
+            if c - prev > angle_rad:
+                ea[e] = c
+                e += 1
+            en[e - 1] = near
+            ef[e - 1] = far
+            prev = c
+        out = []
+        for i in range(e):
+            c = ea[i + 1] if i + 1 < e else ea[0] + TWO_PI
+            if c - ea[i] > angle_rad:
+                out.append((en[i], ef[i], ea[i], c))
+        return tuple(out)
+    finally:
+        free(cuts)
+        free(ea)
+        free(order)
+
+
+cdef inline int _sign(double x) noexcept nogil:
+    return (x > 0.0) - (x < 0.0)
+
+
+cdef bint _concentric(double dx, double dy, double limit) except -1:
+    """math.hypot(dx, dy) <= limit: false when a bound proves |Δ| > limit, else asked of Python."""
+    cdef double s = sqrt(dx * dx + dy * dy)
+    if s > 2.0 * limit and s > HYPOT_FLOOR:
+        return False
+    return bool(_hypot(dx, dy) <= limit)
+
+
+cdef Py_ssize_t _cell_runs(double dx, double dy, double a, double b, double limit, double angle_rad,
+                           RunC* out) except -1:
+    """:func:`algrasp.geometry.functions._point_like_runs` into ``out`` (at most 4); the count."""
+    cdef double phi, k0, x, y, m, sg
+    cdef double edges[5]
+    cdef Py_ssize_t n = 1, count = 0, i
+    if _concentric(dx, dy, limit):
+        out[0].start, out[0].end, out[0].sign = a, b, 0
+        return 1
+    phi = atan2(dy, dx)
+    k0 = ceil((a - phi) / PI)
+    edges[0] = a
+    for i in range(3):  # a cell is at most a turn wide: these cover its roots
+        x = phi + (k0 + i) * PI
+        if a < x < b:
+            edges[n] = x
+            n += 1
+    edges[n] = b
+    for i in range(n):
+        x, y = edges[i], edges[i + 1]
+        m = 0.5 * (x + y)
+        sg = -dx * sin(m) + dy * cos(m)
+        if y - x > angle_rad:
+            out[count].start, out[count].end, out[count].sign = x, y, _sign(sg)
+            count += 1
+    return count
+
+
+cdef Py_ssize_t _merge(RunC* r, Py_ssize_t n, double sliver) noexcept nogil:
+    """:func:`algrasp.geometry.functions._merge` in place; the count kept."""
+    cdef Py_ssize_t k = 0, i
+    for i in range(n):
+        if k and r[i].end - r[i].start <= sliver:
+            r[k - 1].end = r[i].end
+            continue
+        if k and r[k - 1].sign == r[i].sign:
+            r[k - 1].end = r[i].end
+        else:
+            r[k] = r[i]
+            k += 1
+    if k > 1 and r[0].sign == r[k - 1].sign:
+        r[k - 1].end = r[0].end + TWO_PI
+        for i in range(k - 1):
+            r[i] = r[i + 1]
+        k -= 1
+    return k
+
+
+def point_runs(tuple cell_list, list centers, double limit, double angle_rad, double sliver, run):
+    """:func:`algrasp.geometry.functions.theta_runs` of a hull whose features are all
+    point-like: ``centers`` holds each feature's centre then the centre of mass (near
+    index −1); ``run`` makes each θ-run. The same list of runs."""
+    cdef Py_ssize_t nc = len(cell_list), nf = len(centers), total = 0, i, near, far
+    cdef double fx, fy, gx, gy
+    cdef RunC* runs = <RunC*> malloc((4 * nc + 1) * sizeof(RunC))
+    try:
+        for i in range(nc):
+            cell = <tuple> cell_list[i]
+            near, far = cell[0], cell[1]
+            near, far = near + nf if near < 0 else near, far + nf if far < 0 else far
+            if not (0 <= near < nf and 0 <= far < nf):
+                raise IndexError(f"cell {i} names a feature not in centers")
+            F, G = centers[near], centers[far]
+            fx, fy, gx, gy = F[0], F[1], G[0], G[1]
+            total += _cell_runs(fx - gx, fy - gy, cell[2], cell[3], limit, angle_rad, runs + total)
+        total = _merge(runs, total, sliver)
+        # θ = π/2 − ψ reverses the order and the sign of the derivative.
+        return [run(HALF_PI - runs[i].end, HALF_PI - runs[i].start, -runs[i].sign) for i in range(total - 1, -1, -1)]
+    finally:
+        free(runs)
+
+
+def extremum_keys(list runs, double period, double angle_rad, list labels):
+    """The extrema of :func:`algrasp.geometry.functions.analyse` before their values: each
+    (start, θ wrapped into the period, label) once per key (θ rounded to 9 digits), from
+    ``labels[prev sign + 1][next sign + 1]`` (None: no extremum)."""
+    cdef Py_ssize_t n = len(runs), i
+    cdef int p, q
+    cdef double start, x
+    labelled = {}
+    if not n:
+        raise IndexError("list index out of range")  # as the Python path's runs[-1]
+    for i in range(n):
+        p = (<tuple> runs[i - 1 if i else n - 1])[2]
+        q = (<tuple> runs[i])[2]
+        if not (-1 <= p <= 1 and -1 <= q <= 1):
+            raise ValueError(f"run signs must be -1, 0 or 1, got {p} and {q}")
+        label = labels[p + 1][q + 1]
+        if label is not None:
+            start = (<tuple> runs[i])[0]
+            x = _mod(start, period)
+            key = 0.0 if period - x <= angle_rad else x
+            labelled.setdefault(_round(key, 9), (start, key, label))
+    return list(labelled.values())

@@ -1,0 +1,184 @@
+"""The compiled geometry kernels (algrasp.geometry._geometry) against the Python path they
+replace: cells, runs, extrema and whole analyses bit for bit, on random polygons, regular
+polygons, parts with circular arcs (point-like features of nonzero radius), made-up
+breakpoint lists (cuts closer than the angle tolerance, coinciding centres, |Δ| at the
+concentric limit itself) and made-up runs. The Python path is the reference (run here
+with the hook switched off)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import Any
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from algrasp.compiled import GEOMETRY
+from algrasp.geometry import functions
+from algrasp.geometry.angles import TWO_PI
+from algrasp.geometry.functions import Run, analyse, theta_runs
+from algrasp.geometry.part import load_part
+from algrasp.geometry.tolerances import DEFAULT_TOLERANCES as TOL
+from algrasp.testing import shapes
+
+pytestmark = pytest.mark.skipif(GEOMETRY is None, reason="compiled geometry kernels not built (or ALGRASP_PURE set)")
+
+
+@contextmanager
+def _python_path() -> Iterator[None]:
+    """The Python reference: the hook sees no kernels (and no cells cached by the other path)."""
+    saved = functions.GEOMETRY
+    functions.GEOMETRY = None
+    functions._cells.cache_clear()
+    try:
+        yield
+    finally:
+        functions.GEOMETRY = saved
+        functions._cells.cache_clear()
+
+
+@contextmanager
+def _compiled_path() -> Iterator[None]:
+    functions._cells.cache_clear()
+    yield
+
+
+def _bits(value: Any) -> Any:
+    """A comparable form that tells apart every bit pattern (−0.0, NaN payloads, int from float)."""
+    if isinstance(value, np.ndarray):
+        return ("array", value.dtype.str, value.shape, value.tobytes())
+    if isinstance(value, (list, tuple)):
+        return (type(value).__name__, tuple(_bits(v) for v in value))
+    if isinstance(value, float):
+        return ("float", value.hex())
+    return (type(value).__name__, repr(value))
+
+
+def _both(make: Callable[[], Any]) -> tuple[Any, Any]:
+    """(compiled, Python) results of ``make``, or the error each raised."""
+    out: list[Any] = []
+    for ctx in (_compiled_path, _python_path):
+        with ctx():
+            try:
+                out.append(_bits(make()))
+            except (IndexError, ValueError, StopIteration) as e:
+                out.append(("raised", type(e).__name__))
+    return out[0], out[1]
+
+
+DOCS = {
+    "polygon": lambda seed, n: shapes.random_polygon(n, seed),
+    "regular": lambda seed, n: shapes.regular_polygon(n, 1.0 + seed % 7, phase_deg=seed % 90),
+    "reuleaux": lambda seed, n: shapes.reuleaux(1.0 + seed % 5),
+    "flats": lambda seed, n: shapes.disk_with_flats(1.0, 5.0 + seed % 30),
+    "pie": lambda seed, n: shapes.pie(5.0, 10.0 + seed % 40),
+    "disk": lambda seed, n: shapes.disk(1.0 + seed % 3),
+    "rectangle": lambda seed, n: shapes.rectangle(1.0 + seed % 5, 1.0 + n % 3),
+}
+
+
+@settings(max_examples=150, deadline=None)
+@given(shape=st.sampled_from(sorted(DOCS)), seed=st.integers(0, 10_000), n=st.integers(3, 40),
+       snap=st.booleans())
+def test_analyses_are_bit_identical(shape: str, seed: int, n: int, snap: bool) -> None:
+    part = load_part(DOCS[shape](seed, n), TOL, snap=snap)
+
+    def made() -> Any:
+        out = []
+        for kind in ("diameter", "radius"):
+            f = analyse(kind, part.hull, part.center_of_mass, part.size, TOL)  # type: ignore[arg-type]
+            out.append((functions._cells(kind, part.hull, TOL.angle_rad), f.runs, f.extrema, f.constant_intervals))
+        return out
+
+    compiled, python = _both(made)
+    assert compiled == python
+
+
+class _Table:
+    def __init__(self, bp: list[float]) -> None:
+        self.breakpoint_list = bp
+        self.s0 = np.zeros(0)
+
+
+class _Feature:
+    point_like = True
+
+    def __init__(self, center: tuple[float, float]) -> None:
+        self.center = center
+
+
+class _Hull:
+    """What the cells and runs read of a hull whose features are all point-like."""
+
+    def __init__(self, bp: list[float], centers: list[tuple[float, float]]) -> None:
+        self.table = _Table(bp)
+        self.features = [_Feature(c) for c in centers]
+
+
+def _breakpoints(start: float, gaps: list[float]) -> list[float]:
+    """Sorted breakpoints from ``start`` covering less than a turn (gaps scaled to fit)."""
+    total = sum(gaps)
+    scale = (TWO_PI - 1e-3) / total if total > 0.0 else 0.0
+    out, x = [], start
+    for g in gaps:
+        out.append(x)
+        x += g * scale
+    return out
+
+
+GAP = st.one_of(st.floats(0.0, 2.0), st.sampled_from([0.0, 1e-12, 0.5 * TOL.angle_rad, TOL.angle_rad, 1e-8]))
+COORD = st.one_of(st.floats(-3.0, 3.0), st.sampled_from([0.0, -0.0, 1.0, 1e-13]))
+
+
+@settings(max_examples=300, deadline=None)
+@given(start=st.floats(-7.0, 7.0), gaps=st.lists(GAP, min_size=1, max_size=12), kind=st.sampled_from(["diameter", "radius"]),
+       coords=st.lists(st.tuples(COORD, COORD), min_size=13, max_size=13), repeat=st.lists(st.integers(0, 12), max_size=4),
+       com=st.tuples(COORD, COORD), size=st.sampled_from([1.0, 3.0, 1e-6, 1e6]))
+def test_made_up_runs_are_bit_identical(start: float, gaps: list[float], kind: str, coords: list[tuple[float, float]],
+                                        repeat: list[int], com: tuple[float, float], size: float) -> None:
+    bp = _breakpoints(start, gaps)
+    centers = coords[: len(bp)]
+    for k in repeat:  # coinciding centres: constant cells
+        centers[k % len(bp)] = centers[0]
+    hull = _Hull(bp, centers)
+    compiled, python = _both(lambda: (functions._cells(kind, hull, TOL.angle_rad),  # type: ignore[arg-type]
+                                      theta_runs(kind, hull, com, size, TOL)))  # type: ignore[arg-type]
+    assert compiled == python
+
+
+@settings(max_examples=200, deadline=None)
+@given(dx=st.floats(1e-12, 10.0), angle=st.floats(0.0, TWO_PI), nudge=st.sampled_from([-2, -1, 0, 1, 2]),
+       start=st.floats(-4.0, 4.0))
+def test_concentric_limit_is_decided_alike(dx: float, angle: float, nudge: int, start: float) -> None:
+    """|Δ| within an ulp or two of the concentric limit: the kernel must ask Python's hypot."""
+    g = (dx * math.cos(angle), dx * math.sin(angle))
+    size = math.hypot(*g) / TOL.concentric_rel
+    for _ in range(abs(nudge)):
+        size = math.nextafter(size, math.inf if nudge > 0 else 0.0)
+    hull = _Hull(_breakpoints(start, [1.0, 1.0, 1.0]), [(0.0, 0.0), g, (0.0, 0.0)])
+    for kind in ("diameter", "radius"):
+        compiled, python = _both(lambda: theta_runs(kind, hull, (0.0, 0.0), size, TOL))  # type: ignore[arg-type]  # noqa: B023
+        assert compiled == python
+
+
+SIGN = st.sampled_from([-1, 0, 1])
+
+
+@settings(max_examples=300, deadline=None)
+@given(starts=st.lists(st.one_of(st.floats(-10.0, 10.0), st.sampled_from([0.0, -0.0, math.pi, TWO_PI, -math.pi,
+                                                                            math.pi - 1e-12, TWO_PI - 1e-13])),
+                       max_size=10),
+       signs=st.lists(SIGN, min_size=10, max_size=10), period=st.sampled_from([math.pi, TWO_PI]))
+def test_extremum_keys_are_bit_identical(starts: list[float], signs: list[int], period: float) -> None:
+    runs = [Run(s, s + 0.1, sg) for s, sg in zip(sorted(starts), signs)]
+    compiled, python = _both(lambda: functions._extremum_keys(runs, period, TOL.angle_rad))
+    assert compiled == python
+
+
+def test_bad_signs_are_refused() -> None:
+    with pytest.raises(ValueError, match="run signs"):
+        GEOMETRY.extremum_keys([Run(0.0, 1.0, 2)], math.pi, TOL.angle_rad, functions._LABELS)  # type: ignore[union-attr]
