@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TypeVar
 
 import numpy as np
 
@@ -133,6 +134,9 @@ class PointElement:
 
 Element = EdgeElement | CurveElement | PointElement
 """One element of the hull boundary, in counter-clockwise order."""
+Edges = tuple[tuple[tuple[float, float], tuple[float, float]], ...]
+"""Straight hull edges ((ax, ay), (bx, by)), counter-clockwise."""
+_T = TypeVar("_T")
 
 
 def _link(ma: list[tuple[int, int]], mb: list[tuple[int, int]]) -> int | None:
@@ -199,16 +203,26 @@ def _elements(loop: Loop, order: list[int], links: list[int | None], cand: Candi
     return elems
 
 
-def _polygon_elements(loop: Loop, order: list[int]) -> list[Element]:
-    """:func:`_elements` of a polygon (no pieces: every hull point a vertex, every link an
-    edge), in its order: from the corner after the first, each corner then its edge to
-    the next. O(h)."""
+def _polygon_features(loop: Loop, order: list[int], tol: Tolerances) -> tuple[list[HullFeature], Edges]:
+    """:func:`_features` and the edges of a polygon's hull (no pieces: every hull point a
+    vertex, every link an edge) without the elements: from the corner after the first,
+    each corner (normals from the edge before to its own) then its edge, the same float
+    operations in the same order. O(h)."""
     xy, h = loop.vertex_list, len(order)
     corners = [xy[order[(k + 1) % h]] for k in range(h)]
-    elems: list[Element] = []
-    for k, a in enumerate(corners):
-        elems += [PointElement(a), EdgeElement(a, corners[(k + 1) % h])]
-    return elems
+    edges = tuple((a, corners[(k + 1) % h]) for k, a in enumerate(corners))
+    psis = [math.atan2(a[0] - b[0], b[1] - a[1]) for a, b in edges]
+    kept: list[tuple[tuple[float, float], float]] = []
+    level = last = psis[-1]
+    for k, psi in enumerate(psis):
+        a = level + max((psis[k - 1] - level + math.pi) % TWO_PI - math.pi, 0.0)  # the corner
+        b = a + max((psi - a + math.pi) % TWO_PI - math.pi, 0.0)
+        if b - a > tol.sliver_rad:
+            kept.append((corners[k], a))
+            last = b
+        a = b + max((psi - b + math.pi) % TWO_PI - math.pi, 0.0)  # its edge
+        level = a + max((psi - a + math.pi) % TWO_PI - math.pi, 0.0)
+    return [HullFeature.point(a, e, (float(c[0]), float(c[1]))) for c, a, e in _tiled(kept, last)], edges
 
 
 def _own_normals(loop: Loop, el: Element) -> tuple[float, float] | None:
@@ -244,7 +258,7 @@ def _element_normals(loop: Loop, elems: list[Element]) -> list[tuple[float, floa
 def _feature(el: PointElement | CurveElement, a: float, b: float, pieces: tuple[Piece, ...]) -> HullFeature:
     """The feature of element ``el`` over the normals [a, b]."""
     if isinstance(el, PointElement):
-        return HullFeature("point", a, b, (float(el.xy[0]), float(el.xy[1])), 0.0, None, 0.0, 1.0)
+        return HullFeature.point(a, b, (float(el.xy[0]), float(el.xy[1])))
     p = pieces[el.piece]
     if p.circle is not None:
         return HullFeature("circle", a, b, (p.circle[0], p.circle[1]), p.circle[2], p, el.s, el.e)
@@ -266,12 +280,17 @@ def _features(loop: Loop, elems: list[Element], tol: Tolerances) -> list[HullFea
             continue
         kept.append((el, a))
         last = b
+    return [_feature(el, a, e, loop.pieces) for el, a, e in _tiled(kept, last)]
+
+
+def _tiled(kept: list[tuple[_T, float]], last: float) -> list[tuple[_T, float, float]]:
+    """The kept elements with their normal ranges tiling S¹ exactly (each ends where the
+    next begins), given each one's first normal and the last one's end ``last``."""
     total = last - kept[0][1]
     if abs(total - TWO_PI) > HULL_TURN_RAD:
         raise GeometryError(f"hull normals cover {to_deg(total):.6f}° instead of 360°")
-    # Tile S¹ exactly: each range ends where the next begins.
     ends = [a for _, a in kept[1:]] + [kept[0][1] + TWO_PI]
-    return [_feature(el, a, e, loop.pieces) for (el, a), e in zip(kept, ends)]
+    return [(el, a, e) for (el, a), e in zip(kept, ends)]
 
 
 def hull_order(pts: FloatArray) -> list[int]:
@@ -313,13 +332,13 @@ def exact_hull(boundary: list[Segment], size: float, tol: Tolerances) -> ConvexH
         raise GeometryError(f"boundary: the convex hull is degenerate ({len(located)} candidate points): is the part "
                             "a sliver or a curve with a cusp?")
     if cand is None:
-        elems = _polygon_elements(loop, order)
+        feats, edges = _polygon_features(loop, order, tol)
     else:
         h = len(order)
         links = [_link(cand.members(order[i]), cand.members(order[(i + 1) % h])) for i in range(h)]
         elems = _elements(loop, order, links, cand, size)
-    feats = _features(loop, elems, tol)
-    edges = tuple((e.a, e.b) for e in elems if isinstance(e, EdgeElement))
+        feats = _features(loop, elems, tol)
+        edges = tuple((e.a, e.b) for e in elems if isinstance(e, EdgeElement))
     table = FeatureTable.build(feats)
     perimeter = math.fsum(math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in edges)
     perimeter += sum(f.radius * (f.psi1 - f.psi0) for f in feats if f.kind == "circle")

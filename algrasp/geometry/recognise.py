@@ -31,6 +31,9 @@ _MIN_ARC_SWEEP_RAD = to_rad(10.0)
 """Shortest sweep of a polynomial Bezier taken for an arc approximation."""
 _RIPPLE_SAMPLES = 65
 """Points sampled along a cubic to measure its radial ripple against the fitted circle."""
+_TURN_SLACK = 1e-9
+"""Relative margin by which a turn from libm's atan2 must clear a limit for the comparison
+to be decided without numpy's arctan2 (the two may differ in the last bit)."""
 
 
 def _circle_through(a: FloatArray, b: FloatArray, c: FloatArray) -> tuple[FloatArray, float] | None:
@@ -143,7 +146,7 @@ def _polyline_error(loop: Sequence[Segment], tol: Tolerances) -> tuple[float, fl
     error is at most half the longest chord (an edge between two such vertices: a real
     flat next to a tessellated arc is exact); the value error is the sagitta, ℓ·β/8."""
     n = len(loop)
-    if n < 3:
+    if n < 3 or _none_small(loop, tol.tessellation_turn_rad, zero_is_small=True):
         return 0.0, 0.0, 0
     turns = np.abs(_signed_turns(loop))
     small = turns <= tol.tessellation_turn_rad  # NaN (a curve beside the vertex) is never small
@@ -222,6 +225,27 @@ def _signed_turns(loop: Sequence[Segment]) -> FloatArray:
     return np.asarray(np.where(is_line & np.concatenate([is_line[1:], is_line[:1]]), turns, np.nan))
 
 
+def _none_small(loop: Sequence[Segment], limit: float, zero_is_small: bool) -> bool:
+    """Whether provably no vertex of an all-line loop turns by at most ``limit`` (by more
+    than zero unless ``zero_is_small``) as :func:`_signed_turns` has it (numpy's arctan2 of
+    the same cross and dot products): each turn from math.atan2 clears the limit by
+    ``_TURN_SLACK``, or its cross product is exactly zero (a turn of exactly 0 or π, the
+    same from both). False when unsure, or not all lines. O(n) in plain floats."""
+    if not all(isinstance(s, Line) for s in loop):
+        return False
+    bound = limit * (1.0 + _TURN_SLACK)
+    for seg, nxt in zip(loop, [*loop[1:], loop[0]]):
+        d0, d1 = seg.end[0] - seg.start[0], seg.end[1] - seg.start[1]
+        e0, e1 = nxt.end[0] - nxt.start[0], nxt.end[1] - nxt.start[1]
+        cross, dot = d0 * e1 - d1 * e0, d0 * e0 + d1 * e1 + 0.0
+        if cross == 0.0:  # atan2(±0, dot): ±π when dot < 0, else ±0
+            if (math.pi <= bound) if dot < 0.0 else zero_is_small:
+                return False
+        elif abs(math.atan2(cross, dot)) <= bound:
+            return False
+    return True
+
+
 def _run_list(flags: np.ndarray, min_run: int) -> list[list[int]]:
     """Cyclic runs of True vertices, at least ``min_run`` long, as index lists."""
     n = len(flags)
@@ -263,6 +287,8 @@ def snap_tessellations(loop: Sequence[Segment], tol: Tolerances) -> tuple[list[S
     the drawing's polygon stands for the circle (mesh projections, polyline exports).
     Returns the loop and how many arcs were recognised. O(n)."""
     n = len(loop)
+    if _none_small(loop, tol.snap_turn_rad, zero_is_small=False):  # most polygons: no array work
+        return list(loop), 0
     turns = _signed_turns(loop)
     amount = np.abs(turns)
     small = (amount <= tol.snap_turn_rad) & (amount > 0.0)  # NaN (a curve beside the vertex) is neither
