@@ -14,7 +14,7 @@ throughout; O(c log c) for c cells.
 
 import math
 
-from libc.math cimport atan2, ceil, copysign, cos, fmod, sin, sqrt, INFINITY
+from libc.math cimport atan2, ceil, copysign, cos, fabs, fmod, sin, sqrt, INFINITY
 from libc.stdlib cimport free, malloc
 
 from algrasp.geometry.angles import TWO_PI as _TWO_PI_PY
@@ -23,6 +23,8 @@ cdef double TWO_PI = _TWO_PI_PY
 cdef double PI = math.pi
 cdef double HALF_PI = math.pi / 2
 cdef double HYPOT_FLOOR = 1e-100  # above it |Δ|² is a normal number: sqrt(dx² + dy²) is within 3 ulp
+cdef double ORIENT_SLACK = 1e-12  # relative; Shewchuk's bound for orient2d in doubles is (3 + 16ε)ε
+cdef double ORIENT_FLOOR = 1e-200  # below it the products may have lost digits to underflow: unsure
 cdef object _hypot = math.hypot
 cdef object _round = round
 
@@ -211,3 +213,50 @@ def extremum_keys(list runs, double period, double angle_rad, list labels):
             key = 0.0 if period - x <= angle_rad else x
             labelled.setdefault(_round(key, 9), (start, key, label))
     return list(labelled.values())
+
+
+cdef inline int _orient(double ax, double ay, double bx, double by, double cx, double cy) noexcept nogil:
+    """The sign of the turn a → b → c where its double evaluation proves it (the error bound
+    of Shewchuk's orient2d, with a wide margin); 0 when unsure."""
+    cdef double left = (bx - ax) * (cy - ay), right = (by - ay) * (cx - ax)
+    cdef double det = left - right, bound = ORIENT_SLACK * (fabs(left) + fabs(right))
+    if fabs(det) <= ORIENT_FLOOR:
+        return 0
+    return 1 if det > bound else (-1 if det < -bound else 0)
+
+
+cdef inline bint _apart(const double* x, const double* y, Py_ssize_t i, Py_ssize_t j, Py_ssize_t n) noexcept nogil:
+    """Edges i and j (i → i + 1, cyclic) provably apart: one edge's ends strictly on one side of the other's line."""
+    cdef Py_ssize_t i1 = (i + 1) % n, j1 = (j + 1) % n
+    cdef int a = _orient(x[i], y[i], x[i1], y[i1], x[j], y[j])
+    if a != 0 and a == _orient(x[i], y[i], x[i1], y[i1], x[j1], y[j1]):
+        return True
+    a = _orient(x[j], y[j], x[j1], y[j1], x[i], y[i])
+    return a != 0 and a == _orient(x[j], y[j], x[j1], y[j1], x[i1], y[i1])
+
+
+def simple_ring(list points):
+    """Whether the closed polygon through ``points`` ([x, y] each) is provably simple: no
+    edge of zero length, consecutive edges not collinear, other edges apart (sign-certain
+    orientations only). Then GEOS finds it valid; False means unsure (ask GEOS). O(n²)."""
+    cdef Py_ssize_t n = len(points), i, j
+    cdef double* x = <double*> malloc(2 * n * sizeof(double))
+    cdef double* y = x + n
+    if n < 3:
+        free(x)
+        return False
+    try:
+        for i in range(n):
+            x[i], y[i] = points[i][0], points[i][1]
+        for i in range(n):
+            j = (i + 1) % n
+            if (x[i] == x[j] and y[i] == y[j]) or _orient(x[i - 1 if i else n - 1], y[i - 1 if i else n - 1],
+                                                          x[i], y[i], x[j], y[j]) == 0:
+                return False
+        for i in range(n):
+            for j in range(i + 2, n - 1 if i == 0 else n):
+                if not _apart(x, y, i, j, n):
+                    return False
+        return True
+    finally:
+        free(x)

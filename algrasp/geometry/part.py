@@ -17,6 +17,7 @@ import numpy as np
 import shapely
 from shapely.geometry import LineString, Point, Polygon
 
+from algrasp.compiled import GEOMETRY
 from algrasp.errors import PartDocumentError
 from algrasp.geometry.angles import to_rad
 from algrasp.geometry.curves import FloatArray
@@ -231,12 +232,14 @@ def _invalid(reason: str, shell: FloatArray, parts: list[FloatArray] | None, fie
 def _check_simple(boundary: list[Segment], holes: list[list[Segment]], field: str) -> None:
     """Self-intersection of the boundary and holes (tessellated only for this test)."""
     shell, parts = _polyline(boundary)
-    if len({(round(x, 12), round(y, 12)) for x, y in shell.tolist()}) < 3:
+    points = shell.tolist()
+    if len({(round(x, 12), round(y, 12)) for x, y in points}) < 3:
         raise PartDocumentError(field, "the loop is degenerate: it has fewer than three distinct points")
     # Three distinct vertices joined by lines are a triangle, simple whenever its area is
-    # not zero, which load_part checked first: GEOS's validity test could only confirm it.
-    triangle = parts is None and len(shell) == 3
-    reason = "Valid Geometry" if triangle else shapely.is_valid_reason(shapely.polygons(shell))
+    # not zero, which load_part checked first: GEOS's validity test could only confirm it;
+    # so for a polygon the compiled kernel proves simple (sign-certain orientations).
+    simple = parts is None and (len(points) == 3 or (GEOMETRY is not None and GEOMETRY.simple_ring(points)))
+    reason = "Valid Geometry" if simple else shapely.is_valid_reason(shapely.polygons(shell))
     if reason != "Valid Geometry":
         raise _invalid(reason, shell, parts, field)
     rings = []

@@ -146,7 +146,7 @@ def _polyline_error(loop: Sequence[Segment], tol: Tolerances) -> tuple[float, fl
     error is at most half the longest chord (an edge between two such vertices: a real
     flat next to a tessellated arc is exact); the value error is the sagitta, ℓ·β/8."""
     n = len(loop)
-    if n < 3 or _none_small(loop, tol.tessellation_turn_rad, zero_is_small=True):
+    if n < 3 or _no_small_run(loop, tol.tessellation_turn_rad, True, tol.tessellation_min_run):
         return 0.0, 0.0, 0
     turns = np.abs(_signed_turns(loop))
     small = turns <= tol.tessellation_turn_rad  # NaN (a curve beside the vertex) is never small
@@ -225,23 +225,31 @@ def _signed_turns(loop: Sequence[Segment]) -> FloatArray:
     return np.asarray(np.where(is_line & np.concatenate([is_line[1:], is_line[:1]]), turns, np.nan))
 
 
-def _none_small(loop: Sequence[Segment], limit: float, zero_is_small: bool) -> bool:
-    """Whether provably no vertex of an all-line loop turns by at most ``limit`` (by more
-    than zero unless ``zero_is_small``) as :func:`_signed_turns` has it (numpy's arctan2 of
-    the same cross and dot products): each turn from math.atan2 clears the limit by
+def _no_small_run(loop: Sequence[Segment], limit: float, zero_is_small: bool, min_run: int) -> bool:
+    """Whether provably no cyclic run of ``min_run`` vertices of an all-line loop (nor all of
+    them) turns by at most ``limit`` (by more than zero unless ``zero_is_small``) as
+    :func:`_signed_turns` has it (numpy's arctan2 of the same cross and dot products): a
+    vertex is certainly not small when its turn from math.atan2 clears the limit by
     ``_TURN_SLACK``, or its cross product is exactly zero (a turn of exactly 0 or π, the
-    same from both). False when unsure, or not all lines. O(n) in plain floats."""
+    same from both). Then the tessellation checks find nothing. False when unsure, or not
+    all lines. O(n) in plain floats."""
     if not all(isinstance(s, Line) for s in loop):
         return False
     bound = limit * (1.0 + _TURN_SLACK)
+    maybe = []
     for seg, nxt in zip(loop, [*loop[1:], loop[0]]):
         d0, d1 = seg.end[0] - seg.start[0], seg.end[1] - seg.start[1]
         e0, e1 = nxt.end[0] - nxt.start[0], nxt.end[1] - nxt.start[1]
         cross, dot = d0 * e1 - d1 * e0, d0 * e0 + d1 * e1 + 0.0
-        if cross == 0.0:  # atan2(±0, dot): ±π when dot < 0, else ±0
-            if (math.pi <= bound) if dot < 0.0 else zero_is_small:
-                return False
-        elif abs(math.atan2(cross, dot)) <= bound:
+        # atan2(±0, dot): ±π when dot < 0, else ±0.
+        maybe.append(((math.pi <= bound) if dot < 0.0 else zero_is_small) if cross == 0.0
+                     else abs(math.atan2(cross, dot)) <= bound)
+    if all(maybe):
+        return False
+    first, run = maybe.index(False), 0
+    for k in range(first + 1, first + len(maybe) + 1):
+        run = run + 1 if maybe[k % len(maybe)] else 0
+        if run >= min_run:
             return False
     return True
 
@@ -287,7 +295,7 @@ def snap_tessellations(loop: Sequence[Segment], tol: Tolerances) -> tuple[list[S
     the drawing's polygon stands for the circle (mesh projections, polyline exports).
     Returns the loop and how many arcs were recognised. O(n)."""
     n = len(loop)
-    if _none_small(loop, tol.snap_turn_rad, zero_is_small=False):  # most polygons: no array work
+    if _no_small_run(loop, tol.snap_turn_rad, False, tol.tessellation_min_run):  # most polygons: no array work
         return list(loop), 0
     turns = _signed_turns(loop)
     amount = np.abs(turns)

@@ -25,7 +25,7 @@ from algrasp.geometry.part import load_part
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES as TOL
 from algrasp.testing import shapes
 
-pytestmark = pytest.mark.skipif(GEOMETRY is None, reason="compiled geometry kernels not built (or ALGRASP_PURE set)")
+needs_kernels = pytest.mark.skipif(GEOMETRY is None, reason="compiled geometry kernels not built (or ALGRASP_PURE set)")
 
 
 @contextmanager
@@ -81,6 +81,7 @@ DOCS = {
 }
 
 
+@needs_kernels
 @settings(max_examples=150, deadline=None)
 @given(shape=st.sampled_from(sorted(DOCS)), seed=st.integers(0, 10_000), n=st.integers(3, 40),
        snap=st.booleans())
@@ -134,6 +135,7 @@ GAP = st.one_of(st.floats(0.0, 2.0), st.sampled_from([0.0, 1e-12, 0.5 * TOL.angl
 COORD = st.one_of(st.floats(-3.0, 3.0), st.sampled_from([0.0, -0.0, 1.0, 1e-13]))
 
 
+@needs_kernels
 @settings(max_examples=300, deadline=None)
 @given(start=st.floats(-7.0, 7.0), gaps=st.lists(GAP, min_size=1, max_size=12), kind=st.sampled_from(["diameter", "radius"]),
        coords=st.lists(st.tuples(COORD, COORD), min_size=13, max_size=13), repeat=st.lists(st.integers(0, 12), max_size=4),
@@ -150,6 +152,7 @@ def test_made_up_runs_are_bit_identical(start: float, gaps: list[float], kind: s
     assert compiled == python
 
 
+@needs_kernels
 @settings(max_examples=200, deadline=None)
 @given(dx=st.floats(1e-12, 10.0), angle=st.floats(0.0, TWO_PI), nudge=st.sampled_from([-2, -1, 0, 1, 2]),
        start=st.floats(-4.0, 4.0))
@@ -168,6 +171,7 @@ def test_concentric_limit_is_decided_alike(dx: float, angle: float, nudge: int, 
 SIGN = st.sampled_from([-1, 0, 1])
 
 
+@needs_kernels
 @settings(max_examples=300, deadline=None)
 @given(starts=st.lists(st.one_of(st.floats(-10.0, 10.0), st.sampled_from([0.0, -0.0, math.pi, TWO_PI, -math.pi,
                                                                             math.pi - 1e-12, TWO_PI - 1e-13])),
@@ -179,6 +183,63 @@ def test_extremum_keys_are_bit_identical(starts: list[float], signs: list[int], 
     assert compiled == python
 
 
+@needs_kernels
 def test_bad_signs_are_refused() -> None:
     with pytest.raises(ValueError, match="run signs"):
         GEOMETRY.extremum_keys([Run(0.0, 1.0, 2)], math.pi, TOL.angle_rad, functions._LABELS)  # type: ignore[union-attr]
+
+
+POINTS = st.lists(st.tuples(st.one_of(st.floats(-2.0, 2.0), st.integers(-2, 2).map(float)),
+                            st.one_of(st.floats(-2.0, 2.0), st.integers(-2, 2).map(float))), min_size=3, max_size=12)
+
+
+@needs_kernels
+@settings(max_examples=400, deadline=None)
+@given(points=POINTS)
+def test_a_ring_proved_simple_is_valid_for_geos(points: list[tuple[float, float]]) -> None:
+    """simple_ring may be unsure, never wrong: what it proves simple GEOS finds valid."""
+    import shapely
+
+    if GEOMETRY.simple_ring([list(p) for p in points]):  # type: ignore[union-attr]
+        assert shapely.is_valid_reason(shapely.polygons(np.array(points))) == "Valid Geometry"
+
+
+@needs_kernels
+@pytest.mark.parametrize("n", [3, 4, 7, 30])
+def test_convex_and_star_rings_are_proved_simple(n: int) -> None:
+    regular = shapes.regular_polygon(n, 2.0, 7.0)["polygon"]
+    assert GEOMETRY.simple_ring(regular)  # type: ignore[union-attr]
+    star = [[(0.6 + (k % 2)) * math.cos(k * TWO_PI / (2 * n)), (0.6 + (k % 2)) * math.sin(k * TWO_PI / (2 * n))]
+            for k in range(2 * n)]
+    assert GEOMETRY.simple_ring(star)  # type: ignore[union-attr]
+    if n > 3:  # two corners of a convex ring swapped: edges 0 → 2 and 1 → 3 cross
+        assert not GEOMETRY.simple_ring([regular[0], regular[2], regular[1], *regular[3:]])  # type: ignore[union-attr]
+    assert not GEOMETRY.simple_ring([*star, star[0]])  # type: ignore[union-attr]  # a zero-length closing edge: unsure
+
+
+TURN = st.one_of(st.floats(-0.5, 0.5), st.sampled_from([0.0, math.pi, TOL.snap_turn_rad, -TOL.tessellation_turn_rad,
+                                                        TOL.tessellation_turn_rad + 1e-15, 2.0, -2.5]))
+
+
+@settings(max_examples=400, deadline=None)
+@given(turns=st.lists(TURN, min_size=3, max_size=14), lengths=st.lists(st.floats(0.01, 3.0), min_size=14, max_size=14),
+       heading=st.floats(-4.0, 4.0))
+def test_no_small_run_agrees_with_numpy(turns: list[float], lengths: list[float], heading: float) -> None:
+    """recognise._no_small_run (libm's atan2 with a margin) may be unsure, never wrong: when
+    it finds no run, numpy's turns have no run of small vertices either (open chains of
+    the given turns: the loop's closing vertex takes what it gets)."""
+    from algrasp.geometry import recognise
+    from algrasp.geometry.segments import Line
+
+    pts, x, y = [], 0.0, 0.0
+    for t, ell in zip(turns, lengths):
+        pts.append((x, y))
+        heading += t
+        x, y = x + ell * math.cos(heading), y + ell * math.sin(heading)
+    loop = [Line(a, b) for a, b in zip(pts, [*pts[1:], pts[0]]) if a != b]
+    amount = np.abs(recognise._signed_turns(loop))
+    for limit, zero_small in ((TOL.snap_turn_rad, False), (TOL.tessellation_turn_rad, True)):
+        if recognise._no_small_run(loop, limit, zero_small, TOL.tessellation_min_run):
+            small = (amount <= limit) & ((amount > 0.0) | zero_small)
+            assert not small.all()
+            assert not recognise._run_list(small, TOL.tessellation_min_run)
