@@ -260,3 +260,48 @@ def simple_ring(list points):
         return True
     finally:
         free(x)
+
+
+cdef inline Py_ssize_t _bisect_right(const double* a, Py_ssize_t n, double x) noexcept nogil:
+    """bisect.bisect_right / searchsorted(side="right") on a sorted C array (a NaN x: n)."""
+    cdef Py_ssize_t lo = 0, hi = n, mid
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if x < a[mid]:
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
+
+
+def widest(list bp, list centers, list psi, list cos_psi, list sin_psi):
+    """:func:`algrasp.planning.deadband.nominal_size` of a hull of vertices only (breakpoints
+    ``bp``, vertex ``centers``): the largest ⟨c(ψ) − c(ψ + π), u(ψ)⟩ over the m normals ψ
+    (``psi`` holds the m, then the m + π; ``cos_psi``, ``sin_psi`` numpy's cosines and
+    sines of the first m), each support point found as FeatureTable.feature_index finds
+    it. O(m log n)."""
+    cdef Py_ssize_t n = len(bp), m = len(cos_psi), k, i, j
+    cdef double base, x, v, best = -INFINITY
+    cdef bint nan = False
+    cdef double* buf = <double*> malloc(3 * n * sizeof(double))
+    cdef double* rest = buf
+    cdef double* cx = buf + n
+    cdef double* cy = buf + 2 * n
+    try:
+        for i in range(n):
+            rest[i] = bp[i]
+            cx[i], cy[i] = centers[i][0], centers[i][1]
+        base = rest[0]
+        for k in range(m):
+            x = psi[k]
+            i = _bisect_right(rest + 1, n - 1, base + _mod(x - base, TWO_PI))
+            x = psi[k + m]
+            j = _bisect_right(rest + 1, n - 1, base + _mod(x - base, TWO_PI))
+            v = (cx[i] - cx[j]) * <double> cos_psi[k] + (cy[i] - cy[j]) * <double> sin_psi[k]
+            if v != v:
+                nan = True
+            elif v > best:
+                best = v
+        return float("nan") if nan else best
+    finally:
+        free(buf)

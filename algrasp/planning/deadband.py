@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.polynomial import legendre  # at import, not on first use inside the first analysis
 
+from algrasp.compiled import GEOMETRY
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.part import Part
 from algrasp.geometry.recognise import DrawingError, drawing_error
@@ -152,10 +153,17 @@ def _nominal_directions() -> tuple[FloatArray, FloatArray, FloatArray]:
 
 
 _NOMINAL_PSI, _NOMINAL_COS, _NOMINAL_SIN = _nominal_directions()
+_NOMINAL_LISTS = tuple(a.tolist() for a in _nominal_directions())
+"""The same as float lists, for the compiled kernel."""
 
 
 def nominal_size(part: Part) -> float:
-    """The part's largest width (part units): the nominal size tolerance tables use."""
+    """The part's largest width (part units): the nominal size tolerance tables use.
+    A hull of vertices only: compiled when built (:mod:`algrasp.compiled`), the same value."""
+    table = part.hull.table
+    if GEOMETRY is not None and table.vertices_only:
+        return GEOMETRY.widest(table.breakpoint_list, [f.center for f in part.hull.features],  # type: ignore[no-any-return]
+                               *_NOMINAL_LISTS)
     both = part.hull.support_points(_NOMINAL_PSI)
     chord = both[:_NOMINAL_DIRECTIONS] - both[_NOMINAL_DIRECTIONS:]
     return float((chord[:, 0] * _NOMINAL_COS + chord[:, 1] * _NOMINAL_SIN).max())

@@ -243,3 +243,19 @@ def test_no_small_run_agrees_with_numpy(turns: list[float], lengths: list[float]
             small = (amount <= limit) & ((amount > 0.0) | zero_small)
             assert not small.all()
             assert not recognise._run_list(small, TOL.tessellation_min_run)
+
+
+@needs_kernels
+@settings(max_examples=150, deadline=None)
+@given(shape=st.sampled_from(["polygon", "regular", "rectangle"]), seed=st.integers(0, 10_000), n=st.integers(3, 40))
+def test_nominal_size_is_bit_identical(shape: str, seed: int, n: int) -> None:
+    from algrasp.planning import deadband
+
+    part = load_part(DOCS[shape](seed, n), TOL)
+    compiled = deadband.nominal_size(part)
+    deadband.GEOMETRY = None
+    try:
+        python = deadband.nominal_size(part)
+    finally:
+        deadband.GEOMETRY = GEOMETRY
+    assert compiled.hex() == python.hex()
