@@ -22,6 +22,7 @@ from functools import cached_property
 import numpy as np
 from numpy.typing import NDArray
 
+from algrasp.compiled import GEOMETRY
 from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.curves import FloatArray, Piece, bernstein_matrix, horner_rows
 from algrasp.geometry.gauss import HullFeature
@@ -41,6 +42,17 @@ def unit_vectors(psi: FloatArray) -> FloatArray:
     np.cos(psi, out=out[..., 0])
     np.sin(psi, out=out[..., 1])
     return out
+
+
+def _no_radius(features: Sequence[HullFeature]) -> bool:
+    """Every feature's radius +0.0 (−0.0 has its sign bit)."""
+    return all(f.radius == 0.0 and math.copysign(1.0, f.radius) > 0.0 for f in features)
+
+
+def _no_negative_zero(centers: list[tuple[float, float]]) -> bool:
+    """No coordinate −0.0 (a quick membership test first: most parts have no zero at all)."""
+    flat = [c for xy in centers for c in xy]
+    return 0.0 not in flat or not any(c == 0.0 and math.copysign(1.0, c) < 0.0 for c in flat)
 
 
 def _der(c: FloatArray) -> FloatArray:
@@ -145,9 +157,14 @@ class FeatureTable:
         curves = [f for f in features if f.kind == "curve"]
         breakpoints = np.array([f.psi0 for f in features])
         if not curves:  # points and circular arcs: the curve arrays are the shared empty ones
-            return cls(breakpoints, np.array([f.center for f in features], dtype=float),
-                       np.array([f.radius for f in features], dtype=float), np.full(len(features), -1, dtype=np.intp),
-                       *_NO_CURVES)
+            table = cls(breakpoints, np.array([f.center for f in features], dtype=float),
+                        np.array([f.radius for f in features], dtype=float), np.full(len(features), -1, dtype=np.intp),
+                        *_NO_CURVES)
+            # The cached properties the features give in plain floats, set now (their arrays' .tolist()).
+            pairs = [(float(f.center[0]), float(f.center[1])) for f in features]
+            table.__dict__.update(breakpoint_list=[float(f.psi0) for f in features], center_list=pairs,
+                                  vertices_only=_no_radius(features) and _no_negative_zero(pairs))
+            return table
         slots, n = [], 0
         for f in features:
             slots.append(n if f.kind == "curve" else -1)
@@ -216,13 +233,27 @@ class FeatureTable:
         return result
 
     @cached_property
+    def center_list(self) -> list[tuple[float, float]]:
+        """:attr:`centers` as float pairs (for the compiled support of vertices)."""
+        return [(x, y) for x, y in self.centers.tolist()]
+
+    @cached_property
     def vertices_only(self) -> bool:
         """Every feature a vertex (radius +0.0, no curve) and no centre coordinate −0.0: the
         support point is the centre itself, exactly c + 0·u(ψ), and the support value
         ⟨c, u⟩ + 0.0 (a polygon's hull)."""
         # In plain floats (a few features; ~8 array calls otherwise): −0.0 has its sign bit.
         return not len(self.s0) and all(r == 0.0 and math.copysign(1.0, r) > 0.0 for r in self.radii.tolist()) and \
-            not any(c == 0.0 and math.copysign(1.0, c) < 0.0 for xy in self.centers.tolist() for c in xy)
+            _no_negative_zero(self.center_list)
+
+    def support_of(self, psi: FloatArray) -> FloatArray:
+        """Support values h(ψ) (n,) at normals ψ (n,): :meth:`support` of
+        :meth:`feature_index`. Vertices only and one-dimensional ψ: compiled when built
+        (:mod:`algrasp.compiled`; the same lift, bisection and sums, numpy's cosines and sines)."""
+        psi = np.asarray(psi, dtype=float)
+        if GEOMETRY is not None and psi.ndim == 1 and self.vertices_only:
+            return GEOMETRY.vertex_support(self.breakpoint_list, self.center_list, psi)  # type: ignore[no-any-return]
+        return self.support(*self.feature_index(psi))
 
     @cached_property
     def _center_columns(self) -> tuple[FloatArray, FloatArray]:

@@ -84,8 +84,7 @@ class ConvexHull:
 
     def support_many(self, psi: FloatArray) -> FloatArray:
         """h(ψ) for an array of normals, vectorised per feature; O(m log n)."""
-        idx, x = self.table.feature_index(np.asarray(psi, dtype=float))
-        return self.table.support(idx, x)
+        return self.table.support_of(psi)
 
     def inside_margin(self, p: FloatArray) -> float:
         """min over ψ of h(ψ) − ⟨p, u(ψ)⟩ at every feature end and 2,048 normals.

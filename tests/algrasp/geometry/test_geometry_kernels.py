@@ -259,3 +259,23 @@ def test_nominal_size_is_bit_identical(shape: str, seed: int, n: int) -> None:
     finally:
         deadband.GEOMETRY = GEOMETRY
     assert compiled.hex() == python.hex()
+
+
+@needs_kernels
+@settings(max_examples=150, deadline=None)
+@given(shape=st.sampled_from(["polygon", "regular", "rectangle"]), seed=st.integers(0, 10_000), n=st.integers(3, 40),
+       psi=st.lists(st.one_of(st.floats(-30.0, 30.0), st.sampled_from([0.0, -0.0, math.pi, -TWO_PI, math.nan])),
+                    max_size=20))
+def test_vertex_support_is_bit_identical(shape: str, seed: int, n: int, psi: list[float]) -> None:
+    from algrasp.geometry import bank
+
+    hull = load_part(DOCS[shape](seed, n), TOL).hull
+    assert hull.table.vertices_only
+    normals = [np.array(psi), hull.breakpoints, hull.breakpoints + math.pi]
+    compiled = [hull.support_many(a) for a in normals]
+    bank.GEOMETRY = None
+    try:
+        python = [hull.support_many(a) for a in normals]
+    finally:
+        bank.GEOMETRY = GEOMETRY
+    assert _bits(compiled) == _bits(python)
