@@ -21,6 +21,7 @@ from typing import TypeVar
 
 import numpy as np
 
+from algrasp.compiled import GEOMETRY
 from algrasp.errors import GeometryError
 from algrasp.geometry.angles import TWO_PI, to_deg
 from algrasp.geometry.bank import FeatureTable, unit_vectors
@@ -35,7 +36,7 @@ from algrasp.geometry.hull_loop import (
     contact_xy,
     verified_edge,
 )
-from algrasp.geometry.segments import Segment, gauss_legendre_01
+from algrasp.geometry.segments import Line, Segment, gauss_legendre_01
 from algrasp.geometry.tolerances import HULL_TURN_RAD, ROUNDING, Tolerances
 
 
@@ -202,26 +203,36 @@ def _elements(loop: Loop, order: list[int], links: list[int | None], cand: Candi
     return elems
 
 
-def _polygon_features(loop: Loop, order: list[int], tol: Tolerances) -> tuple[list[HullFeature], Edges]:
-    """:func:`_features` and the edges of a polygon's hull (no pieces: every hull point a
-    vertex, every link an edge) without the elements: from the corner after the first,
-    each corner (normals from the edge before to its own) then its edge, the same float
-    operations in the same order. O(h)."""
-    xy, h = loop.vertex_list, len(order)
+def _polygon_features(xy: list[tuple[float, float]], order: list[int], tol: Tolerances) -> tuple[list[HullFeature], Edges]:
+    """:func:`_features` and the edges of a polygon's hull (vertices ``xy``, hull corners
+    ``order``; every hull point a vertex, every link an edge) without elements: from the
+    corner after the first, each corner then its edge. O(h)."""
+    h = len(order)
     corners = [xy[order[(k + 1) % h]] for k in range(h)]
     edges = tuple((a, corners[(k + 1) % h]) for k, a in enumerate(corners))
-    psis = [math.atan2(a[0] - b[0], b[1] - a[1]) for a, b in edges]
+    ranges = _corner_ranges if GEOMETRY is None else GEOMETRY.corner_ranges  # compiled: the same floats
+    kept, last = ranges(corners, tol.sliver_rad)
+    return [HullFeature.point(a, e, (float(c[0]), float(c[1]))) for c, a, e in _tiled(kept, last)], edges
+
+
+def _corner_ranges(corners: list[tuple[float, float]], sliver: float) -> tuple[list[tuple[tuple[float, float], float]], float]:
+    """The corners kept as features (wider than ``sliver`` in normals), each with its first
+    normal, and the last one's end: :func:`_features`'s walk over corner k (normals from
+    the edge before to its own) then its edge, the same float operations in the same order."""
+    h = len(corners)
+    psis = [math.atan2(a[0] - b[0], b[1] - a[1]) for a, b in zip(corners, [*corners[1:], corners[0]])]
     kept: list[tuple[tuple[float, float], float]] = []
     level = last = psis[-1]
-    for k, psi in enumerate(psis):
+    for k in range(h):
+        psi = psis[k]
         a = level + max((psis[k - 1] - level + math.pi) % TWO_PI - math.pi, 0.0)  # the corner
         b = a + max((psi - a + math.pi) % TWO_PI - math.pi, 0.0)
-        if b - a > tol.sliver_rad:
+        if b - a > sliver:
             kept.append((corners[k], a))
             last = b
         a = b + max((psi - b + math.pi) % TWO_PI - math.pi, 0.0)  # its edge
         level = a + max((psi - a + math.pi) % TWO_PI - math.pi, 0.0)
-    return [HullFeature.point(a, e, (float(c[0]), float(c[1]))) for c, a, e in _tiled(kept, last)], edges
+    return kept, last
 
 
 def _own_normals(loop: Loop, el: Element) -> tuple[float, float] | None:
@@ -292,13 +303,15 @@ def _tiled(kept: list[tuple[_T, float]], last: float) -> list[tuple[_T, float, f
     return [(el, a, e) for (el, a), e in zip(kept, ends)]
 
 
-def hull_order(pts: FloatArray) -> list[int]:
+def hull_order(pts: FloatArray | list[tuple[float, float]]) -> list[int]:
     """Indices of the corners of the convex hull of ``pts`` (N, 2), counter-clockwise,
     collinear (to rounding) and repeated points left out (Andrew's monotone chain,
     O(N log N)). It only locates the hull: the exact hull is verified against the curves
     afterwards. Written here rather than importing scipy.spatial's qhull, whose import
     alone cost the CLI 0.4 s."""
-    xy = pts.tolist()
+    xy = pts.tolist() if isinstance(pts, np.ndarray) else pts
+    if GEOMETRY is not None:  # compiled: the same order (math.hypot where libm's products are too close to call)
+        return GEOMETRY.hull_order(xy)  # type: ignore[no-any-return]
     idx = sorted(range(len(xy)), key=xy.__getitem__)  # by x, then y
 
     def chain(order: list[int]) -> list[int]:
@@ -323,21 +336,33 @@ def exact_hull(boundary: list[Segment], size: float, tol: Tolerances) -> ConvexH
     Complexity: O(N log N) for N located points (vertices plus ~10 samples per convex
     piece), plus O(E·n) for verifying E straight edges against n pieces.
     """
+    if all(isinstance(seg, Line) for seg in boundary):  # a polygon: its candidates are its vertices
+        xy = [(float(seg.start[0]), float(seg.start[1])) for seg in boundary]
+        order = _corners(xy, len(xy))
+        feats, edges = _polygon_features(xy, order, tol)
+        return _hull(feats, edges)
     loop = build_loop(boundary, size)
-    cand = candidate_points(loop, tol) if loop.pieces else None  # a polygon's candidates: its vertices
-    located = loop.vertices if cand is None else cand.points
+    if not loop.pieces:  # no piece turns (straight Beziers): the vertices alone, as a polygon's
+        return _hull(*_polygon_features(loop.vertex_list, _corners(loop.vertices, len(loop.vertices)), tol))
+    cand = candidate_points(loop, tol)
+    order = _corners(cand.points, len(cand.points))
+    h = len(order)
+    links = [_link(cand.members(order[i]), cand.members(order[(i + 1) % h])) for i in range(h)]
+    elems = _elements(loop, order, links, cand, size)
+    return _hull(_features(loop, elems, tol), tuple((e.a, e.b) for e in elems if isinstance(e, EdgeElement)))
+
+
+def _corners(located: FloatArray | list[tuple[float, float]], count: int) -> list[int]:
+    """:func:`hull_order` of the located points, refused when degenerate."""
     order = hull_order(located)
     if len(order) < 3:  # a cusp or a sliver drawn as a curve
-        raise GeometryError(f"boundary: the convex hull is degenerate ({len(located)} candidate points): is the part "
+        raise GeometryError(f"boundary: the convex hull is degenerate ({count} candidate points): is the part "
                             "a sliver or a curve with a cusp?")
-    if cand is None:
-        feats, edges = _polygon_features(loop, order, tol)
-    else:
-        h = len(order)
-        links = [_link(cand.members(order[i]), cand.members(order[(i + 1) % h])) for i in range(h)]
-        elems = _elements(loop, order, links, cand, size)
-        feats = _features(loop, elems, tol)
-        edges = tuple((e.a, e.b) for e in elems if isinstance(e, EdgeElement))
+    return order
+
+
+def _hull(feats: list[HullFeature], edges: Edges) -> ConvexHull:
+    """The hull of its features and straight edges: their table and exact perimeter."""
     table = FeatureTable.build(feats)
     perimeter = math.fsum(math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in edges)
     perimeter += sum(f.radius * (f.psi1 - f.psi0) for f in feats if f.kind == "circle")

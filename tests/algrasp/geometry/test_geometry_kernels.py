@@ -279,3 +279,36 @@ def test_vertex_support_is_bit_identical(shape: str, seed: int, n: int, psi: lis
     finally:
         bank.GEOMETRY = GEOMETRY
     assert _bits(compiled) == _bits(python)
+
+
+CLOUD = st.lists(st.tuples(COORD, COORD), min_size=1, max_size=40)
+
+
+@needs_kernels
+@settings(max_examples=300, deadline=None)
+@given(points=CLOUD, line=st.integers(0, 12), slope=st.sampled_from([0.0, 1.0, 3.0, 1e-13]))
+def test_hull_order_is_bit_identical(points: list[tuple[float, float]], line: int, slope: float) -> None:
+    """Clouds with repeated points and runs of (nearly) collinear ones, where the left-turn
+    test is within rounding of its limit and the kernel must ask Python's hypot."""
+    from algrasp.geometry import hull
+
+    cloud = [*points, *((t / 7.0, slope * t / 7.0) for t in range(line))]
+    compiled = _bits(hull.hull_order(np.array(cloud)))
+    hull.GEOMETRY = None
+    try:
+        python = _bits(hull.hull_order(np.array(cloud)))
+    finally:
+        hull.GEOMETRY = GEOMETRY
+    assert compiled == python
+
+
+@needs_kernels
+@settings(max_examples=200, deadline=None)
+@given(shape=st.sampled_from(["polygon", "regular", "rectangle"]), seed=st.integers(0, 10_000), n=st.integers(3, 60),
+       sliver=st.sampled_from([TOL.sliver_rad, 0.0, 0.3, 1.0]))
+def test_corner_ranges_are_bit_identical(shape: str, seed: int, n: int, sliver: float) -> None:
+    from algrasp.geometry import hull
+
+    part = load_part(DOCS[shape](seed, n), TOL)
+    corners = [f.center for f in part.hull.features]
+    assert _bits(GEOMETRY.corner_ranges(corners, sliver)) == _bits(hull._corner_ranges(corners, sliver))  # type: ignore[union-attr]
