@@ -313,19 +313,20 @@ def widest(list bp, list centers, list psi, list cos_psi, list sin_psi):
         free(buf)
 
 
-def vertex_support(list bp, list centers, const double[:] psi):
-    """FeatureTable.support of FeatureTable.feature_index for a table of vertices only
-    (breakpoints ``bp``, vertex ``centers``): ψ lifted into the table's turn, its feature
-    by bisection, then ⟨c, u(ψ)⟩ + 0.0 with numpy's cosines and sines of the lifted ψ.
-    The same array (m,). O(m log n)."""
-    cdef Py_ssize_t n = len(bp), m = psi.shape[0], k, i
-    cdef double base
+cdef object _vertex_support(list bp, list centers, const double[:] psi, bint pair):
+    """h(ψ) as FeatureTable.support of FeatureTable.feature_index finds it for a table of
+    vertices only (breakpoints ``bp``, vertex ``centers``): ψ lifted into the table's
+    turn, its feature by bisection, then ⟨c, u(ψ)⟩ + 0.0 with numpy's cosines and sines of
+    the lifted ψ. ``pair``: ψ is π/2 − θ and the normals are ψ then ψ + π (one array, as
+    SupportPairFunction.values makes them), and the result is h(ψ) + h(ψ + π). O(m log n)."""
+    cdef Py_ssize_t n = len(bp), m = psi.shape[0], total = 2 * m if pair else m, k, i, j
+    cdef double base, p
     cdef double* buf = <double*> malloc(3 * n * sizeof(double))
     cdef double* rest = buf
     cdef double* cx = buf + n
     cdef double* cy = buf + 2 * n
-    cdef Py_ssize_t* idx = <Py_ssize_t*> malloc((m + 1) * sizeof(Py_ssize_t))
-    x = _empty(m)
+    cdef Py_ssize_t* idx = <Py_ssize_t*> malloc((total + 1) * sizeof(Py_ssize_t))
+    x = _empty(total)
     out = _empty(m)
     cdef double[::1] xv = x, ov = out
     cdef const double[::1] cv, sv
@@ -335,17 +336,35 @@ def vertex_support(list bp, list centers, const double[:] psi):
             cx[i], cy[i] = centers[i][0], centers[i][1]
         base = rest[0]
         for k in range(m):
-            xv[k] = base + _mod(psi[k] - base, TWO_PI)
+            p = HALF_PI - psi[k] if pair else psi[k]
+            xv[k] = base + _mod(p - base, TWO_PI)
+            if pair:
+                xv[k + m] = base + _mod(p + PI - base, TWO_PI)
+        for k in range(total):
             idx[k] = _bisect_right(rest + 1, n - 1, xv[k])
         cv = _cos(x)
         sv = _sin(x)
         for k in range(m):
             i = idx[k]
             ov[k] = cx[i] * cv[k] + cy[i] * sv[k] + 0.0
+            if pair:
+                j = idx[k + m]
+                ov[k] = ov[k] + (cx[j] * cv[k + m] + cy[j] * sv[k + m] + 0.0)
         return out
     finally:
         free(buf)
         free(idx)
+
+
+def vertex_support(list bp, list centers, const double[:] psi):
+    """FeatureTable.support of FeatureTable.feature_index for a table of vertices only: h(ψ) (m,)."""
+    return _vertex_support(bp, centers, psi, False)
+
+
+def width_values(list bp, list centers, const double[:] theta):
+    """SupportPairFunction.values of a diameter function on a table of vertices only:
+    h(ψ) + h(ψ + π) at ψ = π/2 − θ, the same array (m,)."""
+    return _vertex_support(bp, centers, theta, True)
 
 
 cdef struct Key:

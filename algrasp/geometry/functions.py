@@ -99,9 +99,10 @@ class SupportPairFunction:
     def kink_thetas(self) -> FloatArray:
         """θ (radians, lifted) of every Gauss-map breakpoint of both terms (where f′ may
         jump) and of every run start (the extrema); computed once, read-only."""
-        bp = self.hull.breakpoints
-        theta_bp = [np.pi / 2 - bp, 1.5 * np.pi - bp] if self.kind == "diameter" else [1.5 * np.pi - bp]
-        out = np.concatenate([*theta_bp, np.array([r.start for r in self.runs])])
+        # In plain floats, one array made (each θ the same difference numpy would take).
+        bp = self.hull.table.breakpoint_list
+        near = [np.pi / 2 - b for b in bp] if self.kind == "diameter" else []
+        out = np.array([*near, *(1.5 * np.pi - b for b in bp), *(r.start for r in self.runs)], dtype=float)
         out.flags.writeable = False
         return out
 
@@ -115,8 +116,13 @@ class SupportPairFunction:
 
 
     def values(self, theta: FloatArray) -> FloatArray:
-        """Values at an array of θ (radians), vectorised; O(m log n)."""
-        psi = np.pi / 2 - np.asarray(theta, dtype=float)
+        """Values at an array of θ (radians), vectorised; O(m log n). The diameter of a
+        hull of vertices only: compiled when built (:mod:`algrasp.compiled`), the same values."""
+        theta = np.asarray(theta, dtype=float)
+        if self.kind == "diameter" and GEOMETRY is not None and theta.ndim == 1 and self.hull.table.vertices_only:
+            table = self.hull.table
+            return GEOMETRY.width_values(table.breakpoint_list, table.center_list, theta)  # type: ignore[no-any-return]
+        psi = np.pi / 2 - theta
         if self.kind == "diameter":  # both terms in one support pass
             h = self.hull.support_many(np.concatenate([psi, psi + np.pi]))
             return h[: len(psi)] + h[len(psi):]

@@ -312,3 +312,28 @@ def test_corner_ranges_are_bit_identical(shape: str, seed: int, n: int, sliver: 
     part = load_part(DOCS[shape](seed, n), TOL)
     corners = [f.center for f in part.hull.features]
     assert _bits(GEOMETRY.corner_ranges(corners, sliver)) == _bits(hull._corner_ranges(corners, sliver))  # type: ignore[union-attr]
+
+
+@needs_kernels
+@settings(max_examples=150, deadline=None)
+@given(shape=st.sampled_from(["polygon", "regular", "rectangle"]), seed=st.integers(0, 10_000), n=st.integers(3, 40),
+       theta=st.lists(st.one_of(st.floats(-30.0, 30.0), st.sampled_from([0.0, -0.0, math.pi, -TWO_PI, math.nan])),
+                      max_size=20))
+def test_values_are_bit_identical(shape: str, seed: int, n: int, theta: list[float]) -> None:
+    """SupportPairFunction.values (the diameter's compiled pair of supports) and kink_thetas
+    (in plain floats) against numpy's arrays."""
+    from algrasp.geometry import bank
+
+    part = load_part(DOCS[shape](seed, n), TOL)
+    for kind in ("diameter", "radius"):
+        f = analyse(kind, part.hull, part.center_of_mass, part.size, TOL)  # type: ignore[arg-type]
+        compiled = [f.values(np.array(theta)), f.values(f.kink_thetas)]
+        functions.GEOMETRY = bank.GEOMETRY = None
+        try:
+            python = [f.values(np.array(theta)), f.values(f.kink_thetas)]
+        finally:
+            functions.GEOMETRY = bank.GEOMETRY = GEOMETRY
+        assert _bits(compiled) == _bits(python)
+        bp = part.hull.breakpoints
+        kinks = [np.pi / 2 - bp, 1.5 * np.pi - bp] if kind == "diameter" else [1.5 * np.pi - bp]
+        assert _bits(f.kink_thetas) == _bits(np.concatenate([*kinks, np.array([r.start for r in f.runs])]))
