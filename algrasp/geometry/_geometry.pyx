@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from libc.math cimport atan2, ceil, copysign, cos, fabs, fmod, isfinite, sin, sqrt, INFINITY
+from libc.math cimport atan2, ceil, copysign, cos, fabs, floor, fmod, isfinite, sin, sqrt, INFINITY
 from libc.stdlib cimport free, malloc, qsort
 
 from algrasp.geometry.angles import TWO_PI as _TWO_PI_PY
@@ -30,6 +30,8 @@ cdef double HYPOT_SLACK = 1e-9  # relative: far above the few ulps between libm'
 cdef double HYPOT_FLOOR = 1e-100  # above it |Δ|² is a normal number: sqrt(dx² + dy²) is within 3 ulp
 cdef double ORIENT_SLACK = 1e-12  # relative; Shewchuk's bound for orient2d in doubles is (3 + 16ε)ε
 cdef double ORIENT_FLOOR = 1e-200  # below it the products may have lost digits to underflow: unsure
+cdef double ROUNDED_APART = 2e-9  # keys this far apart round to different multiples of 1e-9
+cdef double BUCKET_SLACK = 1e-3  # in units of 1e-9: far above the rounding of a·1e9 (≲ 1e-6 for |a| < 1e3)
 cdef object _hypot = math.hypot
 cdef object _round = round
 cdef object _empty = np.empty, _cos = np.cos, _sin = np.sin
@@ -197,28 +199,53 @@ def point_runs(tuple cell_list, list centers, double limit, double angle_rad, do
         free(runs)
 
 
+cdef bint _same_rounding(double a, double b) except -1:
+    """round(a, 9) == round(b, 9), as Python has it: equal when a and b lie in the same
+    half-open step of 1e-9 around a multiple of it, clear of its edges by far more than
+    the rounding of a·1e9 (so without Python's decimal conversion); else asked of Python."""
+    cdef double ta = a * 1e9, tb = b * 1e9, f = floor(ta + 0.5)
+    if fabs(ta) < 1e12 and f - 0.5 + BUCKET_SLACK < ta < f + 0.5 - BUCKET_SLACK and \
+            f - 0.5 + BUCKET_SLACK < tb < f + 0.5 - BUCKET_SLACK:
+        return True
+    return bool(_round(a, 9) == _round(b, 9))
+
+
 def extremum_keys(list runs, double period, double angle_rad, list labels):
     """The extrema of :func:`algrasp.geometry.functions.analyse` before their values: each
-    (start, θ wrapped into the period, label) once per key (θ rounded to 9 digits), from
-    ``labels[prev sign + 1][next sign + 1]`` (None: no extremum)."""
-    cdef Py_ssize_t n = len(runs), i
+    (start, θ wrapped into the period, label) once per key (θ rounded to 9 digits, the first
+    kept), from ``labels[prev sign + 1][next sign + 1]`` (None: no extremum). Keys more
+    than 2e-9 apart never round alike; closer ones are compared by :func:`_same_rounding`.
+    O(n k) for k kept."""
+    cdef Py_ssize_t n = len(runs), i, j, count = 0
     cdef int p, q
-    cdef double start, x
-    labelled = {}
+    cdef double start, x, key
+    cdef double* kept = <double*> malloc((n + 1) * sizeof(double))
+    out = []
     if not n:
+        free(kept)
         raise IndexError("list index out of range")  # as the Python path's runs[-1]
-    for i in range(n):
-        p = (<tuple> runs[i - 1 if i else n - 1])[2]
-        q = (<tuple> runs[i])[2]
-        if not (-1 <= p <= 1 and -1 <= q <= 1):
-            raise ValueError(f"run signs must be -1, 0 or 1, got {p} and {q}")
-        label = labels[p + 1][q + 1]
-        if label is not None:
+    try:
+        for i in range(n):
+            p = (<tuple> runs[i - 1 if i else n - 1])[2]
+            q = (<tuple> runs[i])[2]
+            if not (-1 <= p <= 1 and -1 <= q <= 1):
+                raise ValueError(f"run signs must be -1, 0 or 1, got {p} and {q}")
+            label = labels[p + 1][q + 1]
+            if label is None:
+                continue
             start = (<tuple> runs[i])[0]
             x = _mod(start, period)
             key = 0.0 if period - x <= angle_rad else x
-            labelled.setdefault(_round(key, 9), (start, key, label))
-    return list(labelled.values())
+            for j in range(count):
+                if not fabs(key - kept[j]) > ROUNDED_APART and _same_rounding(key, kept[j]):
+                    break
+            else:
+                kept[count] = key
+                count += 1
+                out.append((start, key, label))
+        return out
+    finally:
+        free(kept)
 
 
 cdef inline int _orient(double ax, double ay, double bx, double by, double cx, double cy) noexcept nogil:

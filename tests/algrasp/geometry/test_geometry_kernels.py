@@ -171,13 +171,32 @@ def test_concentric_limit_is_decided_alike(dx: float, angle: float, nudge: int, 
 SIGN = st.sampled_from([-1, 0, 1])
 
 
+def _near_rounding_edge(n: int, ulps: int) -> float:
+    """(n + ½)·1e-9 moved by ``ulps`` units in the last place: where round(·, 9) turns."""
+    x = (n + 0.5) * 1e-9
+    for _ in range(abs(ulps)):
+        x = math.nextafter(x, math.inf if ulps > 0 else -math.inf)
+    return x
+
+
+START = st.one_of(st.floats(-10.0, 10.0),
+                  st.sampled_from([0.0, -0.0, math.pi, TWO_PI, -math.pi, math.pi - 1e-12, TWO_PI - 1e-13, 1 / 1024,
+                                   3 / 1024, 0.5 + 1 / 1024]),
+                  st.builds(_near_rounding_edge, st.integers(0, 6_000_000_000), st.integers(-3, 3)),
+                  st.builds(lambda k: k / 1024, st.integers(0, 6400)))
+
+
 @needs_kernels
-@settings(max_examples=300, deadline=None)
-@given(starts=st.lists(st.one_of(st.floats(-10.0, 10.0), st.sampled_from([0.0, -0.0, math.pi, TWO_PI, -math.pi,
-                                                                            math.pi - 1e-12, TWO_PI - 1e-13])),
-                       max_size=10),
-       signs=st.lists(SIGN, min_size=10, max_size=10), period=st.sampled_from([math.pi, TWO_PI]))
-def test_extremum_keys_are_bit_identical(starts: list[float], signs: list[int], period: float) -> None:
+@settings(max_examples=500, deadline=None)
+@given(starts=st.lists(START, max_size=10), signs=st.lists(SIGN, min_size=20, max_size=20),
+       period=st.sampled_from([math.pi, TWO_PI]), twins=st.lists(st.tuples(st.integers(0, 9), st.integers(-3, 3)), max_size=4))
+def test_extremum_keys_are_bit_identical(starts: list[float], signs: list[int], period: float,
+                                         twins: list[tuple[int, int]]) -> None:
+    """Keys a few ulps apart, on and beside the edges where rounding to 9 digits turns,
+    exact ties (multiples of 1/1024), and the diameter's θ + π copies."""
+    for k, ulps in twins:  # a copy of a start a few ulps off, or half a turn on
+        if k < len(starts):
+            starts.append(math.nextafter(starts[k], math.inf) if ulps > 0 else starts[k] + (math.pi if ulps else 0.0))
     runs = [Run(s, s + 0.1, sg) for s, sg in zip(sorted(starts), signs)]
     compiled, python = _both(lambda: functions._extremum_keys(runs, period, TOL.angle_rad))
     assert compiled == python
