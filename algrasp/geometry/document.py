@@ -140,15 +140,15 @@ def _fast_lines(raw: Sequence[Any], limits: Limits) -> list[Segment] | None:
     """All segments at once when every one is a valid line object (exactly the keys
     type, start and end); else None, and :func:`parse_segment` finds and names what is
     wrong. The checks of :func:`_fast_points`, without a field name made per point."""
-    out: list[Segment] = []
+    raw_ends: list[Any] = []
     for seg in raw:
         if type(seg) is not dict or len(seg) != 3 or seg.get("type") != "line":
             return None
-        ends = _fast_points((seg.get("start"), seg.get("end")), limits)
-        if ends is None:
-            return None
-        out.append(Line(ends[0], ends[1]))
-    return out
+        raw_ends += (seg.get("start"), seg.get("end"))
+    ends = _fast_points(raw_ends, limits)  # all end points in one pass
+    if ends is None:
+        return None
+    return [Line(ends[i], ends[i + 1]) for i in range(0, len(ends), 2)]
 
 
 def polygon_segments(raw: Sequence[Any], field: str, limits: Limits) -> list[Segment]:

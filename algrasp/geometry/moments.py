@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from functools import lru_cache
+from typing import cast
 
 import numpy as np
 
@@ -61,6 +62,11 @@ def _bezier_group(segs: list[Bezier], origin: tuple[float, float]) -> FloatArray
 
 
 def _line_group(segs: list[Line], origin: tuple[float, float]) -> FloatArray:
+    """The five integrals of straight segments (:func:`_line_sums`) as an array (5,)."""
+    return np.array(_line_sums(segs, origin))
+
+
+def _line_sums(segs: list[Line] | tuple[Line, ...], origin: tuple[float, float]) -> list[float]:
     """Closed forms for straight segments p → q, each integral summed exactly (fsum);
     O(S) in plain floats: a few dozen operations a segment cost less than numpy's per
     call for the polygons parts are."""
@@ -76,7 +82,7 @@ def _line_group(segs: list[Line], origin: tuple[float, float]) -> FloatArray:
         terms[2].append(-dx * (sy * sy - py * qy))
         terms[3].append(dy * sx * (px * px + qx * qx))
         terms[4].append(-dx * sy * (py * py + qy * qy))
-    return np.array([math.fsum(t) / d for t, d in zip(terms, (2.0, 6.0, 6.0, 12.0, 12.0))])
+    return [math.fsum(t) / d for t, d in zip(terms, (2.0, 6.0, 6.0, 12.0, 12.0))]
 
 
 def loop_moments(loop: list[Segment] | tuple[Segment, ...], origin: tuple[float, float] = (0.0, 0.0)) -> FloatArray:
@@ -85,6 +91,8 @@ def loop_moments(loop: list[Segment] | tuple[Segment, ...], origin: tuple[float,
 
     Negative area means the loop runs clockwise. O(n) array work in a few batches.
     """
+    if all(isinstance(s, Line) for s in loop):  # a polygon: zeros plus its sums, in plain floats
+        return np.array([0.0 + v for v in _line_sums(cast(list[Line], loop), origin)])
     total = np.zeros(5)
     lines = [s for s in loop if isinstance(s, Line)]
     if lines:

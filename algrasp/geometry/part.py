@@ -92,16 +92,7 @@ def load_part(doc: Mapping[str, Any], tol: Tolerances = DEFAULT_TOLERANCES, limi
     ``snap`` (the robust model) polygon runs that tessellate circular arcs become the
     arcs too (:func:`algrasp.geometry.recognise.snap_tessellations`); ``Part.recognised`` says so.
     """
-    boundary, holes = parse_loops(doc, limits)
-    drawn_size = _size([boundary, *holes])
-    # Exact circles in any form (conventions §7): analysed as the arcs they are.
-    boundary = exact_circles(boundary, drawn_size, tol)
-    holes = [exact_circles(h, drawn_size, tol) for h in holes]
-    boundary, holes = split_cusps(boundary), [split_cusps(h) for h in holes]  # a cusp is a corner
-    recognised = 0
-    if snap:
-        boundary, recognised = snap_tessellations(boundary, tol)
-    size = _size([boundary, *holes])
+    boundary, holes, recognised, size = _read_loops(doc, tol, limits, snap)
     field = "polygon" if "polygon" in doc else "boundary"
     _check_precision([boundary, *holes], size, field, tol)
     _check_loop(boundary, field, size, tol)
@@ -145,6 +136,24 @@ def load_part(doc: Mapping[str, Any], tol: Tolerances = DEFAULT_TOLERANCES, limi
                 float(area), com, given, size, hull, doc, float(polar), notes)
 
 
+def _read_loops(doc: Mapping[str, Any], tol: Tolerances, limits: Limits,
+                snap: bool) -> tuple[list[Segment], list[list[Segment]], int, float]:
+    """The document's boundary and holes as the analysis reads them, how many tessellated
+    arcs were recognised (with ``snap``), and the size. A polygon without holes has no
+    circle or cusp to find: the same loops, the size read once unless arcs were recognised."""
+    boundary, holes = parse_loops(doc, limits)
+    polygon = not holes and all(isinstance(seg, Line) for seg in boundary)
+    drawn_size = _size([boundary, *holes])
+    if not polygon:  # exact circles in any form (conventions §7): analysed as the arcs they are
+        boundary = exact_circles(boundary, drawn_size, tol)
+        holes = [exact_circles(h, drawn_size, tol) for h in holes]
+        boundary, holes = split_cusps(boundary), [split_cusps(h) for h in holes]  # a cusp is a corner
+    recognised = 0
+    if snap:
+        boundary, recognised = snap_tessellations(boundary, tol)
+    return boundary, holes, recognised, drawn_size if polygon and not recognised else _size([boundary, *holes])
+
+
 def _center_of_mass(doc: Mapping[str, Any], centroid: tuple[float, float],
                     hull: ConvexHull) -> tuple[tuple[float, float], bool]:
     """The given centre of mass (checked inside the hull), or the area centroid."""
@@ -172,8 +181,12 @@ def _check_precision(loops: list[list[Segment]], size: float, field: str, tol: T
 def _size(loops: list[list[Segment]]) -> float:
     """Diagonal of the bounding box of all control points (arcs: their full circle).
     In plain floats: numpy's per-call cost outweighs a few points per segment."""
-    xs: list[float] = []
-    ys: list[float] = []
+    if len(loops) == 1 and all(isinstance(seg, Line) for seg in loops[0]):  # a polygon: its vertices
+        xs = [seg.start[0] for seg in loops[0]]
+        ys = [seg.start[1] for seg in loops[0]]
+        return math.hypot(max(xs) - min(xs), max(ys) - min(ys))
+    xs = []
+    ys = []
     for loop in loops:
         for seg in loop:
             if isinstance(seg, Line):
@@ -233,7 +246,7 @@ def _check_simple(boundary: list[Segment], holes: list[list[Segment]], field: st
     """Self-intersection of the boundary and holes (tessellated only for this test)."""
     shell, parts = _polyline(boundary)
     points = shell.tolist()
-    if len({(round(x, 12), round(y, 12)) for x, y in points}) < 3:
+    if not _three_apart(points) and len({(round(x, 12), round(y, 12)) for x, y in points}) < 3:
         raise PartDocumentError(field, "the loop is degenerate: it has fewer than three distinct points")
     # Three distinct vertices joined by lines are a triangle, simple whenever its area is
     # not zero, which load_part checked first: GEOS's validity test could only confirm it;
@@ -253,6 +266,24 @@ def _check_simple(boundary: list[Segment], holes: list[list[Segment]], field: st
         reason = shapely.is_valid_reason(Polygon(shell, rings))
         if reason != "Valid Geometry":
             raise PartDocumentError("holes", f"holes must lie inside the boundary without touching: {reason}")
+
+
+_ROUNDED_APART = 1e-11
+_ROUNDED_APART_REL = 1e-15
+"""Coordinates farther apart than _ROUNDED_APART plus _ROUNDED_APART_REL of their size
+round to different 12-digit values: round(x, 12) moves x by at most 0.5e-12 and half an ulp."""
+
+
+def _three_apart(points: list[list[float]]) -> bool:
+    """Whether the first three points surely stay three after rounding to 12 digits."""
+    if len(points) < 3:
+        return False
+    a, b, c = points[:3]
+
+    def apart(p: list[float], q: list[float]) -> bool:
+        return any(abs(u - v) > _ROUNDED_APART + _ROUNDED_APART_REL * (abs(u) + abs(v)) for u, v in zip(p, q))
+
+    return apart(a, b) and apart(b, c) and apart(a, c)
 
 
 def _explain(reason: str, parts: list[FloatArray], field: str) -> str:
