@@ -1,15 +1,16 @@
 """The optional compiled kernels (algrasp/planning/_kernels.pyx and _lookups.pyx,
-algrasp/geometry/_geometry.pyx; everything else is in pyproject.toml). ``optional=True``:
-without a C compiler (or without Cython, outside build isolation) the package installs and
-runs on its numpy path (algrasp.compiled)."""
+algrasp/geometry/_geometry.pyx and _polygon.pyx; everything else is in pyproject.toml).
+``optional=True``: without a C compiler (or without Cython, outside build isolation) the
+package installs and runs on its numpy path (algrasp.compiled)."""
 
 from setuptools import Extension, setup
 
 # -ffp-contract=off: no fused multiply-adds, so every product rounds as numpy's does.
-# (_floats.pxd holds inline helpers both planning kernels cimport: no module of its own.)
+# (each package's _floats.pxd holds inline helpers its kernels cimport: no module of its own.)
 EXTENSIONS = [Extension(f"algrasp.{package}.{name}", [f"algrasp/{package}/{name}.pyx"],
                         extra_compile_args=["-O2", "-ffp-contract=off", "-fno-fast-math"], optional=True)
-              for package, name in (("planning", "_kernels"), ("planning", "_lookups"), ("geometry", "_geometry"))]
+              for package, name in (("planning", "_kernels"), ("planning", "_lookups"),
+                                    ("geometry", "_geometry"), ("geometry", "_polygon"))]
 
 try:
     from Cython.Build import cythonize
