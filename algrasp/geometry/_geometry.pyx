@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 from libc.math cimport atan2, ceil, cos, fabs, floor, sin, sqrt, INFINITY
-from libc.stdlib cimport free, malloc
+from libc.stdlib cimport free, malloc, qsort
 
 from algrasp.geometry._floats cimport _bisect_right, _mod
 
@@ -43,55 +43,71 @@ cdef struct RunC:
     int sign
 
 
+cdef struct Cut:
+    double psi
+    Py_ssize_t k
+
+
+cdef int _by_cut(const void* a, const void* b) noexcept nogil:
+    """By ψ, then index: Python's stable sort of the indices by their cut."""
+    cdef const Cut* p = <const Cut*> a
+    cdef const Cut* q = <const Cut*> b
+    if p.psi != q.psi:
+        return -1 if p.psi < q.psi else 1
+    return (p.k > q.k) - (p.k < q.k)
+
+
+cdef Py_ssize_t _starts(const Cut* cuts, Py_ssize_t m, Py_ssize_t n, double angle_rad, double* ea, Py_ssize_t* en,
+                        Py_ssize_t* ef) noexcept nogil:
+    """Each cell's start and its near and far features, cuts closer than ``angle_rad`` one;
+    the count. Before the first cut the features are the last cuts' of each term."""
+    cdef Py_ssize_t i, k, e = 0, near = -1, far = 0
+    cdef double prev = -INFINITY
+    for i in range(m - 1, -1, -1):
+        if cuts[i].k < n:
+            far = cuts[i].k
+            break
+    for i in range(m - 1, -1, -1):
+        if cuts[i].k >= n:
+            near = cuts[i].k - n
+            break
+    for i in range(m):
+        k = cuts[i].k
+        if k < n:
+            far = k
+        else:
+            near = k - n
+        if cuts[i].psi - prev > angle_rad:
+            ea[e] = cuts[i].psi
+            e += 1
+        en[e - 1], ef[e - 1] = near, far
+        prev = cuts[i].psi
+    return e
+
+
 def cells(list bp, bint diameter, double angle_rad):
     """:func:`algrasp.geometry.functions._cells` from the breakpoint list ``bp``: the same
-    tuple of (near, far, ψ_a, ψ_b); None when a breakpoint is NaN (the Python path then)."""
-    cdef Py_ssize_t n = len(bp), m = 2 * n if diameter else n, i, j, k, e = 0, near = -1, far = 0
-    cdef double base, c, prev = -INFINITY, v
-    cdef double* cuts = <double*> malloc(m * sizeof(double))
-    cdef double* ea = <double*> malloc(m * sizeof(double))
-    cdef Py_ssize_t* order = <Py_ssize_t*> malloc(3 * m * sizeof(Py_ssize_t))
-    cdef Py_ssize_t* en = order + m
-    cdef Py_ssize_t* ef = order + 2 * m
+    tuple of (near, far, ψ_a, ψ_b); None when a breakpoint is NaN (the Python path then).
+    O(n log n)."""
+    cdef Py_ssize_t n = len(bp), m = 2 * n if diameter else n, i, e
+    cdef double base, c
+    cdef Cut* cuts = <Cut*> malloc((m + 1) * sizeof(Cut))
+    cdef double* ea = <double*> malloc((m + 1) * sizeof(double))
+    cdef Py_ssize_t* en = <Py_ssize_t*> malloc((2 * m + 2) * sizeof(Py_ssize_t))
+    cdef Py_ssize_t* ef = en + m + 1
     try:
         for i in range(n):
-            v = bp[i]
-            if v != v:
+            c = bp[i]
+            if c != c:
                 return None
-            cuts[i] = v - PI
+            cuts[i].psi, cuts[i].k = c - PI, i
             if diameter:
-                cuts[n + i] = v
-        base = cuts[0]
+                cuts[n + i].psi, cuts[n + i].k = c, n + i
+        base = cuts[0].psi
         for i in range(m):
-            cuts[i] = base + _mod(cuts[i] - base, TWO_PI)
-        for i in range(m):  # stable insertion sort of the indices by cut (sorted(key=...))
-            k = i
-            j = i - 1
-            while j >= 0 and cuts[k] < cuts[order[j]]:
-                order[j + 1] = order[j]
-                j -= 1
-            order[j + 1] = k
-        for i in range(m - 1, -1, -1):  # the features before the first cut: the last of each term
-            if order[i] < n:
-                far = order[i]
-                break
-        for i in range(m - 1, -1, -1):
-            if order[i] >= n:
-                near = order[i] - n
-                break
-        for i in range(m):
-            k = order[i]
-            c = cuts[k]
-            if k < n:
-                far = k
-            else:
-                near = k - n
-            if c - prev > angle_rad:
-                ea[e] = c
-                e += 1
-            en[e - 1] = near
-            ef[e - 1] = far
-            prev = c
+            cuts[i].psi = base + _mod(cuts[i].psi - base, TWO_PI)
+        qsort(cuts, m, sizeof(Cut), _by_cut)
+        e = _starts(cuts, m, n, angle_rad, ea, en, ef)
         out = []
         for i in range(e):
             c = ea[i + 1] if i + 1 < e else ea[0] + TWO_PI
@@ -101,7 +117,7 @@ def cells(list bp, bint diameter, double angle_rad):
     finally:
         free(cuts)
         free(ea)
-        free(order)
+        free(en)
 
 
 cdef inline int _sign(double x) noexcept nogil:
