@@ -278,12 +278,14 @@ def _three_apart(points: list[list[float]]) -> bool:
     """Whether the first three points surely stay three after rounding to 12 digits."""
     if len(points) < 3:
         return False
-    a, b, c = points[:3]
+    (ax, ay), (bx, by), (cx, cy) = points[:3]
+    return _apart(ax, ay, bx, by) and _apart(bx, by, cx, cy) and _apart(ax, ay, cx, cy)
 
-    def apart(p: list[float], q: list[float]) -> bool:
-        return any(abs(u - v) > _ROUNDED_APART + _ROUNDED_APART_REL * (abs(u) + abs(v)) for u, v in zip(p, q))
 
-    return apart(a, b) and apart(b, c) and apart(a, c)
+def _apart(ax: float, ay: float, bx: float, by: float) -> bool:
+    """Points a and b surely distinct after rounding each coordinate to 12 digits."""
+    return (abs(ax - bx) > _ROUNDED_APART + _ROUNDED_APART_REL * (abs(ax) + abs(bx))
+            or abs(ay - by) > _ROUNDED_APART + _ROUNDED_APART_REL * (abs(ay) + abs(by)))
 
 
 def _explain(reason: str, parts: list[FloatArray], field: str) -> str:
