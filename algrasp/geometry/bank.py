@@ -17,7 +17,6 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
@@ -26,6 +25,7 @@ from algrasp.compiled import GEOMETRY
 from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.curves import FloatArray, Piece, bernstein_matrix, horner_rows
 from algrasp.geometry.gauss import HullFeature
+from algrasp.geometry.lazy import cached_property
 from algrasp.geometry.tolerances import ROUNDING_FINE
 
 IntArray = NDArray[np.intp]

@@ -13,12 +13,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import cached_property, lru_cache
+from functools import lru_cache
 from math import comb
 
 import numpy as np
 from numpy.typing import NDArray
 
+from algrasp.geometry.lazy import cached_property
 from algrasp.geometry.tolerances import COEFF_NOISE, DISCRIMINANT_REL, IMAG_REL, ROUNDING
 
 FloatArray = NDArray[np.float64]

@@ -27,7 +27,6 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass
-from functools import cached_property
 from typing import Literal, NamedTuple
 
 import numpy as np
@@ -37,6 +36,7 @@ from algrasp.geometry.angles import TWO_PI, wrap_from
 from algrasp.geometry.bank import IntArray
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.hull import ConvexHull, unit
+from algrasp.geometry.lazy import cached_property
 from algrasp.geometry.tolerances import EPS_REL, ROUNDING_FINE, Tolerances
 
 Kind = Literal["diameter", "radius"]

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import cached_property
 from typing import NamedTuple
 
 import numpy as np
@@ -17,6 +16,7 @@ from algrasp.errors import GeometryError
 from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.bank import IntArray, coefficient_stack, normal_angles, points
 from algrasp.geometry.curves import FloatArray, Piece, horner_float, real_roots_in
+from algrasp.geometry.lazy import cached_property
 from algrasp.geometry.segments import Line, Segment
 from algrasp.geometry.tolerances import LENGTH_REL, PARAM_END, ROUNDING, ROUNDING_FINE, Tolerances
 

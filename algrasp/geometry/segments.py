@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from functools import cached_property, lru_cache
+from functools import lru_cache
 
 import numpy as np
 from numpy.polynomial import legendre
@@ -25,6 +25,7 @@ from algrasp.geometry.curves import (
     horner_float,
     real_roots_in,
 )
+from algrasp.geometry.lazy import cached_property
 from algrasp.geometry.tolerances import PARAM_END
 
 
