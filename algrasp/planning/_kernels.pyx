@@ -13,14 +13,14 @@ import numpy as np
 
 from libc.math cimport ceil, cos, fabs, floor, isfinite, isnan, sin, INFINITY, NAN
 from cpython.tuple cimport PyTuple_GET_ITEM
-from libc.stdlib cimport free, malloc, qsort
+from libc.stdlib cimport calloc, free, malloc
 
 from algrasp.planning._floats cimport _bisect_right, _insertion_sort, _max, _min, _mod
 
 from algrasp.planning._lookups import (fixed, images, keys, lifted, lookup, pointwise, rest_zones, shifted,
                                       sink_widths, steps_floats, widest)  # re-exported: one KERNELS
 
-cdef double ROUNDING = 0.0, TWO_PI = 0.0, EDGE_RAD = 0.0, INSIDE = 0.0, SLOPE_NOISE = 0.0
+cdef double ROUNDING = 0.0, TWO_PI = 0.0, EDGE_RAD = 0.0, INSIDE = 0.0, SLOPE_NOISE = 0.0, GRID_RAD = 0.0
 cdef double HALF_PI = np.pi / 2, PI = np.pi
 cdef bint _ready = False
 cdef object _NONE = None
@@ -28,11 +28,12 @@ cdef object _NONE = None
 
 cdef void _init() except *:
     """The constants of the numpy path, read from it once (it imports this module lazily)."""
-    global ROUNDING, TWO_PI, EDGE_RAD, INSIDE, SLOPE_NOISE, _ready, _NONE
+    global ROUNDING, TWO_PI, EDGE_RAD, INSIDE, SLOPE_NOISE, GRID_RAD, _ready, _NONE
     from algrasp.geometry.angles import TWO_PI as two_pi
     from algrasp.geometry.tolerances import ROUNDING as rounding
     from algrasp.planning import setvalued as sv
     ROUNDING, TWO_PI, EDGE_RAD, INSIDE, SLOPE_NOISE = rounding, two_pi, sv.EDGE_RAD, sv._INSIDE, sv.SLOPE_NOISE
+    GRID_RAD = sv.GRID_RAD
     _NONE = sv._NONE
     _ready = True
 
@@ -42,15 +43,48 @@ cdef struct Pair:
     Py_ssize_t i
 
 
-cdef int _cmp(const void* a, const void* b) noexcept nogil:
-    """By value, then by index: numpy's stable argsort (no NaN here)."""
-    cdef const Pair* p = <const Pair*>a
-    cdef const Pair* q = <const Pair*>b
-    if p.v < q.v:
-        return -1
-    if p.v > q.v:
-        return 1
-    return (p.i > q.i) - (p.i < q.i)
+cdef int _sort_pairs(Pair* a, Py_ssize_t n) except -1:
+    """Sort a[0:n] by value, stably (numpy's stable argsort of values filled in index
+    order; no NaN here): insertion-sorted runs of 16, merged bottom-up."""
+    cdef Py_ssize_t i, j, w, lo, mid, hi, p, q, t
+    cdef Pair v
+    cdef Pair* tmp
+    for lo in range(0, n, 16):
+        hi = lo + 16 if lo + 16 < n else n
+        for i in range(lo + 1, hi):
+            v = a[i]
+            j = i - 1
+            while j >= lo and v.v < a[j].v:
+                a[j + 1] = a[j]
+                j -= 1
+            a[j + 1] = v
+    if n <= 16:
+        return 0
+    tmp = <Pair*>malloc(n * sizeof(Pair))
+    if tmp == NULL:
+        raise MemoryError()
+    w = 16
+    while w < n:
+        for lo in range(0, n - w, 2 * w):
+            mid, hi = lo + w, (lo + 2 * w if lo + 2 * w < n else n)
+            p, q, t = lo, mid, lo
+            while p < mid and q < hi:
+                if a[q].v < a[p].v:
+                    tmp[t] = a[q]
+                    q += 1
+                else:
+                    tmp[t] = a[p]
+                    p += 1
+                t += 1
+            while p < mid:
+                tmp[t] = a[p]
+                p += 1
+                t += 1
+            for i in range(lo, t):
+                a[i] = tmp[i]
+        w *= 2
+    free(tmp)
+    return 0
 
 
 cdef class _Buf:
@@ -68,10 +102,9 @@ cdef class _Buf:
 
 # ------------------------------------------------------------------ nodes (_nodes)
 
-cdef Py_ssize_t _nodes(const double[:] grid, const double[:] edges, const double[:] kinks, double T,
-                       double* x, char* kink) except -1:
+cdef Py_ssize_t _nodes(const double* grid, Py_ssize_t ng, const double* edges, Py_ssize_t ne, const double* kinks,
+                       Py_ssize_t nk, double T, double* x, char* kink) except -1:
     """setvalued._nodes into x, kink (room for every raw node); returns the node count."""
-    cdef Py_ssize_t ng = grid.shape[0], ne = edges.shape[0], nk = kinks.shape[0]
     cdef Py_ssize_t N = 1 + ng + 2 * ne + nk, i, n = 0
     cdef Pair* raw = <Pair*>malloc(N * sizeof(Pair))
     cdef char fl
@@ -85,7 +118,11 @@ cdef Py_ssize_t _nodes(const double[:] grid, const double[:] edges, const double
         raw[1 + ng + ne + i].v, raw[1 + ng + ne + i].i = _mod(edges[i] + EDGE_RAD, T), 1 + ng + ne + i
     for i in range(nk):
         raw[1 + ng + 2 * ne + i].v, raw[1 + ng + 2 * ne + i].i = _mod(kinks[i], T), 1 + ng + 2 * ne + i
-    qsort(raw, N, sizeof(Pair), _cmp)
+    try:
+        _sort_pairs(raw, N)
+    except MemoryError:
+        free(raw)
+        raise
     for i in range(N):
         fl = raw[i].i >= 1 + ng
         if i == 0 or raw[i].v - raw[i - 1].v > ROUNDING:
@@ -226,36 +263,94 @@ cdef list _basins(const double* vals, Py_ssize_t m, double depth, char* mask):
 
 
 cdef void _barriers(const double* x, Py_ssize_t n, Py_ssize_t K, double T, const double* rows,
-                    const double* cl, double stall, double eps, double* out_r, double* out_l) noexcept nogil:
+                    const double* cl, double stall, double eps, double* out_r, double* out_l) except *:
     """barriers.barrier_sets for one level ``cl`` (K, n) on rows (2K, 2n) from _rows:
-    the farthest right and left barrier of each cell over the copies."""
+    the farthest right and left barrier of each cell over the copies. O(K·n log n)."""
     cdef Py_ssize_t k, i, j, m = 2 * n
-    cdef double level, up, down, e2 = 2.0 * eps, r, lf, best_r, best_l
-    cdef const double* row
-    for i in range(n):
-        up = stall * (x[i + 1] if i < n - 1 else T)
-        down = stall * (x[i] + T)
-        best_r, best_l = 0.0, 0.0
-        for k in range(K):
-            level = cl[k * n + i] + up + e2
-            row = rows + k * m
-            r = INFINITY
-            for j in range(i + 1, m):
-                if row[j] >= level:
-                    r = x[j] + 0.0 if j < n else x[j - n] + T
-                    break
-            level = cl[((k + 1) % K) * n + i] - down + e2
-            row = rows + (K + k) * m
-            lf = -INFINITY
-            for j in range(n - 1 - i, m):
-                if row[j] >= level:  # mirrored index j is node m − 1 − j
-                    lf = (x[m - 1 - j] + 0.0 if m - 1 - j < n else x[m - 1 - j - n] + T) - T
-                    break
-            if k == 0:
-                best_r, best_l = r, lf
+    cdef double r, lf
+    cdef Py_ssize_t* idx = <Py_ssize_t*>malloc((m + 2 * n) * sizeof(Py_ssize_t))
+    cdef double* lv = <double*>malloc(2 * n * sizeof(double))
+    if idx == NULL or lv == NULL:
+        free(idx)
+        free(lv)
+        raise MemoryError()
+    cdef Py_ssize_t* jr = idx + m
+    cdef Py_ssize_t* jl = jr + n
+    for k in range(K):
+        for i in range(n):  # rightward from each cell's end, leftward from its start (lifted)
+            lv[i] = cl[k * n + i] + stall * (x[i + 1] if i < n - 1 else T) + 2.0 * eps
+            lv[n + i] = cl[((k + 1) % K) * n + i] - stall * (x[i] + T) + 2.0 * eps
+        _reaching(rows + k * m, m, lv, n, True, idx, jr)
+        _reaching(rows + (K + k) * m, m, lv + n, n, False, idx, jl)
+        for i in range(n):
+            j = jr[i]
+            r = INFINITY if j == m else (x[j] + 0.0 if j < n else x[j - n] + T)
+            j = m - 1 - jl[i]  # mirrored index jl is node m − 1 − jl
+            lf = -INFINITY if jl[i] == m else (x[j] + 0.0 if j < n else x[j - n] + T) - T
+            out_r[i] = r if k == 0 else _max(out_r[i], r)
+            out_l[i] = lf if k == 0 else _min(out_l[i], lf)
+    free(idx)
+    free(lv)
+
+
+def barriers(x, double T, node_values, cell_max, double stall, double eps):
+    """barriers.barriers through :func:`_rows` and :func:`_barriers` (the classification's
+    own search): the right and left barrier of each cell, the same floats."""
+    cdef const double[::1] xv = np.ascontiguousarray(x, dtype=float)
+    cdef const double[:, ::1] nv = np.ascontiguousarray(node_values, dtype=float)
+    cdef const double[:, ::1] cl = np.ascontiguousarray(cell_max, dtype=float)
+    cdef Py_ssize_t K = nv.shape[0], n = nv.shape[1]
+    cdef _Buf rows = _Buf(4 * K * n)
+    right, left = np.empty(n), np.empty(n)
+    cdef double[::1] r = right
+    cdef double[::1] lf = left
+    _rows(&xv[0], n, K, T, &nv[0, 0], stall, rows.p)
+    _barriers(&xv[0], n, K, T, rows.p, &cl[0, 0], stall, eps, &r[0], &lf[0])
+    return right, left
+
+
+cdef void _reaching(const double* row, Py_ssize_t m, const double* level, Py_ssize_t n, bint rightward,
+                    Py_ssize_t* stack, Py_ssize_t* out) noexcept nogil:
+    """For each cell i the first j ≥ its start (i + 1 on a rightward row, n − 1 − i on a
+    mirrored leftward one) with row[j] ≥ level[i], m where none: the linear scan's index,
+    from one right-to-left pass that keeps the records of row[s:] (their values falling
+    toward the stack's top, their indices too), bisected per cell. O(m + n log m); a row
+    with a NaN (no order) is scanned."""
+    cdef Py_ssize_t s, i, size = 0, lo, hi, mid
+    cdef double lv
+    for s in range(m):
+        if isnan(row[s]):
+            _scan(row, m, level, n, rightward, out)
+            return
+    for s in range(m - 1, -1, -1):
+        while size > 0 and row[stack[size - 1]] <= row[s]:
+            size -= 1
+        stack[size] = s
+        size += 1
+        i = s - 1 if rightward else n - 1 - s
+        if i < 0 or i >= n:
+            continue
+        lv = level[i]
+        lo, hi = 0, size  # the first record below the level (records fall toward the top)
+        while lo < hi:
+            mid = (lo + hi) >> 1
+            if not row[stack[mid]] >= lv:
+                hi = mid
             else:
-                best_r, best_l = _max(best_r, r), _min(best_l, lf)
-        out_r[i], out_l[i] = best_r, best_l
+                lo = mid + 1
+        out[i] = stack[lo - 1] if lo > 0 else m
+
+
+cdef void _scan(const double* row, Py_ssize_t m, const double* level, Py_ssize_t n, bint rightward,
+                Py_ssize_t* out) noexcept nogil:
+    """:func:`_reaching` by the linear scan (barriers.first_reaching's answers)."""
+    cdef Py_ssize_t i, j
+    for i in range(n):
+        out[i] = m
+        for j in range(i + 1 if rightward else n - 1 - i, m):
+            if row[j] >= level[i]:
+                out[i] = j
+                break
 
 
 cdef void _rows(const double* x, Py_ssize_t n, Py_ssize_t K, double T, const double* nv, double stall,
@@ -277,186 +372,430 @@ cdef void _rows(const double* x, Py_ssize_t n, Py_ssize_t K, double T, const dou
 
 # ------------------------------------------------------------ the classification
 
-def classify(f, double T, edges, grid, band, bint first):
-    """setvalued._classify's arrays: (x, right, left, rest, barrier_right, barrier_left,
-    g (n, 2, K), rims, near), bit-identical to the numpy path."""
-    if not _ready:
-        _init()
-    cdef const double[:] kt = f.kink_thetas
-    cdef const double[:] e = edges
-    cdef const double[:] gr = grid
-    cdef Py_ssize_t N = 1 + gr.shape[0] + 2 * e.shape[0] + kt.shape[0]
+cdef struct BandC:
+    double stall0, stall1, sigma, jaw, err, shallow
+
+
+cdef BandC _band(band) except *:
+    """A setvalued._Band's floats."""
+    cdef BandC b
+    b.stall0, b.stall1, b.sigma = band.stall[0], band.stall[1], band.sigma
+    b.jaw, b.err, b.shallow = band.jaw_friction, band.err, band.shallow
+    return b
+
+
+cdef class _Pass:
+    """One classification (setvalued._classify) in C buffers: n cells of K copies. ``x``
+    holds 6n doubles: the nodes; the right and left barriers of each cell's greatest f
+    (the final level); those of its least f (``near``); each cell's least sampled |f′|.
+    ``perm`` holds 3n flags: right, left, rest possible. ``g``: the (n, 2, K) samples of
+    f′ when asked for, else None."""
+    cdef Py_ssize_t n, K
+    cdef double* x
+    cdef unsigned char* perm
+    cdef object g
+    cdef list rims
+    cdef bint near, final
+
+    def __dealloc__(self):
+        free(self.x)
+        free(self.perm)
+
+
+cdef _Pass _pass(f, double T, const double* e, Py_ssize_t ne, const double* gr, Py_ssize_t ng, BandC b,
+                 bint first, bint want_g):
+    """setvalued._classify of the cells between the edges e[0:ne], the grid gr[0:ng] and
+    f's breakpoints and extrema."""
+    cdef const double[::1] kt = f.kink_thetas
+    cdef Py_ssize_t N = 1 + ng + 2 * ne + kt.shape[0], n
     cdef _Buf xb = _Buf(N)
     cdef char* kink = <char*>malloc(N)
     if kink == NULL:
         raise MemoryError()
     try:
-        return _classify(f, T, e, gr, kt, band, first, xb.p, kink)
+        n = _nodes(gr, ng, e, ne, &kt[0], kt.shape[0], T, xb.p, kink)
+        return _sampled(f, T, n, xb.p, kink, b, first, want_g)
     finally:
         free(kink)
 
 
-cdef tuple _classify(f, double T, const double[:] e, const double[:] gr, const double[:] kt, band, bint first,
-                     double* x, char* kink):
-    cdef Py_ssize_t n = _nodes(gr, e, kt, T, x, kink)
-    cdef Py_ssize_t K = round(f.period / T), i, j, k, s, t, row, kk, nt
-    cdef double stall0 = band.stall[0], stall1 = band.stall[1], sigma = band.sigma
-    cdef double jaw = band.jaw_friction, err = band.err, shallow = band.shallow
-    cdef double w, gv, vv, a, size, lo_move = stall0 - sigma
+cdef _Pass _sampled(f, double T, Py_ssize_t n, const double* x, const char* kink, BandC b, bint first, bint want_g):
+    """f′ and f just inside both ends of every cell in every copy (setvalued._samples;
+    a kink's left limit apart), then :func:`_finish`."""
+    cdef Py_ssize_t K = round(f.period / T), i, t, k, nt = n
+    cdef double w
+    cdef _Buf tb
     cdef Py_ssize_t* src = <Py_ssize_t*>malloc(n * sizeof(Py_ssize_t))
     if src == NULL:
         raise MemoryError()
-    nt = n
-    for i in range(n):
-        if kink[i]:
-            src[i] = nt
-            nt += 1
-        else:
-            src[i] = i
-    cdef _Buf tb = _Buf(nt + 3 * nt * K)
-    cdef double* base = tb.p
-    cdef double* theta = tb.p + nt
-    cdef double* gf = theta + nt * K
-    cdef double* vf = gf + nt * K
-    for i in range(n):  # just inside both ends of every cell; a kink's left limit apart
-        w = (x[i + 1] if i < n - 1 else T) - x[i]
-        base[i] = x[i] + INSIDE * w
-        if kink[i]:
-            w = (x[i] if i > 0 else T) - x[i - 1 if i > 0 else n - 1]
-            base[src[i]] = x[i] - INSIDE * w
-    for t in range(nt):
-        for k in range(K):
-            theta[t * K + k] = base[t] + (<double>k) * T if K > 1 else base[t]
     try:
-        _slopes(f, theta, nt * K, gf, vf)
-        x_out = np.empty(n)
-        g_out = np.empty((n, 2, K))
-        perm = np.zeros((3, n), dtype=np.uint8)
-        return _finish(f, T, n, K, x, src, gf, vf, x_out, g_out, perm, stall0, stall1, sigma, jaw, err, shallow, first)
+        for i in range(n):
+            if kink[i]:
+                src[i] = nt
+                nt += 1
+            else:
+                src[i] = i
+        tb = _Buf(nt + 3 * nt * K)
+        for i in range(n):
+            w = (x[i + 1] if i < n - 1 else T) - x[i]
+            tb.p[i] = x[i] + INSIDE * w
+            if kink[i]:
+                w = (x[i] if i > 0 else T) - x[i - 1 if i > 0 else n - 1]
+                tb.p[src[i]] = x[i] - INSIDE * w
+        for t in range(nt):
+            for k in range(K):
+                tb.p[nt + t * K + k] = tb.p[t] + (<double>k) * T if K > 1 else tb.p[t]
+        _slopes(f, tb.p + nt, nt * K, tb.p + nt + nt * K, tb.p + nt + 2 * nt * K)
+        return _finish(T, n, K, x, src, tb.p + nt + nt * K, tb.p + nt + 2 * nt * K, b, first, want_g)
     finally:
         free(src)
 
 
-cdef tuple _finish(f, double T, Py_ssize_t n, Py_ssize_t K, const double* x, const Py_ssize_t* src, const double* gf,
-                   const double* vf, x_out, g_out, perm, double stall0, double stall1, double sigma, double jaw,
-                   double err, double shallow, bint first):
+cdef _Pass _finish(double T, Py_ssize_t n, Py_ssize_t K, const double* x, const Py_ssize_t* src, const double* gf,
+                   const double* vf, BandC b, bint first, bint want_g):
     """Permissions, basins and barriers of the sampled cells (setvalued._classify's rest)."""
-    cdef double[:] xo = x_out
-    cdef double[:, :, :] G = g_out
-    cdef unsigned char[:, :] P = perm
-    cdef _Buf vb = _Buf(2 * n * K + 2 * K * 2 * n + 4 * n * K + 4 * n)
-    cdef double* V = vb.p  # (n, 2, K)
+    cdef _Pass p = _Pass.__new__(_Pass)
+    cdef Py_ssize_t i, k
+    p.n, p.K = n, K
+    p.x = <double*>malloc(6 * n * sizeof(double))
+    p.perm = <unsigned char*>calloc(3 * n, 1)
+    if p.x == NULL or p.perm == NULL:
+        raise MemoryError()
+    cdef _Buf vb = _Buf(8 * n * K)
+    cdef double* V = vb.p  # (n, 2, K) f at both ends of every cell
     cdef double* rows = V + 2 * n * K  # (2K, 2n)
     cdef double* nv = rows + 4 * n * K  # (K, n) f at the cells' starts
     cdef double* lv = nv + n * K  # (K, n) a level
-    cdef double* br = lv + n * K  # (2, n) barriers of the max level; (2, n) of the min
-    cdef Py_ssize_t i, s, k, row, kk
-    cdef double gv, vv, a, size, lo_move = stall0 - sigma
+    cdef double* bar = p.x + n
+    _permissions(p, x, src, gf, vf, V, b, want_g)
+    for k in range(K):
+        for i in range(n):
+            nv[k * n + i] = V[(i * 2) * K + k]
+    p.rims = _basin_flags(p, nv, b.shallow)
+    p.near = first and b.err > 0.0
+    p.final = not (p.near and p.rims)
+    _rows(x, n, K, T, nv, b.stall0, rows)
+    if p.final:
+        _levels(V, n, K, True, lv)
+        _barriers(x, n, K, T, rows, lv, b.stall0, b.err, bar, bar + n)
+    if p.near:
+        _levels(V, n, K, False, lv)
+        _barriers(x, n, K, T, rows, lv, b.stall0, b.err, bar + 2 * n, bar + 3 * n)
+    return p
+
+
+cdef void _permissions(_Pass p, const double* x, const Py_ssize_t* src, const double* gf, const double* vf,
+                       double* V, BandC b, bint want_g) except *:
+    """The nodes and the samples of every cell into p (and f at them into V, (n, 2, K)):
+    setvalued._permissions, and each cell's least |f′|."""
+    cdef Py_ssize_t n = p.n, K = p.K, i, s, k, row, kk
+    cdef double gv, vv, a, size, least = 0.0, lo_move = b.stall0 - b.sigma
     cdef bint movable, either
+    cdef double[:, :, ::1] G
+    cdef unsigned char* P = p.perm
+    if want_g:
+        p.g = np.empty((n, 2, K))
+        G = p.g
     for i in range(n):
-        xo[i] = x[i]
+        p.x[i] = x[i]
         for s in range(2):
             row = i if s == 0 else src[i + 1 if i < n - 1 else 0]
             for k in range(K):
                 kk = (k + 1) % K if (s == 1 and i == n - 1 and K > 1) else k
                 gv, vv = gf[row * K + kk], vf[row * K + kk]
-                G[i, s, k] = gv
+                if want_g:
+                    G[i, s, k] = gv
                 V[(i * 2 + s) * K + k] = vv
                 a, size = fabs(gv), fabs(vv)
+                least = a if (s == 0 and k == 0) else _min(least, a)
                 movable = a > _max(lo_move, SLOPE_NOISE * size)
-                either = a <= sigma
+                either = a <= b.sigma
                 if movable and (gv < 0.0 or either):
-                    P[0, i] = 1
+                    P[i] = 1
                 if movable and (gv > 0.0 or either):
-                    P[1, i] = 1
-                if a <= jaw * size + stall1 + sigma:
-                    P[2, i] = 1
-    for k in range(K):
-        for i in range(n):
-            nv[k * n + i] = V[(i * 2) * K + k]
-    cdef char* mask = <char*>malloc(n * K)
+                    P[n + i] = 1
+                if a <= b.jaw * size + b.stall1 + b.sigma:
+                    P[2 * n + i] = 1
+        p.x[5 * n + i] = least
+
+
+cdef list _basin_flags(_Pass p, const double* nv, double shallow):
+    """The rims of the shallow basins of f at the cells' starts over the copies (nv, (K, n));
+    their cells may move either way."""
+    cdef Py_ssize_t n = p.n, i, k
+    cdef char* mask = <char*>calloc(n * p.K, 1)
     if mask == NULL:
         raise MemoryError()
     try:
-        for i in range(n * K):
-            mask[i] = 0
-        rims = _basins(nv, n * K, shallow, mask)
-        for k in range(K):
+        rims = _basins(nv, n * p.K, shallow, mask)
+        for k in range(p.K):
             for i in range(n):
                 if mask[k * n + i]:
-                    P[0, i], P[1, i] = 1, 1
+                    p.perm[i], p.perm[n + i] = 1, 1
+        return rims
     finally:
         free(mask)
-    cdef bint near = first and err > 0.0
-    cdef bint final = not (near and rims)
-    _rows(x, n, K, T, nv, stall0, rows)
-    if final:
-        for k in range(K):
-            for i in range(n):
+
+
+cdef void _levels(const double* V, Py_ssize_t n, Py_ssize_t K, bint top, double* lv) noexcept nogil:
+    """(K, n): f's greater (``top``) or lesser value at each cell's two ends, per copy."""
+    cdef Py_ssize_t i, k
+    for k in range(K):
+        for i in range(n):
+            if top:
                 lv[k * n + i] = _max(V[(i * 2) * K + k], V[(i * 2 + 1) * K + k])
-        _barriers(x, n, K, T, rows, lv, stall0, err, br, br + n)
-    if near:
-        for k in range(K):
-            for i in range(n):
+            else:
                 lv[k * n + i] = _min(V[(i * 2) * K + k], V[(i * 2 + 1) * K + k])
-        _barriers(x, n, K, T, rows, lv, stall0, err, br + 2 * n, br + 3 * n)
-    flags = perm.view(np.bool_)
-    found = np.empty((4, n))
-    cdef double[:, :] fo = found
+
+
+def classify(f, double T, edges, grid, band, bint first):
+    """setvalued._classify's arrays: (x, right, left, rest, barrier_right, barrier_left,
+    g (n, 2, K), rims, near), bit-identical to the numpy path."""
+    if not _ready:
+        _init()
+    cdef const double[::1] e = np.ascontiguousarray(edges, dtype=float)
+    cdef const double[::1] gr = np.ascontiguousarray(grid, dtype=float)
+    cdef _Pass p = _pass(f, T, &e[0] if e.shape[0] else NULL, e.shape[0], &gr[0] if gr.shape[0] else NULL,
+                         gr.shape[0], _band(band), first, True)
+    return _arrays(p)
+
+
+cdef tuple _arrays(_Pass p):
+    """A pass as setvalued._classify's arrays."""
+    cdef Py_ssize_t n = p.n, i
+    x_out, found, flags = np.empty(n), np.empty((4, n)), np.empty((3, n), dtype=np.bool_)
+    cdef double[::1] xo = x_out
+    cdef double[:, ::1] fo = found
+    cdef unsigned char[:, ::1] fl = flags.view(np.uint8)
     for i in range(n):
-        fo[0, i], fo[1, i], fo[2, i], fo[3, i] = br[i], br[n + i], br[2 * n + i], br[3 * n + i]
-    return (x_out, flags[0], flags[1], flags[2], found[0] if final else _NONE, found[1] if final else _NONE, g_out,
-            rims, (found[2], found[3]) if near else None)
+        xo[i] = p.x[i]
+        fl[0, i], fl[1, i], fl[2, i] = p.perm[i], p.perm[n + i], p.perm[2 * n + i]
+        fo[0, i], fo[1, i], fo[2, i], fo[3, i] = p.x[n + i], p.x[2 * n + i], p.x[3 * n + i], p.x[4 * n + i]
+    return (x_out, flags[0], flags[1], flags[2], found[0] if p.final else _NONE, found[1] if p.final else _NONE, p.g,
+            p.rims, (found[2], found[3]) if p.near else None)
+
+
+# ---------------------------------------------------- setvalued._cells_of, fused
+
+def set_bounds(f, double T, band, double tol_rad, contacts, tuple slopes, jaw):
+    """setvalued._cells_of, setcells.bounds and rest_zones for a function whose crossings
+    are all closed-form (no curve cells): the first pass, a second with the shallow
+    basins' rims and the refined grid when it asks for them, then the bounds. (lower
+    pieces, upper pieces, rest zones over T, over f's period), canonical TransferPieces
+    and the same floats; None where the part may turn without end."""
+    if not _ready:
+        _init()
+    _pieces_ready()
+    cdef BandC b = _band(band)
+    e1 = point_roots(contacts, slopes, jaw, ())
+    cdef const double[::1] e = e1
+    cdef _Pass p = _pass(f, T, &e[0] if e.shape[0] else NULL, e.shape[0], NULL, 0, b, True, False)
+    grid = _refined(p, T, b)
+    if p.rims or grid is not None:
+        p = _again(f, T, b, contacts, e, p.rims, grid)
+    cdef double P = f.period
+    found = _final_bounds(p, T, tol_rad)
+    if found is None:
+        return None
+    zones = _zones(p.x, p.n, T, p.perm + 2 * p.n, T, 1)
+    return found[0], found[1], zones, zones if P == T else _zones(p.x, p.n, T, p.perm + 2 * p.n, P, p.K)
+
+
+cdef _Pass _again(f, double T, BandC b, contacts, const double[::1] e, list rims, grid):
+    """The second pass of setvalued._cells_of: the edges with where f crosses the rims,
+    the grid where the first pass asked for it."""
+    cdef Py_ssize_t ne = e.shape[0], nr = 0, ng = 0, i
+    cdef const double[::1] r
+    cdef const double[::1] g
+    if rims:
+        r = point_roots(contacts, (), None, tuple(rims))
+        nr = r.shape[0]
+    if grid is not None:
+        g = grid
+        ng = g.shape[0]
+    cdef _Buf all_e = _Buf(ne + nr)
+    for i in range(ne):
+        all_e.p[i] = e[i]
+    for i in range(nr):
+        all_e.p[ne + i] = r[i]
+    return _pass(f, T, all_e.p, ne + nr, &g[0] if ng else NULL, ng, b, False, False)
+
+
+cdef object _refined(_Pass p, double T, BandC b):
+    """setvalued._cells_of's grid of GRID_RAD inside the cells _to_refine marks, or None
+    (none marked)."""
+    if not p.near:
+        return None
+    cdef Py_ssize_t n = p.n, i, j, t = 0
+    cdef _Buf ru = _Buf(4 * n)
+    cdef _Buf mark = _Buf(n)
+    _runs(p.x, n, T, p.perm, ru.p)
+    if not _to_refine(p, ru.p, b.stall0 + b.sigma, mark.p):
+        return None
+    grid = np.linspace(0.0, T, max(8, <Py_ssize_t>ceil(T / GRID_RAD)), endpoint=False)
+    cdef double[::1] g = grid
+    for i in range(g.shape[0]):
+        j = _bisect_right(p.x, n, g[i]) - 1
+        if mark.p[j if j >= 0 else j + n] != 0.0:
+            g[t] = g[i]
+            t += 1
+    return grid[:t]
+
+
+cdef bint _to_refine(_Pass p, const double* ru, double slow_at, double* mark) noexcept:
+    """setvalued._to_refine into mark (1.0 where marked, given the runs ru (4, n)):
+    whether any cell is."""
+    cdef Py_ssize_t n = p.n, i
+    cdef const unsigned char* P = p.perm
+    cdef bint all_r = True, all_l = True, bind = False, m
+    for i in range(n):
+        all_r = all_r and P[i] != 0
+        all_l = all_l and P[n + i] != 0
+    for i in range(n):
+        m = ((P[i] != 0 and p.x[3 * n + i] < (INFINITY if all_r else ru[i]))
+             or (P[n + i] != 0 and p.x[4 * n + i] > (-INFINITY if all_l else ru[2 * n + i])))
+        mark[i] = 1.0 if m else 0.0
+        bind = bind or m
+    if not bind:
+        return False
+    for i in range(n):
+        if p.x[5 * n + i] < slow_at and (P[i] != 0 or P[n + i] != 0):
+            mark[i] = 1.0
+    return True
+
+
+cdef object _final_bounds(_Pass p, double T, double tol):
+    """setcells.bounds of the final pass: (lower, upper) canonical pieces, or None."""
+    cdef Py_ssize_t n = p.n, i
+    cdef _Buf b = _Buf(6 * n)
+    cdef double* ru = b.p
+    cdef bint all_r = True, all_l = True
+    _runs(p.x, n, T, p.perm, ru)
+    for i in range(n):
+        all_r = all_r and p.perm[i] != 0
+        all_l = all_l and p.perm[n + i] != 0
+    for i in range(n):
+        b.p[4 * n + i] = INFINITY if all_r else ru[i]
+        b.p[5 * n + i] = -INFINITY if all_l else ru[2 * n + i]
+    found = _bounds(p.x, n, T, p.perm, b.p + 4 * n, b.p + 5 * n, ru, p.x + n, p.x + 2 * n, tol, True)
+    if found is None:
+        return None
+    return tuple(_canonical(found[0], T, tol)), tuple(_canonical(found[1], T, tol))
+
+
+cdef tuple _zones(const double* nodes, Py_ssize_t n, double T, const unsigned char* rest, double P, Py_ssize_t K):
+    """setcells.rest_zones over K copies of the cells (the _lookups kernel's loops)."""
+    cdef Py_ssize_t N = n * (K if K > 1 else 1), i, k, na = 0, nb = 0, nr = 0
+    cdef _Buf buf = _Buf(4 * N)
+    cdef double* x = buf.p
+    cdef double* a = buf.p + N
+    cdef double* b = buf.p + 2 * N
+    cdef unsigned char* r = <unsigned char*>(buf.p + 3 * N)
+    cdef list out = []
+    for k in range(N // n):  # (nodes + k·T for every copy; one copy as it is)
+        for i in range(n):
+            x[k * n + i] = nodes[i] + (<double>k) * T if K > 1 else nodes[i]
+            r[k * n + i] = rest[i] != 0
+            nr += r[k * n + i]
+    if nr == N:
+        return ((0.0, P),)
+    if nr == 0:
+        return ()
+    for i in range(N):
+        if r[i] and not r[i - 1 if i > 0 else N - 1]:
+            a[na] = x[i]
+            na += 1
+        if r[i] and not r[i + 1 if i + 1 < N else 0]:
+            b[nb] = x[i + 1] if i + 1 < N else P
+            nb += 1
+    if r[0] and r[N - 1]:  # the zone through 0: from the last start to the first end
+        a[na - 1] -= P
+        for i in range(na):
+            out.append((a[i], b[i + 1 if i + 1 < nb else 0]))
+    else:
+        for i in range(min(na, nb)):
+            out.append((a[i], b[i]))
+    return tuple(out)
 
 
 # ---------------------------------------------------------------- setcells passes
 
-cdef inline bint _flag(const unsigned char[:] r, const unsigned char[:] lf, const unsigned char[:] st, int q,
-                       Py_ssize_t i) noexcept nogil:
-    """Row q of setcells' run flags [R, ~L & ~S, L, ~R & ~S] at cell i."""
+cdef inline bint _flag(const unsigned char* perm, Py_ssize_t n, int q, Py_ssize_t i) noexcept nogil:
+    """Row q of setcells' run flags [R, ~L & ~S, L, ~R & ~S] at cell i (perm: R, L, S)."""
     if q == 0:
-        return r[i] != 0
+        return perm[i] != 0
     if q == 1:
-        return lf[i] == 0 and st[i] == 0
+        return perm[n + i] == 0 and perm[2 * n + i] == 0
     if q == 2:
-        return lf[i] != 0
-    return r[i] == 0 and st[i] == 0
+        return perm[n + i] != 0
+    return perm[i] == 0 and perm[2 * n + i] == 0
 
 
-cdef inline double _at(const double[:] x, Py_ssize_t n, double T, Py_ssize_t j) noexcept nogil:
-    """Cells.at: the lifted start of cell j (any integer)."""
-    cdef Py_ssize_t i = j % n
-    if i < 0:
+cdef inline double _at(const double* x, Py_ssize_t n, double T, Py_ssize_t j) noexcept nogil:
+    """Cells.at: the lifted start of cell j (any integer; a few periods away at most)."""
+    cdef Py_ssize_t i = j, lift = 0
+    while i < 0:
         i += n
-    return x[i] + (<double>((j - i) // n)) * T
+        lift -= 1
+    while i >= n:
+        i -= n
+        lift += 1
+    return x[i] + (<double>lift) * T
 
 
-def runs(x, double T, R, L, S):
-    """setcells.Cells.runs: (4, n) lifted cell starts where the right-movable and forced-
-    right runs containing each cell end and the left ones start (setcells._run_bounds
-    over three copies, then Cells.at)."""
-    cdef const double[:] xv = x
-    cdef const unsigned char[:] r = R.view(np.uint8)
-    cdef const unsigned char[:] lf = L.view(np.uint8)
-    cdef const unsigned char[:] st = S.view(np.uint8)
-    cdef Py_ssize_t n = xv.shape[0], t, j
+cdef void _runs(const double* x, Py_ssize_t n, double T, const unsigned char* perm, double* o) noexcept nogil:
+    """setcells.Cells.runs into o (4, n): where the right-movable and forced-right runs
+    containing each cell end and the left ones start (setcells._run_bounds over three
+    copies, then Cells.at)."""
+    cdef Py_ssize_t t, j
     cdef int q
-    out = np.empty((4, n))
-    cdef double[:, :] o = out
     for q in range(2):  # the first False at or after each cell, 4n where none
         j = 4 * n
         for t in range(3 * n - 1, n - 1, -1):
-            if not _flag(r, lf, st, q, t % n):
+            if not _flag(perm, n, q, t - n if t < 2 * n else t - 2 * n):
                 j = t - n
             if t < 2 * n:
-                o[q, t - n] = _at(xv, n, T, j)
+                o[q * n + t - n] = _at(x, n, T, j)
     for q in range(2, 4):  # the last False at or before each cell, plus one; −4n + 1 where none
         j = -4 * n
         for t in range(2 * n):
-            if not _flag(r, lf, st, q, t % n):
+            if not _flag(perm, n, q, t if t < n else t - n):
                 j = t - n
             if t >= n:
-                o[q, t - n] = _at(xv, n, T, j + 1)
+                o[q * n + t - n] = _at(x, n, T, j + 1)
+
+
+cdef class _Cells:
+    """setcells.Cells' nodes and flags copied into C buffers (x: n doubles, perm: R, L, S)."""
+    cdef Py_ssize_t n
+    cdef _Buf x
+    cdef unsigned char* perm
+
+    def __cinit__(self, x, R, L, S):
+        cdef const double[:] xv = x
+        cdef const unsigned char[:] r = R.view(np.uint8)
+        cdef const unsigned char[:] lf = L.view(np.uint8)
+        cdef const unsigned char[:] st = S.view(np.uint8)
+        cdef Py_ssize_t n = xv.shape[0], i
+        self.n, self.x = n, _Buf(n)
+        self.perm = <unsigned char*>malloc(max(3 * n, 1))
+        if self.perm == NULL:
+            raise MemoryError()
+        for i in range(n):
+            self.x.p[i] = xv[i]
+            self.perm[i], self.perm[n + i], self.perm[2 * n + i] = r[i], lf[i], st[i]
+
+    def __dealloc__(self):
+        free(self.perm)
+
+
+def runs(x, double T, R, L, S):
+    """setcells.Cells.runs: (4, n) lifted cell starts (:func:`_runs`)."""
+    cdef _Cells c = _Cells(x, R, L, S)
+    out = np.empty((4, c.n))
+    cdef double[:, ::1] o = out
+    if c.n:
+        _runs(c.x.p, c.n, T, c.perm, &o[0, 0])
     return out
 
 
@@ -464,28 +803,37 @@ def bound_pieces(x, double T, R, L, S, run_right, run_left, cell_runs, barrier_r
     """setcells.bounds up to the pieces: the (start, end, value or None) triples of the
     lower and upper functions after setcells._monotone and _tf's merge; None where the
     part may turn without end."""
-    cdef const double[:] xv = x
-    cdef const unsigned char[:] r = R.view(np.uint8)
-    cdef const unsigned char[:] lf = L.view(np.uint8)
-    cdef const unsigned char[:] st = S.view(np.uint8)
+    cdef _Cells c = _Cells(x, R, L, S)
+    cdef Py_ssize_t n = c.n, i
     cdef const double[:] rr = run_right
     cdef const double[:] rl = run_left
     cdef const double[:, :] ru = cell_runs
     cdef const double[:] b_r = barrier_right
     cdef const double[:] b_l = barrier_left
-    cdef Py_ssize_t n = xv.shape[0], i
+    cdef _Buf b = _Buf(8 * n)
+    for i in range(n):
+        b.p[i], b.p[n + i], b.p[2 * n + i], b.p[3 * n + i] = ru[0, i], ru[1, i], ru[2, i], ru[3, i]
+        b.p[4 * n + i], b.p[5 * n + i], b.p[6 * n + i], b.p[7 * n + i] = rr[i], rl[i], b_r[i], b_l[i]
+    return _bounds(c.x.p, n, T, c.perm, b.p + 4 * n, b.p + 5 * n, b.p, b.p + 6 * n, b.p + 7 * n, tol, False)
+
+
+cdef object _bounds(const double* x, Py_ssize_t n, double T, const unsigned char* perm, const double* rr,
+                    const double* rl, const double* ru, const double* b_r, const double* b_l, double tol, bint pieces):
+    """setcells.bounds up to the merged pieces of (lower, upper): triples, or TransferPieces
+    (``pieces``); None where the part may turn without end. ru: the runs (4, n)."""
     cdef _Buf b = _Buf(3 * n)
     cdef double* up = b.p
     cdef double* lo = b.p + n
     cdef double* ends = b.p + 2 * n
+    cdef Py_ssize_t i
     for i in range(n):
-        up[i] = _min(rr[i], b_r[i]) if r[i] else (NAN if st[i] else ru[3, i])
-        lo[i] = _max(rl[i], b_l[i]) if lf[i] else (NAN if st[i] else ru[1, i])
-        if (r[i] and not isfinite(up[i])) or (lf[i] and not isfinite(lo[i])):
+        up[i] = _min(rr[i], b_r[i]) if perm[i] else (NAN if perm[2 * n + i] else ru[3 * n + i])
+        lo[i] = _max(rl[i], b_l[i]) if perm[n + i] else (NAN if perm[2 * n + i] else ru[n + i])
+        if (perm[i] and not isfinite(up[i])) or (perm[n + i] and not isfinite(lo[i])):
             return None
-        ends[i] = xv[i + 1] if i < n - 1 else xv[0] + T
-    _monotone(&xv[0], ends, up, lo, n, T)
-    return _merge(&xv[0], ends, lo, n, tol), _merge(&xv[0], ends, up, n, tol)
+        ends[i] = x[i + 1] if i < n - 1 else x[0] + T
+    _monotone(x, ends, up, lo, n, T)
+    return _merge(x, ends, lo, n, tol, pieces), _merge(x, ends, up, n, tol, pieces)
 
 
 cdef void _monotone(const double* x, const double* ends, double* up, double* lo, Py_ssize_t n, double T) noexcept nogil:
@@ -518,15 +866,18 @@ cdef void _monotone(const double* x, const double* ends, double* up, double* lo,
             lo[i] = _min(acc, bottom + 0.0)
 
 
-cdef list _merge(const double* x, const double* ends, const double* v, Py_ssize_t n, double tol):
+cdef list _merge(const double* x, const double* ends, const double* v, Py_ssize_t n, double tol, bint pieces):
     """setcells._tf's merge: neighbours with the same value to tol (or both ramps) as one
-    piece (start, end, value or None)."""
+    piece (start, end, value or None), a TransferPiece when ``pieces``."""
     cdef list out = []
     cdef Py_ssize_t i, first = 0
     for i in range(1, n + 1):
         if i < n and ((isnan(v[i]) and isnan(v[i - 1])) or fabs(v[i] - v[i - 1]) <= tol):
             continue
-        out.append((x[first], ends[i - 1], None if isnan(v[first]) else v[first]))
+        if pieces:
+            out.append(_piece(x[first], ends[i - 1], None if isnan(v[first]) else v[first]))
+        else:
+            out.append((x[first], ends[i - 1], None if isnan(v[first]) else v[first]))
         first = i
     return out
 
@@ -566,14 +917,20 @@ cdef void _pieces_ready() except *:
 def canonical(list pieces, double period, double tol_rad):
     """transfer.canonical in typed loops: the same pieces, the same floats."""
     _pieces_ready()
+    for p in pieces:
+        if type(p) is not _Piece:  # _item reads tuples' slots unchecked
+            raise TypeError(f"canonical: a piece must be a TransferPiece, not {type(p).__name__}")
+    return _canonical(pieces, period, tol_rad)
+
+
+cdef list _canonical(list pieces, double period, double tol_rad):
+    """transfer.canonical of TransferPieces (checked by the caller)."""
     cdef list merged = []
     cdef object last_value = 0.0, value
     cdef object p, last
     cdef double start, top, key, k
     cdef Py_ssize_t i, j, n
     for p in pieces:
-        if type(p) is not _Piece:  # _item reads tuples' slots unchecked
-            raise TypeError(f"canonical: a piece must be a TransferPiece, not {type(p).__name__}")
         value = _item(p, 2)
         n = len(merged)
         if n and ((value is None) if last_value is None else
@@ -680,7 +1037,7 @@ def compose(outer, inner, double tol_rad):
     for i in range(len(probes)):
         v = values[i]
         out.append(_piece(cells_a[i], cells_b[i], (probes[i] if steps[i] else None) if v != v else v))
-    return canonical(out, inner.period, tol_rad)
+    return _canonical(out, inner.period, tol_rad)
 
 
 cdef inline double _min_py(double a, double b) noexcept nogil:

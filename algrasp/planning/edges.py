@@ -180,6 +180,14 @@ def _curve_roots(f: SupportPairFunction, grid: _Grid, slopes_at: Sequence[float]
     return np.asarray(x)
 
 
+def point_contacts(f: SupportPairFunction, tol: Tolerances) -> _Contacts | None:
+    """The contact cells :func:`crossings` solves in closed form when they are all of
+    f's cells (no curve contact: no grid, so every crossing is a closed-form root), else
+    None. O(1) after the first call per function."""
+    grid = _grid(f, tol, CURVE_GRID_RAD)
+    return None if len(grid.theta) else grid.contacts
+
+
 def crossings(f: SupportPairFunction, slopes: Sequence[float], jaw: tuple[float, float] | None,
               tol: Tolerances, grid_rad: float, levels: Sequence[float] = ()) -> tuple[FloatArray, FloatArray]:
     """θ (radians, lifted; fold them with mod) where |f′| crosses each of ``slopes`` or,
