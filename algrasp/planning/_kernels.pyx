@@ -677,10 +677,7 @@ cdef object _final_bounds(_Pass p, double T, double tol):
     for i in range(n):
         b.p[4 * n + i] = INFINITY if all_r else ru[i]
         b.p[5 * n + i] = -INFINITY if all_l else ru[2 * n + i]
-    found = _bounds(p.x, n, T, p.perm, b.p + 4 * n, b.p + 5 * n, ru, p.x + n, p.x + 2 * n, tol, True)
-    if found is None:
-        return None
-    return tuple(_canonical(found[0], T, tol)), tuple(_canonical(found[1], T, tol))
+    return _bounds(p.x, n, T, p.perm, b.p + 4 * n, b.p + 5 * n, ru, p.x + n, p.x + 2 * n, tol, True)
 
 
 cdef tuple _zones(const double* nodes, Py_ssize_t n, double T, const unsigned char* rest, double P, Py_ssize_t K):
@@ -819,8 +816,9 @@ def bound_pieces(x, double T, R, L, S, run_right, run_left, cell_runs, barrier_r
 
 cdef object _bounds(const double* x, Py_ssize_t n, double T, const unsigned char* perm, const double* rr,
                     const double* rl, const double* ru, const double* b_r, const double* b_l, double tol, bint pieces):
-    """setcells.bounds up to the merged pieces of (lower, upper): triples, or TransferPieces
-    (``pieces``); None where the part may turn without end. ru: the runs (4, n)."""
+    """setcells.bounds up to the merged pieces of (lower, upper): triples, or canonical
+    TransferPieces (``pieces``); None where the part may turn without end. ru: the runs
+    (4, n)."""
     cdef _Buf b = _Buf(3 * n)
     cdef double* up = b.p
     cdef double* lo = b.p + n
@@ -833,7 +831,9 @@ cdef object _bounds(const double* x, Py_ssize_t n, double T, const unsigned char
             return None
         ends[i] = x[i + 1] if i < n - 1 else x[0] + T
     _monotone(x, ends, up, lo, n, T)
-    return _merge(x, ends, lo, n, tol, pieces), _merge(x, ends, up, n, tol, pieces)
+    if not pieces:
+        return _merge(x, ends, lo, n, tol), _merge(x, ends, up, n, tol)
+    return _merged(x, ends, lo, n, T, tol), _merged(x, ends, up, n, T, tol)
 
 
 cdef void _monotone(const double* x, const double* ends, double* up, double* lo, Py_ssize_t n, double T) noexcept nogil:
@@ -866,20 +866,34 @@ cdef void _monotone(const double* x, const double* ends, double* up, double* lo,
             lo[i] = _min(acc, bottom + 0.0)
 
 
-cdef list _merge(const double* x, const double* ends, const double* v, Py_ssize_t n, double tol, bint pieces):
+cdef list _merge(const double* x, const double* ends, const double* v, Py_ssize_t n, double tol):
     """setcells._tf's merge: neighbours with the same value to tol (or both ramps) as one
-    piece (start, end, value or None), a TransferPiece when ``pieces``."""
+    piece (start, end, value or None)."""
     cdef list out = []
     cdef Py_ssize_t i, first = 0
     for i in range(1, n + 1):
         if i < n and ((isnan(v[i]) and isnan(v[i - 1])) or fabs(v[i] - v[i - 1]) <= tol):
             continue
-        if pieces:
-            out.append(_piece(x[first], ends[i - 1], None if isnan(v[first]) else v[first]))
-        else:
-            out.append((x[first], ends[i - 1], None if isnan(v[first]) else v[first]))
+        out.append((x[first], ends[i - 1], None if isnan(v[first]) else v[first]))
         first = i
     return out
+
+
+cdef tuple _merged(const double* x, const double* ends, const double* v, Py_ssize_t n, double T, double tol):
+    """:func:`_merge` then transfer.canonical (setcells._pieces_tf): TransferPieces."""
+    cdef Pieces q
+    cdef Py_ssize_t i, first = 0
+    _pieces_new(&q, n)
+    try:
+        for i in range(1, n + 1):
+            if i < n and ((isnan(v[i]) and isnan(v[i - 1])) or fabs(v[i] - v[i - 1]) <= tol):
+                continue
+            _put(&q, x[first], ends[i - 1], v[first], isnan(v[first]))
+            first = i
+        _canon(&q, T, tol)
+        return _objects(&q)
+    finally:
+        _pieces_free(&q)
 
 
 # ------------------------------------------------------------ transfer.canonical
@@ -967,22 +981,143 @@ cdef list _canonical(list pieces, double period, double tol_rad):
     return out
 
 
+# ------------------------------------------------- transfer.canonical, on arrays
+
+cdef struct Pieces:
+    Py_ssize_t n, cap
+    double* s  # starts
+    double* e  # ends
+    double* v  # step values (not read on ramps)
+    char* ramp
+
+
+cdef int _pieces_new(Pieces* q, Py_ssize_t cap) except -1:
+    """Room for ``cap`` pieces (free with _pieces_free)."""
+    cap = max(cap, 1)
+    q.n, q.cap = 0, cap
+    q.s = <double*>malloc(3 * cap * sizeof(double))
+    q.ramp = <char*>malloc(cap)
+    if q.s == NULL or q.ramp == NULL:
+        free(q.s)
+        free(q.ramp)
+        q.s, q.ramp = NULL, NULL
+        raise MemoryError()
+    q.e, q.v = q.s + cap, q.s + 2 * cap
+    return 0
+
+
+cdef inline void _pieces_free(Pieces* q) noexcept nogil:
+    free(q.s)
+    free(q.ramp)
+    q.s, q.ramp = NULL, NULL
+
+
+cdef inline void _put(Pieces* q, double s, double e, double v, bint ramp) noexcept nogil:
+    """Append a piece (the caller made the room)."""
+    q.s[q.n], q.e[q.n], q.v[q.n], q.ramp[q.n] = s, e, v, ramp
+    q.n += 1
+
+
+cdef void _canon(Pieces* q, double period, double tol) noexcept nogil:
+    """:func:`_canonical` in place: neighbours merged (also across the wrap), the first
+    start put in [0, period), sorted; the same floats."""
+    cdef Py_ssize_t i, j, m = 0
+    cdef double lv = 0.0, k, d
+    cdef bint lramp = False
+    for i in range(q.n):
+        if m and (q.ramp[i] != 0 if lramp else (q.ramp[i] == 0 and fabs(lv - q.v[i]) <= tol)):
+            q.e[m - 1] = q.e[i]  # the merged piece keeps its start and value
+        else:
+            q.s[m], q.e[m], q.v[m], q.ramp[m] = q.s[i], q.e[i], q.v[i], q.ramp[i]
+            lv, lramp = q.v[i], q.ramp[i] != 0
+            m += 1
+    if m > 1 and (q.ramp[0] != 0 if q.ramp[m - 1] else (q.ramp[0] == 0 and
+                                                          fabs(q.v[m - 1] - (q.v[0] + period)) <= tol)):
+        q.s[0] = q.s[m - 1] - period
+        if not q.ramp[0]:
+            q.v[0] = q.v[m - 1] - period
+        m -= 1
+    q.n = m
+    for i in range(m):
+        k = floor(q.s[i] / period + ROUNDING) if q.s[i] >= 0 else floor(q.s[i] / period)
+        if k != 0.0:
+            _shift_at(q, i, (-k) * period)
+        if q.s[i] >= period - tol:
+            _shift_at(q, i, -period)
+    _sort_pieces(q)
+
+
+cdef inline void _shift_at(Pieces* q, Py_ssize_t i, double d) noexcept nogil:
+    """TransferPiece.shifted in place."""
+    q.s[i], q.e[i] = q.s[i] + d, q.e[i] + d
+    if not q.ramp[i]:
+        q.v[i] = q.v[i] + d
+
+
+cdef void _sort_pieces(Pieces* q) noexcept nogil:
+    """Stable insertion sort by start (few pieces)."""
+    cdef Py_ssize_t i, j
+    cdef double s, e, v
+    cdef char r
+    for i in range(1, q.n):
+        s, e, v, r = q.s[i], q.e[i], q.v[i], q.ramp[i]
+        j = i - 1
+        while j >= 0 and s < q.s[j]:
+            q.s[j + 1], q.e[j + 1], q.v[j + 1], q.ramp[j + 1] = q.s[j], q.e[j], q.v[j], q.ramp[j]
+            j -= 1
+        q.s[j + 1], q.e[j + 1], q.v[j + 1], q.ramp[j + 1] = s, e, v, r
+
+
+cdef tuple _objects(const Pieces* q):
+    """The pieces as TransferPieces."""
+    cdef Py_ssize_t i
+    return tuple([_piece(q.s[i], q.e[i], None if q.ramp[i] else q.v[i]) for i in range(q.n)])
+
+
 # ------------------------------------------------------ TransferFunction.compose_after
 
-cdef Py_ssize_t _lifted_starts(outer, double a, double b, double** out) except -1:
+cdef struct Table:
+    double first, P
+    Py_ssize_t n
+    double* starts  # n piece starts
+    double* after  # n + 1: [the last piece's value, *the values], NaN on ramps
+
+
+cdef int _table_of(F, Table* t) except -1:
+    """F._floats in C, read from F's pieces (the same floats); free with _table_free."""
+    cdef tuple pieces = F.pieces
+    cdef Py_ssize_t n = len(pieces), i
+    if n == 0:
+        raise IndexError("tuple index out of range")
+    for p in pieces:
+        if type(p) is not _Piece:  # _item reads tuples' slots unchecked
+            raise TypeError("compose: pieces must be TransferPieces")
+    t.starts = <double*>malloc((2 * n + 1) * sizeof(double))
+    if t.starts == NULL:
+        raise MemoryError()
+    t.after, t.n, t.P = t.starts + n, n, F.period
+    for i in range(n):
+        p = <object>PyTuple_GET_ITEM(pieces, i)
+        t.starts[i] = <double>_item(p, 0)
+        v = _item(p, 2)
+        t.after[i + 1] = NAN if v is None else <double>v
+    t.after[0], t.first = t.after[n], t.starts[0]
+    return 0
+
+
+cdef Py_ssize_t _lifted_starts(const Table* t, double a, double b, double** out) except -1:
     """TransferFunction._lifted_starts: every piece start lifted over [a, b] (with a
     period to spare), sorted, into a malloc'd array (the caller frees it)."""
-    cdef list starts = outer.starts
-    cdef double base = _item(outer.pieces[0], 0), P = outer.period, s
-    cdef Py_ssize_t k0 = <Py_ssize_t>floor((a - base) / P) - 1, k1 = <Py_ssize_t>ceil((b - base) / P) + 1
-    cdef Py_ssize_t ns = len(starts), n = (k1 - k0 + 1) * ns, i, k, t = 0
+    cdef double P = t.P
+    cdef Py_ssize_t k0 = <Py_ssize_t>floor((a - t.first) / P) - 1, k1 = <Py_ssize_t>ceil((b - t.first) / P) + 1
+    cdef Py_ssize_t ns = t.n, n = (k1 - k0 + 1) * ns, i, k, j = 0
     cdef double* c = <double*>malloc(max(n, 1) * sizeof(double))
     if c == NULL:
         raise MemoryError()
     for k in range(k0, k1 + 1):
         for i in range(ns):
-            c[t] = <double>starts[i] + (<double>k) * P
-            t += 1
+            c[j] = t.starts[i] + (<double>k) * P
+            j += 1
     _insertion_sort(c, n)  # the copies are sorted runs
     out[0] = c
     return n
@@ -992,52 +1127,86 @@ def compose(outer, inner, double tol_rad):
     """TransferFunction.compose_after's pieces (outer ∘ inner, canonical), the same
     floats: inner's steps read outer at their values, its ramps cut at outer's lifted
     starts and read at each cell's middle."""
-    cdef list cells_a = [], cells_b = [], steps = [], probes = []
-    cdef double* cuts = NULL
-    cdef Py_ssize_t nc = 0, i, j, q
-    cdef double ps, pe, lo, hi, c, prev
     _pieces_ready()
-    pieces = inner.pieces
-    if any(type(p) is not _Piece for p in pieces) or type(outer.pieces[0]) is not _Piece:
+    cdef Table t
+    _table_of(outer, &t)
+    try:
+        return _compose(&t, inner, tol_rad)
+    finally:
+        free(t.starts)
+
+
+cdef tuple _compose(const Table* t, inner, double tol_rad):
+    """:func:`compose` of the outer function's table: canonical TransferPieces."""
+    cdef tuple pieces = inner.pieces
+    cdef Py_ssize_t m = len(pieces), nc = 0, i
+    cdef double* cuts = NULL
+    cdef Pieces cells
+    cells.s, cells.ramp = NULL, NULL
+    if any(type(p) is not _Piece for p in pieces):
         raise TypeError("compose: pieces must be TransferPieces")  # _item reads tuples' slots unchecked
     try:
-        for p in pieces:
-            v = _item(p, 2)
-            if v is not None:
-                cells_a.append(_item(p, 0))
-                cells_b.append(_item(p, 1))
-                steps.append(True)
-                probes.append(v)
-                continue
-            if cuts == NULL:
-                lo, hi = _item(pieces[0], 0), _item(pieces[0], 1)
-                for pq in pieces:
-                    lo = _min_py(lo, _item(pq, 0))
-                    hi = _max_py(hi, _item(pq, 1))
-                nc = _lifted_starts(outer, lo, hi, &cuts)
-            ps, pe = _item(p, 0), _item(p, 1)
-            i, j = _bisect_right(cuts, nc, ps), _bisect_right(cuts, nc, pe)
-            prev = ps
-            for q in range(i, j + 1):
-                if q < j:
-                    c = cuts[q]
-                    if not (ps < c < pe):
-                        continue
-                else:
-                    c = pe
-                cells_a.append(prev)
-                cells_b.append(c)
-                steps.append(False)
-                probes.append(0.5 * (prev + c))  # the middle: no rounding at boundaries
-                prev = c
+        for i in range(m):
+            if _item(<object>PyTuple_GET_ITEM(pieces, i), 2) is None:  # a ramp: the lifted starts cut it
+                nc = _lifted_starts(t, _least_start(pieces), _greatest_end(pieces), &cuts)
+                break
+        _pieces_new(&cells, m * (nc + 1))
+        _cells(pieces, cuts, nc, &cells)
+        for i in range(cells.n):  # outer read at each step's value, each ramp cell's middle (in v)
+            _read(t, &cells, i)
+        _canon(&cells, inner.period, tol_rad)
+        return _objects(&cells)
     finally:
         free(cuts)
-    values = _values_at(outer, probes)
-    cdef list out = []
-    for i in range(len(probes)):
-        v = values[i]
-        out.append(_piece(cells_a[i], cells_b[i], (probes[i] if steps[i] else None) if v != v else v))
-    return _canonical(out, inner.period, tol_rad)
+        _pieces_free(&cells)
+
+
+cdef void _cells(tuple pieces, const double* cuts, Py_ssize_t nc, Pieces* cells) except *:
+    """inner's steps as they are; its ramps cut at the lifted starts (ramp flag set, the
+    cell's middle in v: no rounding at boundaries)."""
+    cdef Py_ssize_t i, j, q
+    cdef double ps, pe, c, prev
+    for p in pieces:
+        v = _item(p, 2)
+        ps, pe = _item(p, 0), _item(p, 1)
+        if v is not None:
+            _put(cells, ps, pe, <double>v, False)
+            continue
+        i, j = _bisect_right(cuts, nc, ps), _bisect_right(cuts, nc, pe)
+        prev = ps
+        for q in range(i, j + 1):
+            if q < j:
+                c = cuts[q]
+                if not (ps < c < pe):
+                    continue
+            else:
+                c = pe
+            _put(cells, prev, c, 0.5 * (prev + c), True)
+            prev = c
+
+
+cdef inline void _read(const Table* t, Pieces* cells, Py_ssize_t i) noexcept nogil:
+    """Cell i of the composition: outer's step value at its probe, else inner's own (its
+    step's value, or a ramp)."""
+    cdef double v = _value_at(t, cells.v[i])
+    if v == v:
+        cells.v[i], cells.ramp[i] = v, False
+
+
+cdef double _least_start(tuple pieces) except? -1:
+    """min(p.start for p in pieces) (Python's: the first of equals)."""
+    cdef double lo = _item(pieces[0], 0)
+    for p in pieces:
+        lo = _min_py(lo, _item(p, 0))
+    return lo
+
+
+cdef double _greatest_end(tuple pieces) except? -1:
+    """max(p.end for p in pieces) (Python's: the first of equals)."""
+    cdef double hi = _item(pieces[0], 1)
+    for p in pieces:
+        hi = _max_py(hi, _item(p, 1))
+    return hi
 
 
 cdef inline double _min_py(double a, double b) noexcept nogil:
@@ -1050,31 +1219,201 @@ cdef inline double _max_py(double a, double b) noexcept nogil:
     return b if b > a else a
 
 
-cdef list _values_at(outer, list thetas):
-    """TransferFunction.values_at: plain floats for up to FEW_PROBES θ (here), else its
-    vectorised pass."""
-    cdef Py_ssize_t m = len(thetas), i, n, at
-    if m > 16:
-        return outer.values_at(thetas)
-    first, cuts, after = outer._floats
-    cdef double f0 = first, P = outer.period, t, off
-    cdef list cl = cuts
-    n = len(cl)
-    cdef double* c = <double*>malloc(max(n, 1) * sizeof(double))
-    if c == NULL:
-        raise MemoryError()
-    for i in range(n):
-        c[i] = cl[i]
-    cdef list out = []
+cdef inline double _value_at(const Table* t, double x) noexcept nogil:
+    """TransferFunction.values_at of one θ: the lifted value of the step holding it, NaN
+    on a ramp (its float path; the vectorised one makes the same floats)."""
+    cdef double off = (floor((x - t.first) / t.P) + 0.0) * t.P
+    cdef Py_ssize_t at = _bisect_right(t.starts, t.n, x - off)
+    return t.after[at if at > 1 else 1] + off
+
+
+cdef inline double _applied(const Table* t, double x) noexcept nogil:
+    """TransferFunction.apply_floats of one θ (steps_floats's lookup, θ itself on ramps)."""
+    cdef double kP = floor((x - t.first) / t.P) * t.P
+    cdef double v = kP + t.after[_bisect_right(t.starts, t.n, x - kP)]
+    return x if v != v else v
+
+
+def compose_sets(outer_lower, outer_upper, inner_lower, inner_upper, tuple inner_outcomes, tuple outer_outcomes,
+                 double symmetry, double T, Py_ssize_t copies, double tol_rad):
+    """SetTransfer.compose_after: the composed lower and upper pieces (canonical), and the
+    outer function's outcomes in each of ``copies`` copies of its symmetry that meet the
+    image of one of the inner's outcomes (SetTransfer._meeting), the same floats."""
+    _pieces_ready()
+    cdef Table lo, up
+    lo.starts = up.starts = NULL
     try:
-        for i in range(m):
-            t = thetas[i]
-            off = (floor((t - f0) / P) + 0.0) * P
-            at = _bisect_right(c, n, t - off)
-            out.append(<double>after[at if at > 1 else 1] + off)
+        _table_of(outer_lower, &lo)
+        _table_of(outer_upper, &up)
+        return (_compose(&lo, inner_lower, tol_rad), _compose(&up, inner_upper, tol_rad),
+                _meeting(&lo, &up, inner_outcomes, outer_outcomes, symmetry, T, copies))
     finally:
-        free(c)
-    return out
+        free(lo.starts)
+        free(up.starts)
+
+
+cdef tuple _meeting(const Table* lo, const Table* up, tuple inner, tuple outer, double symmetry, double T,
+                    Py_ssize_t copies):
+    """SetTransfer._meeting of the arcs [lower(a), upper(b)] of the inner outcomes [a, b]."""
+    cdef Py_ssize_t m = len(inner), k, i
+    cdef double a, b, c, start
+    cdef _Buf arcs = _Buf(2 * m)  # each arc's start and width
+    for i in range(m):
+        arc = inner[i]
+        arcs.p[i] = _applied(lo, <double>arc[0])
+        arcs.p[m + i] = _applied(up, <double>arc[1]) - arcs.p[i]
+    cdef list kept = []
+    for k in range(copies):
+        c = (<double>k) * symmetry
+        for out in outer:
+            a, b = <double>out[0] + c, <double>out[1] + c
+            for i in range(m):
+                start = _mod(a - arcs.p[i], T)  # the outcome's start relative to the arc's
+                if start <= arcs.p[m + i] or start + (b - a) >= T:
+                    kept.append((a, b))
+                    break
+    return tuple(kept)
+
+
+# ------------------------------------------------------------ placement._push_hull
+
+def push_hull(push_lower, push_upper, double P, double tol_rad):
+    """placement._push_hull's pieces (canonical): the pointwise min of the identity of
+    period P, the push's lower bound and that bound shifted by π; the max likewise of the
+    upper bound (placement.pointwise's cells and extremes), the same floats."""
+    _pieces_ready()
+    return _hull(push_lower, P, False, tol_rad), _hull(push_upper, P, True, tol_rad)
+
+
+cdef tuple _hull(F, double P, bint take_max, double tol):
+    """placement.pointwise([identity(P), F, shifted(F, π)], take_max, tol)'s pieces."""
+    cdef double T = F.period
+    cdef tuple own = F.pieces
+    cdef Py_ssize_t no = len(own), i
+    cdef Pieces moved, out
+    cdef Table tf, ts
+    moved.s = out.s = tf.starts = ts.starts = NULL
+    moved.ramp = out.ramp = NULL
+    try:
+        _table_of(F, &tf)  # (checks the pieces)
+        _pieces_new(&moved, no)
+        for i in range(no):  # placement.shifted(F, π): each piece shifted by −π, canonical
+            p = <object>PyTuple_GET_ITEM(own, i)
+            v = _item(p, 2)
+            _put(&moved, <double>_item(p, 0) + (-PI), <double>_item(p, 1) + (-PI),
+                 0.0 if v is None else <double>v + (-PI), v is None)
+        _canon(&moved, T, 0.0)
+        _table_arrays(&moved, T, &ts)
+        _pieces_new(&out, 2 * (2 + no + moved.n))
+        _extremes(&tf, _item(own[0], 2) is None and no == 1, &ts, moved.ramp[0] != 0 and moved.n == 1, P, take_max,
+                  &out)
+        _canon(&out, P, tol)
+        return _objects(&out)
+    finally:
+        free(tf.starts)
+        free(ts.starts)
+        _pieces_free(&moved)
+        _pieces_free(&out)
+
+
+cdef int _extremes(const Table* tf, bint f_identity, const Table* ts, bint s_identity, double P, bint take_max,
+                   Pieces* out) except -1:
+    """The cells between every piece start of the identity (from its start, 0) and the
+    two functions, and on each the extreme of the identity and the steps holding its
+    middle (placement.pointwise's loop, placement._extreme), into ``out``."""
+    cdef Py_ssize_t ncell = 0, i, k, nconst, nf = 0, room = 2 + tf.n + ts.n
+    cdef _Buf buf = _Buf(3 * room)
+    cdef double* cuts = buf.p
+    cdef double* mids = buf.p + room
+    cdef double* ends = buf.p + 2 * room
+    cdef const Table* live[2]
+    cdef double c = 0.0, v
+    cdef Py_ssize_t nc = _cut_list(tf, ts, P, cuts)
+    for i in range(nc - 1):
+        if cuts[i + 1] - cuts[i] > 0.0:
+            mids[ncell], ends[ncell] = 0.5 * (cuts[i] + cuts[i + 1]), cuts[i + 1]
+            cuts[ncell] = cuts[i]  # (ncell ≤ i: read before written)
+            ncell += 1
+    if not f_identity:  # the identity is a ramp everywhere: no lookup
+        live[nf] = tf
+        nf += 1
+    if not s_identity:
+        live[nf] = ts
+        nf += 1
+    for i in range(ncell):
+        nconst = 0
+        for k in range(nf):
+            v = _step_at(live[k], mids[i])
+            if v == v:
+                if nconst == 0 or (v > c if take_max else v < c):  # max/min: the first of equals
+                    c = v
+                nconst += 1
+        _extreme(out, cuts[i], ends[i], nconst, c, take_max)
+    return 0
+
+
+cdef void _extreme(Pieces* out, double lo, double hi, Py_ssize_t nconst, double c, bint take_max) noexcept nogil:
+    """placement._extreme with the identity always among the functions (a ramp)."""
+    if nconst == 0:
+        _put(out, lo, hi, 0.0, True)
+    elif c >= hi if take_max else c <= lo:
+        _put(out, lo, hi, c, False)
+    elif (c <= lo) if take_max else (c >= hi):
+        _put(out, lo, hi, 0.0, True)
+    elif take_max:
+        _put(out, lo, c, c, False)
+        _put(out, c, hi, 0.0, True)
+    else:
+        _put(out, lo, c, 0.0, True)
+        _put(out, c, hi, c, False)
+
+
+cdef inline double _step_at(const Table* t, double x) noexcept nogil:
+    """TransferFunction.steps_floats of one θ: the lifted value of the step holding it,
+    NaN on a ramp."""
+    cdef double kP = floor((x - t.first) / t.P) * t.P
+    return kP + t.after[_bisect_right(t.starts, t.n, x - kP)]
+
+
+cdef Py_ssize_t _cut_list(const Table* tf, const Table* ts, double P, double* out) noexcept nogil:
+    """placement._cuts of [identity(P), F, shifted F] from 0 (the identity's start): the
+    distinct piece starts lifted into [0, P], with 0 and P, sorted (the first of equal
+    values kept, as the set does)."""
+    cdef Py_ssize_t n = 2, i, j, f
+    cdef double x
+    cdef const Table* t
+    out[0], out[1] = 0.0, 0.0 + P
+    for f in range(2):
+        t = tf if f == 0 else ts
+        for i in range(t.n):
+            x = 0.0 + _mod(t.starts[i] - 0.0, P)
+            for j in range(n):
+                if out[j] == x:
+                    break
+            else:
+                out[n] = x
+                n += 1
+    j = 0
+    for i in range(n):  # kept in [0, P], then sorted (distinct values)
+        if 0.0 <= out[i] <= 0.0 + P:
+            out[j] = out[i]
+            j += 1
+    _insertion_sort(out, j)
+    return j
+
+
+cdef int _table_arrays(const Pieces* q, double P, Table* t) except -1:
+    """:func:`_table_of` of pieces of period P in arrays."""
+    cdef Py_ssize_t n = q.n, i
+    t.starts = <double*>malloc((2 * n + 1) * sizeof(double))
+    if t.starts == NULL:
+        raise MemoryError()
+    t.after, t.n, t.P = t.starts + n, n, P
+    for i in range(n):
+        t.starts[i] = q.s[i]
+        t.after[i + 1] = NAN if q.ramp[i] else q.v[i]
+    t.after[0], t.first = t.after[n], t.starts[0]
+    return 0
 
 
 # --------------------------------------------------------------- edges._point_roots

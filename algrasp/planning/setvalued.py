@@ -108,7 +108,14 @@ class SetTransfer:
     def compose_after(self, inner: SetTransfer, tol_rad: float) -> SetTransfer:
         """self ∘ inner (inner acts first): bounds compose since both are monotone. The
         outcomes are self's outcomes (where it can leave a part at all) that meet the
-        image of one of inner's outcomes."""
+        image of one of inner's outcomes. (One compiled call when built: algrasp.compiled.)"""
+        if KERNELS is not None:
+            copies = max(1, int(round(inner.symmetry / self.symmetry)))
+            lo_pieces, hi_pieces, kept = KERNELS.compose_sets(self.lower, self.upper, inner.lower, inner.upper,
+                                                              inner.outcomes, self.outcomes, self.symmetry,
+                                                              inner.symmetry, copies, tol_rad)
+            return SetTransfer(TransferFunction(inner.lower.period, lo_pieces), TransferFunction(inner.upper.period, hi_pieces),
+                               inner.period, inner.symmetry, inner.rest_zones, kept)
         lower = self.lower.compose_after(inner.lower, tol_rad)
         upper = self.upper.compose_after(inner.upper, tol_rad)
         lo = self.lower.apply_list([a for a, _ in inner.outcomes]).tolist()  # self.image of inner's outcomes

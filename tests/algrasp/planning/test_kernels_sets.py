@@ -154,6 +154,7 @@ def test_barriers_are_bit_identical(values: list[float], K: int, stall: float, e
     T = float(x[-1] + spacing)
     node = np.array([rng.permutation(values) for _ in range(K)], dtype=float)
     cell_max = np.maximum(node, np.roll(node, -1, axis=1)) + rng.choice([0.0, 0.25], size=node.shape)
+    assert KERNELS is not None
     compiled = KERNELS.barriers(x, T, node, cell_max, stall, eps)
     numpy_ = barriers.barriers(x, T, node, cell_max, stall, eps)
     assert _bits(list(compiled)) == _bits(list(numpy_))
@@ -184,3 +185,35 @@ def _everything(a: Analysis) -> Any:
     sets = [getattr(a.robust, name) for name in ("squeeze", "push", "push_grasp")]
     return a.to_dict(), [None if s is None else (s.lower.pieces, s.upper.pieces, s.period, s.symmetry, s.rest_zones,
                                                  s.outcomes, s.circle_images()) for s in sets]
+
+
+@settings(max_examples=120, deadline=None)
+@given(shape=st.sampled_from(sorted(DOCS)), seed=st.integers(0, 10_000), n=st.integers(3, 12), band=BAND,
+       other=st.sampled_from(sorted(DOCS)))
+def test_set_compositions_and_push_hulls_are_bit_identical(shape: str, seed: int, n: int, band: tuple[float, ...],
+                                                           other: str) -> None:
+    """SetTransfer.compose_after (both bounds and the outcomes that meet, over every copy
+    of a symmetric outer function) and the off-centre squeeze's hull of partial pushes
+    (symmetric pushes: a period T below 2π), on functions made once, on the numpy path."""
+    with _numpy_path():
+        sets = []
+        for sh, kind in ((shape, "diameter"), (shape, "radius"), (other, "radius")):
+            f = _function(sh, seed, n, kind)
+            try:
+                sets.append(set_transfer(f, **_set_args(f, band)))
+            except NotOrientableError:
+                return
+
+    def made() -> Any:
+        out: list[Any] = []
+        for a, b in ((sets[0], sets[1]), (sets[1], sets[2]), (sets[0], sets[0]), (sets[2], sets[1])):
+            c = a.compose_after(b, TOL.angle_rad)
+            out.append((c.lower.pieces, c.upper.pieces, c.symmetry, c.rest_zones, c.outcomes))
+        for push in sets[1:]:
+            out.append([F.pieces for F in placement._push_hull.__wrapped__(push, TOL.angle_rad)])  # type: ignore[attr-defined]
+            s = placement.off_centre_squeeze(sets[0], push, TOL.angle_rad)
+            out.append((s.lower.pieces, s.upper.pieces, s.symmetry, s.rest_zones, s.outcomes))
+        return out
+
+    compiled, numpy_ = _both(made)
+    assert _bits(compiled) == _bits(numpy_)
