@@ -1416,6 +1416,106 @@ cdef int _table_arrays(const Pieces* q, double P, Table* t) except -1:
     return 0
 
 
+# ---------------------------------------------------------------- edges._contacts
+
+def contacts(tuple cells, centers, radii, com):
+    """edges._grid's point-like contacts on a hull without curve features: (ρ, R, φ0, ψ_a,
+    ψ_b) of the contact cells (near, far, ψ_a, ψ_b; near −1: the centre of mass) with ρ > 0,
+    the same floats (hypot and arctan2 through numpy, on the same (m, 2) array's views)."""
+    cdef const double[:, :] cen = centers
+    cdef const double[:] rad = radii
+    cdef Py_ssize_t m = len(cells), i, near, far, live = 0
+    cdef double cx = com[0], cy = com[1], nx, ny, fx, fy
+    delta_xy, rest = np.empty((m, 2)), np.empty((3, m))
+    cdef double[:, ::1] d = delta_xy
+    cdef double[:, ::1] r = rest  # R, ψ_a, ψ_b
+    for i in range(m):
+        cell = <object>PyTuple_GET_ITEM(cells, i)
+        if type(cell) is not tuple or len(cell) != 4:  # _item reads tuples' slots unchecked
+            raise TypeError("contacts: a cell must be a tuple (near, far, a, b)")
+        near, far = <Py_ssize_t>_item(cell, 0), <Py_ssize_t>_item(cell, 1)
+        nx, ny, fx, fy = cx, cy, cx, cy  # row −1: the centre of mass (the radius's near contact)
+        if near >= 0:
+            nx, ny = cen[near, 0], cen[near, 1]
+        if far >= 0:
+            fx, fy = cen[far, 0], cen[far, 1]
+        d[i, 0], d[i, 1] = nx - fx, ny - fy
+        r[0, i] = (0.0 if near < 0 else rad[near]) + (0.0 if far < 0 else rad[far])
+        r[1, i], r[2, i] = <double>_item(cell, 2), <double>_item(cell, 3)
+    rho = np.hypot(delta_xy[:, 0], delta_xy[:, 1])
+    cdef const double[:] rh = rho
+    for i in range(m):
+        live += rh[i] > 0.0
+    if live == m:  # no concentric contacts (a polygon's cells): nothing to leave out
+        return rho, rest[0], np.arctan2(delta_xy[:, 1], delta_xy[:, 0]), rest[1], rest[2]
+    keep = rho > 0.0
+    return (rho[keep], rest[0][keep], np.arctan2(delta_xy[keep, 1], delta_xy[keep, 0]), rest[1][keep],
+            rest[2][keep])
+
+
+# ------------------------------------------------------- symmetry._none_by_runs
+
+def none_by_runs(f, double theta, double value, double threshold, const double[::1] shifts, double slack):
+    """symmetry._none_by_runs past its checks (no curve feature, the shifts P/k of f's
+    period, ascending): whether every shifted point θ + P/k lies more than the threshold
+    and ``slack`` · f's largest extremum above f(θ) = ``value``, judged at the first and
+    last shift inside each run of f; f itself evaluated through f.values."""
+    cdef tuple runs = f.runs
+    cdef double P = f.period, top = -INFINITY, guard
+    cdef Py_ssize_t nr = len(runs), n = 0, i, j, a, b, np_ = 0
+    cdef _Buf buf = _Buf(nr + 2 + 2 * (nr + 1))
+    cdef double* cuts = buf.p
+    cdef double* picks = buf.p + nr + 2
+    for run in runs:
+        cuts[n] = _mod(<double>_item(run, 0) - theta, P)  # run ends as offsets from θ
+        n += 1
+    cuts[n], cuts[n + 1] = 0.0, P
+    n = _distinct(cuts, n + 2)
+    for i in range(n - 1):
+        a, b = _bisect_left(&shifts[0], shifts.shape[0], cuts[i]), _bisect_left(&shifts[0], shifts.shape[0], cuts[i + 1])
+        if b > a:
+            picks[np_], picks[np_ + 1] = theta + shifts[a], theta + shifts[b - 1]
+            np_ += 2
+    if np_ == 0:
+        return True
+    for i, e in enumerate(f.extrema):
+        if i == 0 or <double>_item(e, 1) > top:  # Python's max: the first of equals
+            top = _item(e, 1)
+    guard = threshold + slack * top
+    probe = np.empty(np_)
+    cdef double[::1] pr = probe
+    for i in range(np_):
+        pr[i] = picks[i]
+    cdef const double[:] lows = f.values(probe)
+    for i in range(np_):
+        if not lows[i] - value > guard:
+            return False
+    return True
+
+
+cdef Py_ssize_t _distinct(double* a, Py_ssize_t n) noexcept nogil:
+    """Sort a[0:n] and keep one of each value (sorted(set(...)) of floats without NaN)."""
+    cdef Py_ssize_t i, m = 0
+    _insertion_sort(a, n)
+    for i in range(n):
+        if m == 0 or a[i] != a[m - 1]:
+            a[m] = a[i]
+            m += 1
+    return m
+
+
+cdef inline Py_ssize_t _bisect_left(const double* a, Py_ssize_t n, double x) noexcept nogil:
+    """bisect.bisect_left on a sorted C array."""
+    cdef Py_ssize_t lo = 0, hi = n, mid
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if a[mid] < x:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
 # --------------------------------------------------------------- edges._point_roots
 
 def point_roots(c, slopes, jaw, levels):

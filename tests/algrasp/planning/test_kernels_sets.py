@@ -217,3 +217,26 @@ def test_set_compositions_and_push_hulls_are_bit_identical(shape: str, seed: int
 
     compiled, numpy_ = _both(made)
     assert _bits(compiled) == _bits(numpy_)
+
+
+@settings(max_examples=150, deadline=None)
+@given(shape=st.sampled_from(sorted(DOCS)), seed=st.integers(0, 10_000), n=st.integers(3, 12),
+       kind=st.sampled_from(["diameter", "radius"]), tol=st.sampled_from([1e-12, 1e-9, 1e-6, 1e-3, 0.05]))
+def test_symmetry_and_contacts_are_bit_identical(shape: str, seed: int, n: int, kind: str, tol: float) -> None:
+    """The symmetry screen's run test (symmetry._none_by_runs) and the contact cells'
+    arrays (edges._grid), uncached, on parts with and without symmetry."""
+    f = _function(shape, seed, n, kind)
+    if not f.extrema:  # constant width: no screen at an extremum
+        return
+    lowest = min(f.extrema, key=lambda e: e.value)
+
+    def made() -> Any:
+        grid = edges._grid.__wrapped__(f, TOL, edges.CURVE_GRID_RAD)  # type: ignore[attr-defined]
+        c = grid.contacts
+        return (symmetry.tolerant_symmetry(f, tol * lowest.value),
+                symmetry._none_by_runs(f, lowest.theta, lowest.value, tol * lowest.value),
+                [symmetry._none_by_runs(f, e.theta, e.value, tol) for e in f.extrema],
+                c.rho, c.R, c.phi0, c.a, c.b, [a.flags.writeable for a in (c.rho, c.R, c.phi0, c.a, c.b)])
+
+    compiled, numpy_ = _both(made)
+    assert _bits(compiled) == _bits(numpy_)
