@@ -1518,6 +1518,21 @@ cdef inline Py_ssize_t _bisect_left(const double* a, Py_ssize_t n, double x) noe
 
 # --------------------------------------------------------------- edges._point_roots
 
+cdef dict _JAW_TERMS = {}
+"""atan μ and hypot(1, μ) by μ's bit pattern: constants of the physics, not of a part."""
+
+
+cdef tuple _jaw_terms(double mu):
+    """(atan μ, hypot(1, μ)) through numpy (libm's differ), once per μ (bit for bit)."""
+    cdef unsigned long long bits = (<unsigned long long*>&mu)[0]
+    got = _JAW_TERMS.get(bits)
+    if got is None:
+        if len(_JAW_TERMS) >= 64:
+            _JAW_TERMS.clear()
+        got = _JAW_TERMS[bits] = (float(np.arctan(mu)), float(np.hypot(1.0, mu)))
+    return got
+
+
 def point_roots(c, slopes, jaw, levels):
     """edges._point_roots (with its _equations): θ of every threshold crossing on the
     point-like contact cells, in the same order, the same floats (arcsin, arctan and
@@ -1534,7 +1549,7 @@ def point_roots(c, slopes, jaw, levels):
     cdef double mu = 0.0, cc = 0.0, beta = 0.0, hyp = 0.0, kv, x, psi
     if jaw is not None:
         mu, cc = jaw
-        beta, hyp = float(np.arctan(mu)), float(np.hypot(1.0, mu))
+        beta, hyp = _jaw_terms(mu)
     cdef _Buf buf = _Buf(2 * E + ns + nl + m * E)
     cdef double* delta = buf.p
     cdef double* th = buf.p + E  # the slopes ±t, the levels
