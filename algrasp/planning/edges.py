@@ -180,6 +180,14 @@ def _curve_roots(f: SupportPairFunction, grid: _Grid, slopes_at: Sequence[float]
     return np.asarray(x)
 
 
+def point_contacts(f: SupportPairFunction, tol: Tolerances) -> _Contacts | None:
+    """The contact cells :func:`crossings` solves in closed form when they are all of
+    f's cells (no curve contact: no grid, so every crossing is a closed-form root), else
+    None. O(1) after the first call per function."""
+    grid = _grid(f, tol, CURVE_GRID_RAD)
+    return None if len(grid.theta) else grid.contacts
+
+
 def crossings(f: SupportPairFunction, slopes: Sequence[float], jaw: tuple[float, float] | None,
               tol: Tolerances, grid_rad: float, levels: Sequence[float] = ()) -> tuple[FloatArray, FloatArray]:
     """θ (radians, lifted; fold them with mod) where |f′| crosses each of ``slopes`` or,
@@ -222,6 +230,21 @@ def _grid(f: SupportPairFunction, tol: Tolerances, grid_rad: float) -> _Grid:
     """:class:`_Grid` once per function (identity), tolerances and spacing: a limit
     search's probes and a basin's rims ask again with other thresholds only."""
     table = f.hull.table
+    if not len(table.s0) and KERNELS is not None:  # one call, the same arrays (algrasp.compiled)
+        out = _Grid(_Contacts(*KERNELS.contacts(contact_cells(f, tol), table.centers, table.radii, f.com)),
+                    _NO_GRID, _NO_CELLS, _NO_GRID, _NO_GRID)
+    else:
+        out = _grid_of(f, tol, grid_rad)
+    c = out.contacts
+    for a in (c.rho, c.R, c.phi0, c.a, c.b, out.theta, out.cell, out.slope, out.value):
+        if a.flags.writeable:  # (the shared empty grid already is not)
+            a.setflags(write=False)
+    return out
+
+
+def _grid_of(f: SupportPairFunction, tol: Tolerances, grid_rad: float) -> _Grid:
+    """:class:`_Grid` in numpy: the contacts' arrays, and the grid on curve cells."""
+    table = f.hull.table
     # Row −1 of the centre table is the centre of mass (the radius's near contact).
     centres = np.concatenate([table.centers, np.array([f.com], dtype=float)])  # np.vstack's, without its wrapper
     radii = np.concatenate([table.radii, _NO_RADIUS])
@@ -235,8 +258,4 @@ def _grid(f: SupportPairFunction, tol: Tolerances, grid_rad: float) -> _Grid:
         theta, cell = _curve_grid(cells[curved], grid_rad)
         slope, value = slopes(f, theta) if len(theta) else (np.zeros(0), np.zeros(0))
         out = _Grid(_contacts(cells[~curved], centres, radii), theta, cell, slope, value)
-    c = out.contacts
-    for a in (c.rho, c.R, c.phi0, c.a, c.b, out.theta, out.cell, out.slope, out.value):
-        if a.flags.writeable:  # (the shared empty grid already is not)
-            a.setflags(write=False)
     return out

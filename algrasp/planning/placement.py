@@ -112,5 +112,8 @@ def _push_hull(push: SetTransfer, tol_rad: float) -> tuple[TransferFunction, Tra
     once per push function (identity): a limit search's probes that share the push (its
     jaw-friction probes) share it."""
     P = push.period
+    if KERNELS is not None:  # one call, the same pieces (algrasp.compiled)
+        lo, hi = KERNELS.push_hull(push.lower, push.upper, P, tol_rad)
+        return TransferFunction(P, lo), TransferFunction(P, hi)
     return (pointwise([identity(P), push.lower, shifted(push.lower, math.pi)], False, tol_rad),
             pointwise([identity(P), push.upper, shifted(push.upper, math.pi)], True, tol_rad))

@@ -75,18 +75,19 @@ def bounds(c: Cells, tol_rad: float) -> tuple[TransferFunction, TransferFunction
     if KERNELS is not None:  # typed loops to the merged pieces, the same values (algrasp.compiled)
         found = KERNELS.bound_pieces(c.x, c.T, R, L, S, run_right, run_left, c.runs, c.barrier_right, c.barrier_left, tol_rad)
         if found is None:
-            raise _turning()
+            raise turning_error()
         return _pieces_tf(found[0], c.T, tol_rad), _pieces_tf(found[1], c.T, tol_rad)
     up = np.where(R, np.minimum(run_right, c.barrier_right), np.where(S, np.nan, c.runs[3]))
     lo = np.where(L, np.maximum(run_left, c.barrier_left), np.where(S, np.nan, c.runs[1]))
     if not (np.isfinite(up[R]).all() and np.isfinite(lo[L]).all()):
-        raise _turning()
+        raise turning_error()
     ends = np.concatenate([c.x[1:], [c.x[0] + c.T]])
     up, lo = _monotone(c.x, ends, up, lo, c.T)
     return _tf(c.x, ends, lo, c.T, tol_rad), _tf(c.x, ends, up, c.T, tol_rad)
 
 
-def _turning() -> NotOrientableError:
+def turning_error() -> NotOrientableError:
+    """The refusal of a dead band under which the part may turn without end."""
     return NotOrientableError("dead_band", "with this dead band the part may turn without end: the slopes of "
                               "the drawing are all within the shape tolerance")
 

@@ -30,6 +30,7 @@ vectorised passes.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from functools import cached_property
 from typing import cast
@@ -41,8 +42,8 @@ from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import SupportPairFunction
 from algrasp.geometry.tolerances import ROUNDING, Tolerances
 from algrasp.planning.barriers import barrier_sets, basin_cells, basins
-from algrasp.planning.edges import CURVE_GRID_RAD, crossings, slopes
-from algrasp.planning.setcells import Cells, bounds, rest_zones
+from algrasp.planning.edges import CURVE_GRID_RAD, crossings, point_contacts, slopes
+from algrasp.planning.setcells import Cells, bounds, rest_zones, turning_error
 from algrasp.planning.symmetry import symmetry_period
 from algrasp.planning.transfer import TransferFunction, arcs_holding
 
@@ -107,7 +108,14 @@ class SetTransfer:
     def compose_after(self, inner: SetTransfer, tol_rad: float) -> SetTransfer:
         """self ∘ inner (inner acts first): bounds compose since both are monotone. The
         outcomes are self's outcomes (where it can leave a part at all) that meet the
-        image of one of inner's outcomes."""
+        image of one of inner's outcomes. (One compiled call when built: algrasp.compiled.)"""
+        if KERNELS is not None:
+            copies = max(1, int(round(inner.symmetry / self.symmetry)))
+            lo_pieces, hi_pieces, kept = KERNELS.compose_sets(self.lower, self.upper, inner.lower, inner.upper,
+                                                              inner.outcomes, self.outcomes, self.symmetry,
+                                                              inner.symmetry, copies, tol_rad)
+            return SetTransfer(TransferFunction(inner.lower.period, lo_pieces), TransferFunction(inner.upper.period, hi_pieces),
+                               inner.period, inner.symmetry, inner.rest_zones, kept)
         lower = self.lower.compose_after(inner.lower, tol_rad)
         upper = self.upper.compose_after(inner.upper, tol_rad)
         lo = self.lower.apply_list([a for a, _ in inner.outcomes]).tolist()  # self.image of inner's outcomes
@@ -288,7 +296,7 @@ def _cells_of(f: SupportPairFunction, T: float, band: _Band, tol_rad: float) -> 
     basins, nodes where f crosses their rims (their exact extent), and the uniform grid
     of ``GRID_RAD`` only inside the cells :func:`_to_refine` marks; classified again."""
     slopes_at, jaw = band.thresholds()
-    tol = Tolerances(angle_rad=tol_rad)
+    tol = _tolerances(tol_rad)
     edges, curves = crossings(f, slopes_at, jaw, tol, CURVE_GRID_RAD)
     first = _classify(f, T, edges, curves, band, first=True)
     rims = first.rims
@@ -315,8 +323,32 @@ def set_transfer(f: SupportPairFunction, stall: tuple[float, float], sigma: floa
     P = f.period
     T = symmetry_period(f, value_tol)
     band = _Band(stall, sigma, jaw_friction, value_tol if value_err is None else value_err, shallow)
+    lower, upper, zones, zones_P = _bounds(f, T, band, tol_rad)
+    stops = [(p.value, p.value) for F in (lower, upper) for p in F.pieces if p.value is not None]
+    return SetTransfer(lower, upper, P, T, zones_P, (*zones, *stops))
+
+
+Zones = tuple[tuple[float, float], ...]
+
+
+def _bounds(f: SupportPairFunction, T: float, band: _Band, tol_rad: float) -> tuple[
+        TransferFunction, TransferFunction, Zones, Zones]:
+    """The lower and upper bounds of F_κ and its rest zones over T and over f's period.
+    Where every crossing is closed-form (no curve contact), the compiled kernels make
+    them in one call from the contact cells (the same floats: algrasp.compiled)."""
+    if KERNELS is not None and (contacts := point_contacts(f, _tolerances(tol_rad))) is not None:
+        slopes_at, jaw = band.thresholds()
+        found = KERNELS.set_bounds(f, T, band, tol_rad, contacts, tuple(t for t in slopes_at if t > 0.0), jaw)
+        if found is None:
+            raise turning_error()
+        return TransferFunction(T, found[0]), TransferFunction(T, found[1]), found[2], found[3]
     cells = _cells_of(f, T, band, tol_rad)
     lower, upper = bounds(cells, tol_rad)
     zones = rest_zones(cells.x, T, cells.rest, T)
-    stops = [(p.value, p.value) for F in (lower, upper) for p in F.pieces if p.value is not None]
-    return SetTransfer(lower, upper, P, T, zones if P == T else rest_zones(cells.x, T, cells.rest, P), (*zones, *stops))
+    return lower, upper, zones, zones if f.period == T else rest_zones(cells.x, T, cells.rest, f.period)
+
+
+@functools.lru_cache(maxsize=8)
+def _tolerances(angle_rad: float) -> Tolerances:
+    """The tolerances of the crossings: the defaults with ``angle_rad`` (made once each)."""
+    return Tolerances(angle_rad=angle_rad)

@@ -12,6 +12,7 @@ import functools
 
 import numpy as np
 
+from algrasp.compiled import KERNELS
 from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import SupportPairFunction
@@ -151,6 +152,8 @@ def _none_by_runs(f: SupportPairFunction, theta: float, value: float, threshold:
     P, shifts = f.period, _SHIFT_LISTS.get(f.period)
     if shifts is None:
         return False
+    if KERNELS is not None:  # typed loops, the same decision (algrasp.compiled)
+        return bool(KERNELS.none_by_runs(f, theta, value, threshold, _ALL_SHIFTS[P], MONOTONE_SLACK))
     cuts = sorted({(r.start - theta) % P for r in f.runs} | {0.0, P})  # run ends as offsets from θ
     picks: list[int] = []
     for a, b in zip(cuts[:-1], cuts[1:]):
