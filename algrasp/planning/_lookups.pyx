@@ -12,7 +12,7 @@ only. Radians throughout; O(m log n) for m θ and n pieces.
 
 import numpy as np
 
-from libc.math cimport floor, isnan, rint, NAN
+from libc.math cimport fabs, floor, isnan, rint, INFINITY, M_PI, NAN
 from libc.stdlib cimport free, malloc
 from cpython.float cimport PyFloat_AS_DOUBLE
 from cpython.list cimport PyList_GET_ITEM, PyList_GET_SIZE
@@ -496,3 +496,108 @@ def images(lower, upper, list intervals):
         j = _wrap(_bisect_left(us, b) - 1, us.shape[0])
         out.append((_value_at(ls, lr, lv, a), b if ur[j] else uv[j]))
     return out
+
+
+# ------------------------------------------------------------- verification.verify_set
+
+cdef inline double _step_at(double t, double first, double P, const double* starts, const double* values,
+                            Py_ssize_t n) noexcept nogil:
+    """apply_on_ramp's F(θ) of one θ (the lookup kernel's: θ itself on a ramp)."""
+    cdef double kP = floor((t - first) / P) * P
+    cdef double v = values[_bisect_right(starts, n, t - kP)]
+    return t if isnan(v) else kP + v
+
+
+cdef Py_ssize_t _samples_into(double* lo, double* hi, const double[:] starts, double c0, double c1, double T,
+                              double a1, Py_ssize_t samples, double probe) noexcept nogil:
+    """verification._samples into lo and hi (room for samples + 3·len(starts) + 1): the
+    linspace of the arc (numpy's: i·step + c0, the last c1), each piece start's cut inside
+    it less the probe, itself, plus the probe, clipped to the arc (numpy's clip keeps an
+    end equal to x), shifted by a1; the whole arc last. Returns the count."""
+    cdef Py_ssize_t i, j, m = 0, nc = 0, ns = starts.shape[0]
+    cdef double delta = c1 - c0, div = <double>(samples - 1), step, x, cut
+    step = delta / div if samples > 1 else NAN
+    for i in range(samples):
+        if samples <= 1:
+            x = (<double>i) * delta + c0
+        elif step == 0.0:
+            x = ((<double>i) / div) * delta + c0
+        else:
+            x = (<double>i) * step + c0
+        lo[m] = x
+        m += 1
+    if samples > 1:
+        lo[m - 1] = c1
+    for j in range(3):
+        for i in range(ns):
+            cut = c0 + _mod(starts[i] - c0, T)
+            if cut <= c1:
+                lo[m] = cut - probe if j == 0 else (cut if j == 1 else cut + probe)
+                m += 1
+    for i in range(m):
+        x = lo[i]
+        x = c0 if x < c0 else x
+        x = c1 if x > c1 else x
+        lo[i] = hi[i] = x + a1
+    lo[m], hi[m] = c0 + a1, c1 + a1
+    return m + 1
+
+
+def verify_arcs(lower, upper, const double[:] starts, double c0, double c1, double T, list angles,
+                Py_ssize_t samples, double probe, list want, double bound):
+    """verification.verify_set after its outcome check: the sample arcs (:func:`_samples_into`)
+    run through the actions after the first (``angles``: every action's gripper angle),
+    repeats of the arc before dropped after each; True when every arc ends within
+    ``bound`` of a wanted orientation (Python's float remainder, as signed_diff's). The
+    same floats as the numpy and plain-float passes it replaces: the verdict is theirs."""
+    cdef double lf, uf, lP = lower.period, uP = upper.period, x, y, a, m, best, d
+    cdef double* ls = NULL
+    cdef double* lv = NULL
+    cdef double* us = NULL
+    cdef double* uv = NULL
+    cdef Py_ssize_t ln, un, n, i, k, q, total = samples + 3 * starts.shape[0] + 1, nw = len(want)
+    cdef bint ok = True
+    cdef double* lo = <double*>malloc(2 * total * sizeof(double))
+    cdef double* w = <double*>malloc(max(nw, 1) * sizeof(double))
+    if lo == NULL or w == NULL:
+        free(lo)
+        free(w)
+        raise MemoryError()
+    cdef double* hi = lo + total
+    if nw == 0:
+        free(lo)
+        free(w)
+        raise ValueError("min() arg is an empty sequence")
+    for i in range(nw):
+        w[i] = want[i]
+    try:
+        _table(lower, &lf, &ls, &lv, &ln)
+        _table(upper, &uf, &us, &uv, &un)
+        n = _samples_into(lo, hi, starts, c0, c1, T, angles[0], samples, probe)
+        for k in range(1, len(angles)):
+            a = angles[k]
+            q = 0
+            for i in range(n):
+                x = _step_at(lo[i] - a, lf, lP, ls, lv, ln) + a
+                y = _step_at(hi[i] - a, uf, uP, us, uv, un) + a
+                if q == 0 or x != lo[q - 1] or y != hi[q - 1]:
+                    lo[q], hi[q] = x, y
+                    q += 1
+            n = q
+        for i in range(n):
+            m = 0.5 * (lo[i] + hi[i])
+            best = INFINITY
+            for q in range(nw):
+                d = fabs(_mod(m - w[q] + M_PI, 2.0 * M_PI) - M_PI)
+                best = d if d < best else best
+            if not (best + 0.5 * (hi[i] - lo[i]) <= bound):
+                ok = False
+                break
+    finally:
+        free(lo)
+        free(w)
+        free(ls)
+        free(lv)
+        free(us)
+        free(uv)
+    return ok

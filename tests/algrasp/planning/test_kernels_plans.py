@@ -1,0 +1,118 @@
+"""The compiled passes of planning and verification (algrasp.planning._lookups, read
+directly by plans, planner and verification) against the numpy / plain-float path they
+replace: every verdict and every float bit for bit, on plans of random polygons, symmetric
+polygons, arcs and Bezier curves under random physics, and on the same plans disturbed
+(gripper angles moved, uncertainty shrunk, few samples) so that verdicts go both ways.
+The numpy path is the reference (run here with the hooks switched off)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from algrasp.compiled import KERNELS
+from algrasp.errors import NotOrientableError
+from algrasp.planning import planner, transfer, verification
+from algrasp.planning.analysis import Model, analyse_document
+from algrasp.planning.physics import Physics
+from algrasp.planning.plans import Plan, PlanStep, make_plan
+from algrasp.testing import shapes
+
+HOOKED: tuple[Any, ...] = (planner, transfer, verification)
+"""The modules whose hooks read algrasp.compiled.KERNELS."""
+pytestmark = pytest.mark.skipif(KERNELS is None, reason="compiled kernels not built (or ALGRASP_PURE set)")
+
+
+@contextmanager
+def _numpy_path() -> Iterator[None]:
+    """The numpy reference: the hooks see no kernels."""
+    saved = [m.KERNELS for m in HOOKED]
+    for m in HOOKED:
+        m.KERNELS = None
+    try:
+        yield
+    finally:
+        for m, k in zip(HOOKED, saved):
+            m.KERNELS = k
+
+
+def _bits(value: Any) -> Any:
+    """A comparable form that tells apart every bit pattern (−0.0, NaN payloads, dtypes)."""
+    if isinstance(value, np.ndarray):
+        return ("array", value.dtype.str, value.shape, value.tobytes())
+    if isinstance(value, (list, tuple)):
+        return tuple(_bits(v) for v in value)
+    if isinstance(value, float):
+        return ("float", value.hex())
+    return repr(value)
+
+
+def _both(make: Callable[[], Any]) -> tuple[Any, Any]:
+    """(compiled, numpy) results of ``make``, or the refusal's message, or the error raised."""
+    out: list[Any] = []
+    for numpy_path in (False, True):
+        with _numpy_path() if numpy_path else _no_change():
+            try:
+                out.append(make())
+            except NotOrientableError as e:
+                out.append(("refused", str(e)))
+            except (IndexError, ValueError) as e:
+                out.append(("raised", type(e).__name__, str(e)))
+    return out[0], out[1]
+
+
+@contextmanager
+def _no_change() -> Iterator[None]:
+    yield
+
+
+DOCS = {
+    "polygon": lambda seed, n: shapes.random_polygon(n, seed),
+    "regular": lambda seed, n: shapes.regular_polygon(n, 1.0 + seed % 7, phase_deg=seed % 90),
+    "flats": lambda seed, n: shapes.disk_with_flats(1.0, 5.0 + seed % 30),
+    "pie": lambda seed, n: shapes.pie(5.0, 10.0 + seed % 40),
+    "blob": lambda seed, n: shapes.bezier_blob(max(n, 4), seed),
+}
+PHYSICS = st.builds(lambda jaw, sup, tol, placement: Physics(jaw_friction=(0.0, jaw), support_friction=sup,
+                                                            profile_tolerance=tol, placement=placement),
+                    st.sampled_from([0.0, 0.05, 0.1, 0.3]), st.sampled_from([(0.2, 0.45), (0.3, 0.3), (0.0, 0.1)]),
+                    st.sampled_from([None, 0.0, 1e-3, 0.01]), st.sampled_from(["any", "centred"]))
+
+
+def _plan(shape: str, seed: int, n: int, physics: Physics, action: str) -> Plan | None:
+    try:
+        return make_plan(analyse_document(DOCS[shape](seed, n), Model(physics=physics)), action, limits="none")  # type: ignore[arg-type]
+    except NotOrientableError:
+        return None
+
+
+def _disturbed(plan: Plan, shift: float, k: int, shrink: float) -> Plan:
+    """The plan with action k's gripper angle moved by ``shift`` and its uncertainty times ``shrink``."""
+    steps = list(plan.steps)
+    if steps:
+        s = steps[k % len(steps)]
+        steps[k % len(steps)] = PlanStep(s.gripper_angle + shift, s.margin)
+    return replace(plan, steps=tuple(steps), final_uncertainty=plan.final_uncertainty * shrink)
+
+
+@settings(max_examples=120, deadline=None)
+@given(shape=st.sampled_from(sorted(DOCS)), seed=st.integers(0, 10_000), n=st.integers(3, 11), physics=PHYSICS,
+       action=st.sampled_from(["squeeze", "push_grasp"]), shift=st.sampled_from([0.0, 1e-9, -1e-3, 0.05, 0.5]),
+       k=st.integers(0, 8), shrink=st.sampled_from([1.0, 0.5, 0.0]), samples=st.sampled_from([3600, 0, 1, 2, 7]))
+def test_verify_set_is_bit_identical(shape: str, seed: int, n: int, physics: Physics, action: str, shift: float, k: int,
+                                     shrink: float, samples: int) -> None:
+    plan = _plan(shape, seed, n, physics, action)
+    if plan is None or plan.bounds is None:
+        return
+    S = plan.bounds
+    for circle in [S.circle_images()[0], *S.circle_images()[1:2], (S.circle_images()[0][0] - 0.0, S.circle_images()[0][0])]:
+        p = _disturbed(plan, shift, k, shrink)
+        compiled, numpy_ = _both(lambda: verification.verify_set(p, circle, samples))
+        assert _bits(compiled) == _bits(numpy_)
