@@ -601,3 +601,75 @@ def verify_arcs(lower, upper, const double[:] starts, double c0, double c1, doub
         free(us)
         free(uv)
     return ok
+
+
+# ------------------------------------------------------------- transfer.arcs_holding
+
+cdef void _stable_sort_by(double* key, double* a, Py_ssize_t* b, Py_ssize_t n) noexcept nogil:
+    """Sort key[0:n] ascending carrying a and b along (stable, as sorted(key=...) is; an
+    insertion sort: the runs it gets are short and nearly sorted)."""
+    cdef Py_ssize_t i, j, vb
+    cdef double vk, va
+    for i in range(1, n):
+        vk, va, vb = key[i], a[i], b[i]
+        j = i - 1
+        while j >= 0 and vk < key[j]:
+            key[j + 1], a[j + 1], b[j + 1] = key[j], a[j], b[j]
+            j -= 1
+        key[j + 1], a[j + 1], b[j + 1] = vk, va, vb
+
+
+def arcs_holding(list lo, list hi, double T):
+    """transfer.arcs_holding's plain-float path: the three lifted copies of the intervals
+    shifted into [0, T) (floor keeping −0.0), sorted stably by start, every gap after a
+    running reach (numpy's maximum: reach ≥ h keeps reach) in [0, T), the widest first
+    (stable); the same floats."""
+    cdef Py_ssize_t n = min(len(lo), len(hi)), m = 3 * n, i, k, ng = 0
+    cdef double widest = 0.0, w, a, b, shift, reach, h, gap
+    if n == 0:
+        raise ValueError("max() arg is an empty sequence")
+    for i in range(n):  # max(b − a): the first of equals, replaced only by a larger one
+        w = <double>hi[i] - <double>lo[i]
+        if i == 0 or w > widest:
+            widest = w
+    if widest >= T:
+        return [(0.0, T)]
+    cdef double* L = <double*>malloc(5 * m * sizeof(double) + 2 * m * sizeof(Py_ssize_t))
+    if L == NULL:
+        raise MemoryError()
+    cdef double* H = L + m
+    cdef double* G = L + 2 * m
+    cdef double* R = L + 3 * m
+    cdef double* spare = L + 4 * m
+    cdef Py_ssize_t* idx = <Py_ssize_t*>(L + 5 * m)
+    cdef Py_ssize_t* kk = idx + m
+    cdef list out = []
+    try:
+        for i in range(n):
+            a, b = lo[i], hi[i]
+            shift = floor(a / T) * T
+            a, b = a - shift, b - shift
+            L[i], L[n + i], L[2 * n + i] = a - T, a, a + T
+            H[i], H[n + i], H[2 * n + i] = b - T, b, b + T
+        for i in range(m):
+            idx[i] = i
+            spare[i] = 0.0
+        _stable_sort_by(L, spare, idx, m)
+        for i in range(m):
+            spare[i] = H[idx[i]]
+        reach = -INFINITY
+        for k in range(m - 1):
+            h = spare[k]
+            reach = reach if reach >= h else h
+            gap = L[k + 1] - reach
+            if 0.0 <= reach < T and gap > 0.0:
+                G[ng], R[ng], kk[ng] = -gap, reach, k
+                ng += 1
+        if ng == 0:
+            return [(0.0, T)]
+        _stable_sort_by(G, R, kk, ng)
+        for i in range(ng):
+            out.append((L[kk[i] + 1], R[i] + T))
+    finally:
+        free(L)
+    return out

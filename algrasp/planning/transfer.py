@@ -10,12 +10,13 @@ maps every θ in [start, end) to itself.
 from __future__ import annotations
 
 import bisect
+import importlib
 import math
 import operator
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -27,6 +28,9 @@ from algrasp.geometry.functions import Run
 from algrasp.geometry.tolerances import ROUNDING
 
 BoolArray = NDArray[np.bool_]
+LOOKUPS: Any = None if KERNELS is None else importlib.import_module("algrasp.planning._lookups")
+"""The compiled lookups that :mod:`algrasp.planning._kernels` does not re-export (read
+where ``KERNELS`` is set: the hooks switch on it)."""
 LIFTS = range(-1, 4)
 """The periods :attr:`TransferFunction.lifted` covers: a plan's intervals and images
 start in the first period and reach at most two periods beyond it."""
@@ -366,6 +370,8 @@ def arcs_holding(lo: list[float], hi: list[float], T: float) -> list[tuple[float
     sorts), else vectorised; the same arcs either way. O(n log n)."""
     if len(lo) > FEW_ARCS:
         return holding_arcs(np.array(lo, dtype=float), np.array(hi, dtype=float), T)
+    if KERNELS is not None:  # typed loops, the same arcs (algrasp.compiled)
+        return LOOKUPS.arcs_holding(lo, hi, T)  # type: ignore[no-any-return]
     if max(b - a for a, b in zip(lo, hi)) >= T:
         return [(0.0, T)]
     los, his = [], []

@@ -14,7 +14,7 @@ from algrasp.geometry.angles import signed_diff
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.tolerances import PROBE_RAD
 from algrasp.planning.setvalued import SetTransfer
-from algrasp.planning.transfer import TransferFunction
+from algrasp.planning.transfer import LOOKUPS, TransferFunction
 
 
 class PlanStep(Protocol):
@@ -141,14 +141,12 @@ def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SA
 def _verify_arcs(plan: Plan, circle: tuple[float, float], samples: int) -> bool:
     """:func:`verify_set` after the outcome check in one compiled pass (the same arcs,
     the same floats: repeats dropped alike, each arc's verdict alike)."""
-    from algrasp.planning import _lookups
-
     S = plan.bounds
     assert S is not None
     starts = np.concatenate([S.lower.starts_array, S.upper.starts_array])
-    return _lookups.verify_arcs(S.lower, S.upper, starts, *circle, S.symmetry, [s.gripper_angle for s in plan.steps],
-                                samples, PROBE_RAD, list(plan.final_orientations),
-                                plan.final_uncertainty + FINAL_CLUSTER_RAD)
+    return bool(LOOKUPS.verify_arcs(S.lower, S.upper, starts, *circle, S.symmetry, [s.gripper_angle for s in plan.steps],
+                                    samples, PROBE_RAD, list(plan.final_orientations),
+                                    plan.final_uncertainty + FINAL_CLUSTER_RAD))
 
 
 def _runs(lo: FloatArray, hi: FloatArray) -> tuple[FloatArray, FloatArray]:

@@ -116,3 +116,17 @@ def test_verify_set_is_bit_identical(shape: str, seed: int, n: int, physics: Phy
         p = _disturbed(plan, shift, k, shrink)
         compiled, numpy_ = _both(lambda: verification.verify_set(p, circle, samples))
         assert _bits(compiled) == _bits(numpy_)
+
+
+ENDS = st.floats(-7.0, 14.0) | st.sampled_from([0.0, -0.0, np.pi, -np.pi, 2.0 * np.pi, 1e-12])
+WIDTHS = st.floats(0.0, 1.0) | st.sampled_from([0.0, 1e-9, np.pi / 3, np.pi, 2.0 * np.pi])
+
+
+@settings(max_examples=400, deadline=None)
+@given(arcs=st.lists(st.tuples(ENDS, WIDTHS), min_size=0, max_size=transfer.FEW_ARCS),
+       T=st.sampled_from([np.pi, 2.0 * np.pi, np.pi / 3, 1.0]))
+def test_arcs_holding_is_bit_identical(arcs: list[tuple[float, float]], T: float) -> None:
+    """Intervals anywhere (several periods off, ±0.0, touching, as wide as T)."""
+    lo, hi = [a for a, _ in arcs], [a + w for a, w in arcs]
+    compiled, numpy_ = _both(lambda: transfer.arcs_holding(lo, hi, T))
+    assert _bits(compiled) == _bits(numpy_)
