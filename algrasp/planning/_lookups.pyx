@@ -320,46 +320,67 @@ def widest(const double[:] starts, const double[:] ramp_starts, const double[:] 
            const double[:] at_starts, lower, upper, double room):
     """planner._widest after _fixed: the top-right candidates inside ramps (tops a ramp's
     box reaches), each left end's right end, the first widest; the same floats."""
-    cdef const double[:] ls = lower.starts, lv = lower.values, keys = upper.keys, ue = upper.ends, us = upper.starts
-    cdef const unsigned char[:] lr = lower.ramp.view(np.uint8), ur = upper.ramp.view(np.uint8)
-    cdef Py_ssize_t ns = starts.shape[0], nr = ramp_starts.shape[0], nt = tops.shape[0], t, k, i, j, c, d
-    cdef Py_ssize_t n = ns + (nt if nr else 0)
-    cdef double x, y, at, b, w, mw = 0.0, bb = 0.0, bx = 0.0
-    cdef bint found = False
-    cdef Py_ssize_t* lo = <Py_ssize_t*>malloc(max(2 * nr, 1) * sizeof(Py_ssize_t))
-    if lo == NULL:
-        raise MemoryError()
-    for k in range(nr):  # _ramp_candidates' lo and hi (sorted: the ramps are)
-        lo[k], lo[nr + k] = _bisect_left(tops, ramp_starts[k] + room), _bisect_left(tops, ramp_ends[k] + room)
-    try:
-        for i in range(n):
-            if i < ns:
-                x, at = starts[i], at_starts[i]
-            else:  # tops[t] − room where more ranges start than end by t
-                t = i - ns
-                c = d = 0
-                for k in range(nr):
-                    c += lo[k] <= t
-                    d += lo[nr + k] <= t
-                if not c > d:
-                    continue
-                x = tops[t] - room
-                j = _wrap(_right(ls, x) - 1, ls.shape[0])
-                at = x if lr[j] else lv[j]
-            y = at + room
-            j = _bisect_left(keys, y)
-            if j >= us.shape[0]:
-                raise IndexError(f"index {j} is out of bounds for axis 0 with size {us.shape[0]}")
-            k = _wrap(j - 1, us.shape[0])
-            b = y if (ur[k] and ue[k] > y) else us[j]
-            w = b - x
-            if not found or (not isnan(mw) and not (w <= mw)):  # argmax: the first maximum, a NaN first
-                found, mw, bb, bx = True, w, b, x
-    finally:
-        free(lo)
-    if not found:
-        raise ValueError("attempt to get argmax of an empty sequence")
-    return float(bx), float(bb)
+    return Widest(starts, ramp_starts, ramp_ends, tops, at_starts, lower, upper).at(room)
+
+
+cdef class Widest:
+    """:func:`widest` for one function and lifting, its arrays held typed: each box height
+    after the first costs one call (A′ asks for several: every sink width, every interval)."""
+
+    cdef const double[:] starts, ramp_starts, ramp_ends, tops, at_starts, ls, lv, keys, ue, us
+    cdef const unsigned char[:] lr, ur
+
+    def __init__(self, const double[:] starts, const double[:] ramp_starts, const double[:] ramp_ends,
+                 const double[:] tops, const double[:] at_starts, lower, upper):
+        self.starts, self.ramp_starts, self.ramp_ends, self.tops, self.at_starts = (starts, ramp_starts, ramp_ends,
+                                                                                    tops, at_starts)
+        self.ls, self.lv, self.keys, self.ue, self.us = lower.starts, lower.values, upper.keys, upper.ends, upper.starts
+        self.lr, self.ur = lower.ramp.view(np.uint8), upper.ramp.view(np.uint8)
+
+    def at(self, double room):
+        """The widest [a, b) whose image fits a box of height ``room`` (planner._widest)."""
+        cdef const double[:] starts = self.starts, ramp_starts = self.ramp_starts, ramp_ends = self.ramp_ends
+        cdef const double[:] tops = self.tops, at_starts = self.at_starts, ls = self.ls, lv = self.lv
+        cdef const double[:] keys = self.keys, ue = self.ue, us = self.us
+        cdef const unsigned char[:] lr = self.lr, ur = self.ur
+        cdef Py_ssize_t ns = starts.shape[0], nr = ramp_starts.shape[0], nt = tops.shape[0], t, k, i, j, c, d
+        cdef Py_ssize_t n = ns + (nt if nr else 0)
+        cdef double x, y, at, b, w, mw = 0.0, bb = 0.0, bx = 0.0
+        cdef bint found = False
+        cdef Py_ssize_t* lo = <Py_ssize_t*>malloc(max(2 * nr, 1) * sizeof(Py_ssize_t))
+        if lo == NULL:
+            raise MemoryError()
+        for k in range(nr):  # _ramp_candidates' lo and hi (sorted: the ramps are)
+            lo[k], lo[nr + k] = _bisect_left(tops, ramp_starts[k] + room), _bisect_left(tops, ramp_ends[k] + room)
+        try:
+            for i in range(n):
+                if i < ns:
+                    x, at = starts[i], at_starts[i]
+                else:  # tops[t] − room where more ranges start than end by t
+                    t = i - ns
+                    c = d = 0
+                    for k in range(nr):
+                        c += lo[k] <= t
+                        d += lo[nr + k] <= t
+                    if not c > d:
+                        continue
+                    x = tops[t] - room
+                    j = _wrap(_right(ls, x) - 1, ls.shape[0])
+                    at = x if lr[j] else lv[j]
+                y = at + room
+                j = _bisect_left(keys, y)
+                if j >= us.shape[0]:
+                    raise IndexError(f"index {j} is out of bounds for axis 0 with size {us.shape[0]}")
+                k = _wrap(j - 1, us.shape[0])
+                b = y if (ur[k] and ue[k] > y) else us[j]
+                w = b - x
+                if not found or (not isnan(mw) and not (w <= mw)):  # argmax: the first maximum, a NaN first
+                    found, mw, bb, bx = True, w, b, x
+        finally:
+            free(lo)
+        if not found:
+            raise ValueError("attempt to get argmax of an empty sequence")
+        return float(bx), float(bb)
 
 
 # ------------------------------------------------------------------ setcells.rest_zones

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -26,7 +27,7 @@ from algrasp.errors import NotOrientableError
 from algrasp.geometry.angles import to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.tolerances import PLANNING_RAD, ROUNDING
-from algrasp.planning.transfer import TransferFunction
+from algrasp.planning.transfer import LOOKUPS, TransferFunction
 
 STRICT_RAD = 1e-9
 """How far below the box's top a step value must stay (a step value on the top edge
@@ -67,6 +68,9 @@ class Lifted:
     upper: _Pieces
     fixed: dict[int, _Fixed] = field(default_factory=dict)
     """What :func:`_widest` reads that no box height changes, by the function's id."""
+    tables: dict[int, Any] = field(default_factory=dict)
+    """The compiled :func:`_widest` of each function (``_lookups.Widest``: its arrays held
+    typed), by the function's id."""
 
     @staticmethod
     def of(F: TransferFunction, upper: TransferFunction | None = None) -> Lifted:
@@ -181,9 +185,12 @@ def _widest(F: TransferFunction, lifted: Lifted, room: float) -> tuple[float, fl
     worth trying: the piece starts of one period (bottom-left placements; their lower
     values are fixed), then the points of ramps :func:`_ramp_candidates` gives (the first
     widest wins)."""
-    starts, ramp_starts, ramp_ends, tops, at_starts = _fixed(F, lifted)
     if KERNELS is not None:  # typed loops, the same interval (algrasp.compiled)
-        return KERNELS.widest(starts, ramp_starts, ramp_ends, tops, at_starts, lifted.lower, lifted.upper, room)  # type: ignore[no-any-return]
+        table = lifted.tables.get(id(F))
+        if table is None:
+            table = lifted.tables[id(F)] = LOOKUPS.Widest(*_fixed(F, lifted), lifted.lower, lifted.upper)
+        return table.at(room)  # type: ignore[no-any-return]
+    starts, ramp_starts, ramp_ends, tops, at_starts = _fixed(F, lifted)
     inner = _ramp_candidates(ramp_starts, ramp_ends, tops, room)
     if len(inner):  # one search for both kinds; argmax's first maximum keeps the starts' priority
         starts, at_starts = np.concatenate((starts, inner)), np.concatenate((at_starts, lifted.value_at(inner)))
