@@ -13,7 +13,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from typing import Any, Literal
+from typing import Any, Literal, NamedTuple
 
 import numpy as np
 
@@ -251,7 +251,7 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0, l
     if action not in ("squeeze", "push_grasp"):
         raise ConfigError("action", f"expected squeeze or push_grasp, got {action!r}")
     if analysis.robust is None:
-        return replace(plan_once(analysis, action, min_margin_deg), analysis=analysis)
+        return plan_once(analysis, action, min_margin_deg)
     try:
         plan = plan_once(analysis, action, min_margin_deg)
     except NotOrientableError as e:
@@ -261,9 +261,9 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0, l
         raise NotOrientableError(e.reason, e.message, search=_refusal_limits(analysis, action, e.message, min_margin_deg)) from None
     lim.remember(analysis, action, plan_once, min_margin_deg, True)
     if limits in ("none", "refusal"):
-        return replace(plan, analysis=analysis)
+        return plan
     wanted = lim.HEADLINE if limits == "headline" else tuple(lim.SEARCHES)
-    return replace(plan, analysis=analysis, limits=lim.limits(analysis, action, plan_once, wanted, min_margin_deg, refused=False))
+    return replace(plan, limits=lim.limits(analysis, action, plan_once, wanted, min_margin_deg, refused=False))
 
 
 def _refusal_limits(analysis: Analysis, action: Action, message: str,
@@ -283,7 +283,7 @@ def _refusal_limits(analysis: Analysis, action: Action, message: str,
 
 
 def plan_once(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -> Plan:
-    """:func:`make_plan` without limits: one planning attempt."""
+    """:func:`make_plan` without limits: one planning attempt (the plan holds ``analysis``)."""
     if not (np.isfinite(min_margin_deg) and 0.0 <= min_margin_deg < 180.0):
         raise ConfigError("min_margin_deg", f"must be in [0, 180), got {min_margin_deg}")
     band = None if analysis.robust is None else analysis.robust.band
@@ -304,7 +304,7 @@ def plan_once(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -
     if not ok:
         raise NotOrientableError("verification_failed", "the plan did not verify: please report this part")
     return Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), True,
-                {"planning": t1 - t0, "verification": t2 - t1})
+                {"planning": t1 - t0, "verification": t2 - t1}, analysis=analysis)
 
 
 def _set_for(analysis: Analysis, action: Action) -> SetTransfer:
@@ -365,13 +365,23 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
     k = int(round(2 * np.pi / T))
     finals = sorted(wrap(0.5 * (lo + hi) + i * T, 2 * np.pi, ROUNDING) for i in range(k))
     t1 = time.perf_counter()
-    plan = Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), False, {}, S,
-                uncertainty, {**analysis.robust.physics.to_dict(), **analysis.robust.band.to_dict()})
-    ok = verify_set(plan, S.circle_images()[0] if first is None else first)
+    ok = verify_set(_Draft(F, steps, finals, uncertainty, S), S.circle_images()[0] if first is None else first)
     t2 = time.perf_counter()
     if not ok:
         raise NotOrientableError("verification_failed", "the plan did not verify: please report this part")
-    return replace(plan, verified=True, timings_s={"planning": t1 - t0, "verification": t2 - t1})
+    return Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), True,
+                {"planning": t1 - t0, "verification": t2 - t1}, S, uncertainty,
+                {**analysis.robust.physics.to_dict(), **analysis.robust.band.to_dict()}, analysis=analysis)
+
+
+class _Draft(NamedTuple):
+    """What :func:`verify_set` reads of a plan not yet made (the plan is made once, verified)."""
+
+    transfer: TransferFunction
+    steps: list[PlanStep]
+    final_orientations: list[float]
+    final_uncertainty: float
+    bounds: SetTransfer
 
 
 EDGE_NORMAL_RAD = 1e-6
