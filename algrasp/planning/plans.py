@@ -192,9 +192,7 @@ def gripper_steps(F: TransferFunction, intervals: list[tuple[float, float]], T: 
     fit = [0.5 * ((b - a) - (hi - lo)) for lo, hi in arcs]  # room on each side; < 0: does not fit
     # At least the plan's tolerance and the guard room every image keeps; the widest always.
     need = min(max(min([m for m in margins[2:] if m is not None], default=np.inf), GUARD_RAD), max(fit))
-    choices = [(k, alpha) for k in range(len(arcs)) if fit[k] >= need
-               for alpha in _first_angles(arcs[k], order[1], alphas[1], _self_turn(P, T, fit[k]))]
-    k, alphas[0] = min(choices, key=lambda c: (_turning(c[1], alphas[1], P), c[0]))
+    k, alphas[0] = _first_choice(arcs, fit, need, order[1], alphas[1], P, T)
     margins[1] = max(0.0, fit[k])
     return [PlanStep(float(al), m) for al, m in zip(alphas, margins)], arcs[k]
 
@@ -210,18 +208,29 @@ def _nearest(angle: float, ref: float, turn: float) -> float:
     return angle - turn * round((angle - ref) / turn)
 
 
-def _first_angles(arc: tuple[float, float], nxt: tuple[float, float], alpha_next: float, turn: float) -> list[float]:
-    """The first action's angles that centre ``arc`` in the second action's interval, one
-    per turn that maps the action to itself."""
-    base = alpha_next + 0.5 * (nxt[0] + nxt[1]) - 0.5 * (arc[0] + arc[1])
-    return [base + i * turn for i in range(max(1, round(2 * np.pi / turn)))]
-
-
-def _turning(alpha_first: float, alpha_second: float, period: float) -> float:
-    """Turns (radians) that depend on the first action's angle: from the last action's
-    (0, where the previous part left the gripper) and on to the second action's, each the
-    shortest to an equivalent angle under the action's period (as the execution turns)."""
-    return abs(shortest_turn(alpha_first, period)) + abs(shortest_turn(alpha_second - alpha_first, period))
+def _first_choice(arcs: list[tuple[float, float]], fit: list[float], need: float, nxt: tuple[float, float],
+                  alpha_next: float, period: float, T: float) -> tuple[int, float]:
+    """The arc (its index) and first action's angle needing the least turning, of the arcs
+    with room ``fit`` ≥ ``need`` and, for each, the angles that centre it in the second
+    action's interval ``nxt`` (one per turn that maps the action to itself): the turns
+    from the last action's angle (0, where the previous part left the gripper) and on to
+    the second action's, each the shortest under the action's period (as the execution
+    turns). The first least (turning, index) wins. O(arcs · turns)."""
+    best: tuple[float, int] | None = None
+    out = (0, 0.0)
+    for k, arc in enumerate(arcs):
+        if not fit[k] >= need:
+            continue
+        turn = _self_turn(period, T, fit[k])
+        base = alpha_next + 0.5 * (nxt[0] + nxt[1]) - 0.5 * (arc[0] + arc[1])
+        for i in range(max(1, round(2 * np.pi / turn))):
+            alpha = base + i * turn
+            key = (abs(shortest_turn(alpha, period)) + abs(shortest_turn(alpha_next - alpha, period)), k)
+            if best is None or key < best:
+                best, out = key, (k, alpha)
+    if best is None:
+        raise ValueError("min() arg is an empty sequence")
+    return out
 
 
 def final_orientations(F: TransferFunction, intervals: list[tuple[float, float]], T: float) -> list[float]:
