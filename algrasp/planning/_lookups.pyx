@@ -522,10 +522,16 @@ def images(lower, upper, list intervals):
 # ------------------------------------------------------------- verification.verify_set
 
 cdef inline double _step_at(double t, double first, double P, const double* starts, const double* values,
-                            Py_ssize_t n) noexcept nogil:
-    """apply_on_ramp's F(θ) of one θ (the lookup kernel's: θ itself on a ramp)."""
+                            Py_ssize_t n, Py_ssize_t* hint) noexcept nogil:
+    """apply_on_ramp's F(θ) of one θ (the lookup kernel's: θ itself on a ramp). ``hint``:
+    the last insertion point, kept when it still is one (starts[i − 1] ≤ x < starts[i]:
+    in a sorted array the count of starts ≤ x, which bisect_right returns), else searched."""
     cdef double kP = floor((t - first) / P) * P
-    cdef double v = values[_bisect_right(starts, n, t - kP)]
+    cdef double x = t - kP
+    cdef Py_ssize_t i = hint[0]
+    if not ((i == 0 or starts[i - 1] <= x) and (i == n or x < starts[i])):
+        i = hint[0] = _bisect_right(starts, n, x)
+    cdef double v = values[i]
     return t if isnan(v) else kP + v
 
 
@@ -576,7 +582,7 @@ def verify_arcs(lower, upper, const double[:] starts, double c0, double c1, doub
     cdef double* lv = NULL
     cdef double* us = NULL
     cdef double* uv = NULL
-    cdef Py_ssize_t ln, un, n, i, k, q, total = samples + 3 * starts.shape[0] + 1, nw = len(want)
+    cdef Py_ssize_t ln, un, n, i, k, q, total = samples + 3 * starts.shape[0] + 1, nw = len(want), lh = 0, uh = 0
     cdef bint ok = True
     cdef double* lo = <double*>malloc(2 * total * sizeof(double))
     cdef double* w = <double*>malloc(max(nw, 1) * sizeof(double))
@@ -599,8 +605,8 @@ def verify_arcs(lower, upper, const double[:] starts, double c0, double c1, doub
             a = angles[k]
             q = 0
             for i in range(n):
-                x = _step_at(lo[i] - a, lf, lP, ls, lv, ln) + a
-                y = _step_at(hi[i] - a, uf, uP, us, uv, un) + a
+                x = _step_at(lo[i] - a, lf, lP, ls, lv, ln, &lh) + a
+                y = _step_at(hi[i] - a, uf, uP, us, uv, un, &uh) + a
                 if q == 0 or x != lo[q - 1] or y != hi[q - 1]:
                     lo[q], hi[q] = x, y
                     q += 1
