@@ -320,30 +320,86 @@ def widest(const double[:] starts, const double[:] ramp_starts, const double[:] 
            const double[:] at_starts, lower, upper, double room):
     """planner._widest after _fixed: the top-right candidates inside ramps (tops a ramp's
     box reaches), each left end's right end, the first widest; the same floats."""
-    return Widest(starts, ramp_starts, ramp_ends, tops, at_starts, lower, upper).at(room)
+    cdef Widest w = Widest(lower, upper, starts.shape[0], ramp_starts.shape[0], tops.shape[0])
+    cdef Py_ssize_t i
+    for i in range(w.ns):
+        w.starts[i], w.at_starts[i] = starts[i], at_starts[i]
+    for i in range(w.nr):
+        w.ramp_starts[i], w.ramp_ends[i] = ramp_starts[i], ramp_ends[i]
+    for i in range(w.nt):
+        w.tops[i] = tops[i]
+    return w.at(room)
+
+
+cdef inline Py_ssize_t _left_p(const double* a, Py_ssize_t n, double x) noexcept nogil:
+    """searchsorted(side="left") on a sorted C array."""
+    cdef Py_ssize_t lo = 0, hi = n, mid
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if a[mid] < x:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
 
 
 cdef class Widest:
-    """:func:`widest` for one function and lifting, its arrays held typed: each box height
-    after the first costs one call (A′ asks for several: every sink width, every interval)."""
+    """:func:`widest` for one function and lifting with :func:`fixed`'s arrays made once,
+    in C (:meth:`of`): each box height costs one call (A′ asks for several: every sink
+    width, every interval), and no array is made."""
 
-    cdef const double[:] starts, ramp_starts, ramp_ends, tops, at_starts, ls, lv, keys, ue, us
+    cdef double* buf
+    cdef double* starts
+    cdef double* at_starts
+    cdef double* ramp_starts
+    cdef double* ramp_ends
+    cdef double* tops
+    cdef Py_ssize_t ns, nr, nt
+    cdef const double[:] ls, lv, keys, ue, us
     cdef const unsigned char[:] lr, ur
 
-    def __init__(self, const double[:] starts, const double[:] ramp_starts, const double[:] ramp_ends,
-                 const double[:] tops, const double[:] at_starts, lower, upper):
-        self.starts, self.ramp_starts, self.ramp_ends, self.tops, self.at_starts = (starts, ramp_starts, ramp_ends,
-                                                                                    tops, at_starts)
+    def __cinit__(self, lower, upper, Py_ssize_t ns, Py_ssize_t nr, Py_ssize_t nt):
+        self.buf = <double*>malloc(max(2 * ns + 2 * nr + nt, 1) * sizeof(double))
+        if self.buf == NULL:
+            raise MemoryError()
+        self.starts, self.at_starts = self.buf, self.buf + ns
+        self.ramp_starts, self.ramp_ends, self.tops = self.buf + 2 * ns, self.buf + 2 * ns + nr, self.buf + 2 * ns + 2 * nr
+        self.ns, self.nr, self.nt = ns, nr, nt
         self.ls, self.lv, self.keys, self.ue, self.us = lower.starts, lower.values, upper.keys, upper.ends, upper.starts
         self.lr, self.ur = lower.ramp.view(np.uint8), upper.ramp.view(np.uint8)
 
+    def __dealloc__(self):
+        free(self.buf)
+
+    @staticmethod
+    def of(double base, double period, lower, upper, double rounding):
+        """The table of :func:`fixed`'s arrays (the same floats), made in C."""
+        cdef const double[:] ls = lower.starts, le = lower.ends, lv = lower.values, uv = upper.values
+        cdef const unsigned char[:] lr = lower.ramp.view(np.uint8)
+        cdef Py_ssize_t n = ls.shape[0], i, ns = 0, nr = 0
+        cdef double lo = base - rounding, hi = base + period - rounding
+        for i in range(n):
+            if ls[i] >= lo and ls[i] < hi:
+                ns += 1
+                nr += lr[i] != 0
+        cdef Widest w = Widest(lower, upper, ns, nr, uv.shape[0])
+        ns = nr = 0
+        for i in range(n):
+            if ls[i] >= lo and ls[i] < hi:
+                w.starts[ns] = ls[i]
+                w.at_starts[ns] = _value_at(ls, lr, lv, ls[i])
+                ns += 1
+                if lr[i]:
+                    w.ramp_starts[nr], w.ramp_ends[nr] = ls[i], le[i]
+                    nr += 1
+        w.nt = _distinct_into(uv, w.tops)
+        return w
+
     def at(self, double room):
         """The widest [a, b) whose image fits a box of height ``room`` (planner._widest)."""
-        cdef const double[:] starts = self.starts, ramp_starts = self.ramp_starts, ramp_ends = self.ramp_ends
-        cdef const double[:] tops = self.tops, at_starts = self.at_starts, ls = self.ls, lv = self.lv
-        cdef const double[:] keys = self.keys, ue = self.ue, us = self.us
+        cdef const double[:] ls = self.ls, lv = self.lv, keys = self.keys, ue = self.ue, us = self.us
         cdef const unsigned char[:] lr = self.lr, ur = self.ur
-        cdef Py_ssize_t ns = starts.shape[0], nr = ramp_starts.shape[0], nt = tops.shape[0], t, k, i, j, c, d
+        cdef Py_ssize_t ns = self.ns, nr = self.nr, nt = self.nt, t, k, i, j, c, d
         cdef Py_ssize_t n = ns + (nt if nr else 0)
         cdef double x, y, at, b, w, mw = 0.0, bb = 0.0, bx = 0.0
         cdef bint found = False
@@ -351,11 +407,12 @@ cdef class Widest:
         if lo == NULL:
             raise MemoryError()
         for k in range(nr):  # _ramp_candidates' lo and hi (sorted: the ramps are)
-            lo[k], lo[nr + k] = _bisect_left(tops, ramp_starts[k] + room), _bisect_left(tops, ramp_ends[k] + room)
+            lo[k] = _left_p(self.tops, nt, self.ramp_starts[k] + room)
+            lo[nr + k] = _left_p(self.tops, nt, self.ramp_ends[k] + room)
         try:
             for i in range(n):
                 if i < ns:
-                    x, at = starts[i], at_starts[i]
+                    x, at = self.starts[i], self.at_starts[i]
                 else:  # tops[t] − room where more ranges start than end by t
                     t = i - ns
                     c = d = 0
@@ -364,7 +421,7 @@ cdef class Widest:
                         d += lo[nr + k] <= t
                     if not c > d:
                         continue
-                    x = tops[t] - room
+                    x = self.tops[t] - room
                     j = _wrap(_right(ls, x) - 1, ls.shape[0])
                     at = x if lr[j] else lv[j]
                 y = at + room
@@ -433,9 +490,15 @@ cdef inline double _value_at(const double[:] ls, const unsigned char[:] lr, cons
 
 cdef object _distinct(const double[:] a):
     """planner._unique: np.array(sorted(set(a.tolist()))) (the first of equal values kept)."""
-    cdef Py_ssize_t n = a.shape[0], m = 0, i, j
-    out_ = np.empty(n)
+    out_ = np.empty(a.shape[0])
     cdef double[:] out = out_
+    cdef Py_ssize_t m = _distinct_into(a, &out[0]) if a.shape[0] else 0
+    return out_[:m].copy()
+
+
+cdef Py_ssize_t _distinct_into(const double[:] a, double* out) noexcept:
+    """:func:`_distinct` into ``out`` (room for all of a): the count kept."""
+    cdef Py_ssize_t n = a.shape[0], m = 0, i, j
     cdef double x
     for i in range(n):
         x = a[i]
@@ -449,7 +512,7 @@ cdef object _distinct(const double[:] a):
                 j -= 1
             out[j + 1] = x
             m += 1
-    return out_[:m].copy()
+    return m
 
 
 def fixed(double base, double period, lower, upper, double rounding):

@@ -188,7 +188,8 @@ def _widest(F: TransferFunction, lifted: Lifted, room: float) -> tuple[float, fl
     if KERNELS is not None:  # typed loops, the same interval (algrasp.compiled)
         table = lifted.tables.get(id(F))
         if table is None:
-            table = lifted.tables[id(F)] = LOOKUPS.Widest(*_fixed(F, lifted), lifted.lower, lifted.upper)
+            table = lifted.tables[id(F)] = LOOKUPS.Widest.of(F.pieces[0].start, F.period, lifted.lower, lifted.upper,
+                                                             ROUNDING)
         return table.at(room)  # type: ignore[no-any-return]
     starts, ramp_starts, ramp_ends, tops, at_starts = _fixed(F, lifted)
     inner = _ramp_candidates(ramp_starts, ramp_ends, tops, room)
