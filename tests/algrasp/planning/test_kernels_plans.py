@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 
 from algrasp.compiled import KERNELS
 from algrasp.errors import NotOrientableError
-from algrasp.planning import planner, transfer, verification
+from algrasp.planning import planner, plans, transfer, verification
 from algrasp.planning.analysis import Model, analyse_document
 from algrasp.planning.physics import Physics
 from algrasp.planning.plans import Plan, PlanStep, make_plan
@@ -129,4 +129,34 @@ def test_arcs_holding_is_bit_identical(arcs: list[tuple[float, float]], T: float
     """Intervals anywhere (several periods off, ±0.0, touching, as wide as T)."""
     lo, hi = [a for a, _ in arcs], [a + w for a, w in arcs]
     compiled, numpy_ = _both(lambda: transfer.arcs_holding(lo, hi, T))
+    assert _bits(compiled) == _bits(numpy_)
+
+
+def _plan_bits(plan: Plan) -> Any:
+    """Everything a plan says but its timings."""
+    return (plan.action, plan.symmetry_period, plan.intervals, [(s.gripper_angle, s.margin) for s in plan.steps],
+            plan.final_orientations, plan.verified, plan.final_uncertainty)
+
+
+@settings(max_examples=60, deadline=None)
+@given(shape=st.sampled_from(sorted(DOCS)), seed=st.integers(0, 10_000), n=st.integers(3, 11), physics=PHYSICS,
+       action=st.sampled_from(["squeeze", "push_grasp"]), margin=st.sampled_from([0.0, 0.5, 3.0]))
+def test_plans_are_bit_identical(shape: str, seed: int, n: int, physics: Physics, action: str, margin: float) -> None:
+    """A′'s search (the compiled widest tables, sink widths, images), the gripper angles and
+    the verification: the same plan, or the same refusal, either way."""
+    analysis = analyse_document(DOCS[shape](seed, n), Model(physics=physics))
+    compiled, numpy_ = _both(lambda: _plan_bits(plans.plan_once(analysis, action, margin)))  # type: ignore[arg-type]
+    assert _bits(compiled) == _bits(numpy_)
+
+
+@settings(max_examples=80, deadline=None)
+@given(shape=st.sampled_from(sorted(DOCS)), seed=st.integers(0, 10_000), n=st.integers(3, 11), physics=PHYSICS,
+       action=st.sampled_from(["squeeze", "push_grasp"]), rooms=st.lists(st.floats(0.0, 7.0), min_size=1, max_size=6))
+def test_widest_is_bit_identical(shape: str, seed: int, n: int, physics: Physics, action: str, rooms: list[float]) -> None:
+    """The widest fit of every box height, on a fresh lifting each way (its table made there)."""
+    analysis = analyse_document(DOCS[shape](seed, n), Model(physics=physics))
+    S = None if analysis.robust is None else getattr(analysis.robust, action)
+    if S is None:
+        return
+    compiled, numpy_ = _both(lambda: [planner._widest(S.lower, planner.Lifted.of(S.lower, S.upper), r) for r in rooms])
     assert _bits(compiled) == _bits(numpy_)
