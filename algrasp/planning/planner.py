@@ -24,9 +24,9 @@ import numpy as np
 
 from algrasp.compiled import KERNELS
 from algrasp.errors import NotOrientableError
-from algrasp.geometry.angles import to_deg, to_rad
+from algrasp.geometry.angles import shortest_turn, to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
-from algrasp.geometry.tolerances import PLANNING_RAD, ROUNDING
+from algrasp.geometry.tolerances import PLANNING_RAD, ROUNDING, SYMMETRY_TOL_RAD
 from algrasp.planning.transfer import LOOKUPS, TransferFunction
 
 STRICT_RAD = 1e-9
@@ -271,6 +271,45 @@ def images(F: TransferFunction, intervals: list[tuple[float, float]], upper: Tra
     lo = lifted.value_at(np.array([a for a, _ in intervals]))
     hi, _ = lifted.top(np.array([b for _, b in intervals]))
     return [(float(x), float(y)) for x, y in zip(lo, hi)]
+
+
+# ------------------------------------------------------ gripper angles (plans.gripper_steps)
+
+
+def self_turn(period: float, T: float, margin: float) -> float:
+    """The smallest turn that maps an action to itself: T (the part's symmetry, true to
+    SYMMETRY_TOL_RAD) when the margin absorbs that on both image ends, else the period."""
+    return T if margin > 2.0 * SYMMETRY_TOL_RAD else period
+
+
+def nearest(angle: float, ref: float, turn: float) -> float:
+    """``angle`` plus the multiple of ``turn`` that brings it nearest ``ref`` (radians)."""
+    return angle - turn * round((angle - ref) / turn)
+
+
+def first_choice(arcs: list[tuple[float, float]], fit: list[float], need: float, nxt: tuple[float, float],
+                  alpha_next: float, period: float, T: float) -> tuple[int, float]:
+    """The arc (its index) and first action's angle needing the least turning, of the arcs
+    with room ``fit`` ≥ ``need`` and, for each, the angles that centre it in the second
+    action's interval ``nxt`` (one per turn that maps the action to itself): the turns
+    from the last action's angle (0, where the previous part left the gripper) and on to
+    the second action's, each the shortest under the action's period (as the execution
+    turns). The first least (turning, index) wins. O(arcs · turns)."""
+    best: tuple[float, int] | None = None
+    out = (0, 0.0)
+    for k, arc in enumerate(arcs):
+        if not fit[k] >= need:
+            continue
+        turn = self_turn(period, T, fit[k])
+        base = alpha_next + 0.5 * (nxt[0] + nxt[1]) - 0.5 * (arc[0] + arc[1])
+        for i in range(max(1, round(2 * np.pi / turn))):
+            alpha = base + i * turn
+            key = (abs(shortest_turn(alpha, period)) + abs(shortest_turn(alpha_next - alpha, period)), k)
+            if best is None or key < best:
+                best, out = key, (k, alpha)
+    if best is None:
+        raise ValueError("min() arg is an empty sequence")
+    return out
 
 
 def _unique(a: FloatArray) -> FloatArray:

@@ -18,14 +18,14 @@ from typing import Any, Literal, NamedTuple
 import numpy as np
 
 from algrasp.errors import ConfigError, NotOrientableError
-from algrasp.geometry.angles import shortest_turn, signed_diff, to_deg, to_rad
+from algrasp.geometry.angles import signed_diff, to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import wrap
 from algrasp.geometry.tolerances import MAX_UNCERTAINTY_RAD, ROUNDING, SYMMETRY_TOL_RAD, UNCERTAINTY_FLOOR_RAD
 from algrasp.planning import limits as lim
 from algrasp.planning.actions import Action
 from algrasp.planning.analysis import Analysis, uses_sets
-from algrasp.planning.planner import GUARD_RAD, Lifted, algorithm_a_prime, images, set_a_prime
+from algrasp.planning.planner import GUARD_RAD, Lifted, algorithm_a_prime, first_choice, images, nearest, self_turn, set_a_prime
 from algrasp.planning.setvalued import SetTransfer
 from algrasp.planning.transfer import TransferFunction
 from algrasp.planning.verification import run_steps, through, verify, verify_set
@@ -185,52 +185,16 @@ def gripper_steps(F: TransferFunction, intervals: list[tuple[float, float]], T: 
     for j in range(n - 2, 0, -1):
         (lo, hi), (a, b) = later[j - 1], order[j + 1]
         margin = max(0.0, 0.5 * ((b - a) - (hi - lo)))
-        alphas[j] = _nearest(alphas[j + 1] + 0.5 * (a + b - lo - hi), alphas[j + 1], _self_turn(P, T, margin))
+        alphas[j] = nearest(alphas[j + 1] + 0.5 * (a + b - lo - hi), alphas[j + 1], self_turn(P, T, margin))
         margins[j + 1] = margin
     arcs = F.circle_images(T) if first_images is None else first_images
     a, b = order[1]
     fit = [0.5 * ((b - a) - (hi - lo)) for lo, hi in arcs]  # room on each side; < 0: does not fit
     # At least the plan's tolerance and the guard room every image keeps; the widest always.
     need = min(max(min([m for m in margins[2:] if m is not None], default=np.inf), GUARD_RAD), max(fit))
-    k, alphas[0] = _first_choice(arcs, fit, need, order[1], alphas[1], P, T)
+    k, alphas[0] = first_choice(arcs, fit, need, order[1], alphas[1], P, T)
     margins[1] = max(0.0, fit[k])
     return [PlanStep(float(al), m) for al, m in zip(alphas, margins)], arcs[k]
-
-
-def _self_turn(period: float, T: float, margin: float) -> float:
-    """The smallest turn that maps an action to itself: T (the part's symmetry, true to
-    SYMMETRY_TOL_RAD) when the margin absorbs that on both image ends, else the period."""
-    return T if margin > 2.0 * SYMMETRY_TOL_RAD else period
-
-
-def _nearest(angle: float, ref: float, turn: float) -> float:
-    """``angle`` plus the multiple of ``turn`` that brings it nearest ``ref`` (radians)."""
-    return angle - turn * round((angle - ref) / turn)
-
-
-def _first_choice(arcs: list[tuple[float, float]], fit: list[float], need: float, nxt: tuple[float, float],
-                  alpha_next: float, period: float, T: float) -> tuple[int, float]:
-    """The arc (its index) and first action's angle needing the least turning, of the arcs
-    with room ``fit`` ≥ ``need`` and, for each, the angles that centre it in the second
-    action's interval ``nxt`` (one per turn that maps the action to itself): the turns
-    from the last action's angle (0, where the previous part left the gripper) and on to
-    the second action's, each the shortest under the action's period (as the execution
-    turns). The first least (turning, index) wins. O(arcs · turns)."""
-    best: tuple[float, int] | None = None
-    out = (0, 0.0)
-    for k, arc in enumerate(arcs):
-        if not fit[k] >= need:
-            continue
-        turn = _self_turn(period, T, fit[k])
-        base = alpha_next + 0.5 * (nxt[0] + nxt[1]) - 0.5 * (arc[0] + arc[1])
-        for i in range(max(1, round(2 * np.pi / turn))):
-            alpha = base + i * turn
-            key = (abs(shortest_turn(alpha, period)) + abs(shortest_turn(alpha_next - alpha, period)), k)
-            if best is None or key < best:
-                best, out = key, (k, alpha)
-    if best is None:
-        raise ValueError("min() arg is an empty sequence")
-    return out
 
 
 def final_orientations(F: TransferFunction, intervals: list[tuple[float, float]], T: float) -> list[float]:

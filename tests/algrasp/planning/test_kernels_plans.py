@@ -111,10 +111,10 @@ def test_verify_set_is_bit_identical(shape: str, seed: int, n: int, physics: Phy
     plan = _plan(shape, seed, n, physics, action)
     if plan is None or plan.bounds is None:
         return
-    S = plan.bounds
-    for circle in [S.circle_images()[0], *S.circle_images()[1:2], (S.circle_images()[0][0] - 0.0, S.circle_images()[0][0])]:
-        p = _disturbed(plan, shift, k, shrink)
-        compiled, numpy_ = _both(lambda: verification.verify_set(p, circle, samples))
+    arcs = plan.bounds.circle_images()
+    p = _disturbed(plan, shift, k, shrink)
+    for circle in [arcs[0], *arcs[1:2], (arcs[0][0], arcs[0][0])]:  # the hull, another arc, a point
+        compiled, numpy_ = _both(lambda c=circle: verification.verify_set(p, c, samples))
         assert _bits(compiled) == _bits(numpy_)
 
 
