@@ -369,13 +369,11 @@ def _edge_tilt(analysis: Analysis, lo: float, hi: float) -> float:
     interval. 0 when no edge can lie flat there."""
     assert analysis.robust is not None
     eps = analysis.robust.band.value_err  # the drawing's error or the profile tolerance, the larger
-    tilt = 0.0
-    for (ax, ay), (bx, by) in analysis.part.hull.edges:
-        length = float(np.hypot(bx - ax, by - ay))
-        t = 2.0 * eps / length
-        # the edge is flat on a jaw at θ with π/2 − θ ≡ its normal (mod π)
-        flat = np.pi / 2 - np.arctan2(-(bx - ax), by - ay)
-        rel = (flat - lo + t + EDGE_NORMAL_RAD) % np.pi
-        if rel <= (hi - lo) + 2.0 * (t + EDGE_NORMAL_RAD):
-            tilt = max(tilt, t)
-    return tilt
+    if not analysis.part.hull.edges:
+        return 0.0
+    e = np.array(analysis.part.hull.edges, dtype=float)  # (m, 2, 2): every edge at once, each value as one at a time
+    dx, dy = e[:, 1, 0] - e[:, 0, 0], e[:, 1, 1] - e[:, 0, 1]
+    t = 2.0 * eps / np.hypot(dx, dy)
+    # the edge is flat on a jaw at θ with π/2 − θ ≡ its normal (mod π)
+    rel = (np.pi / 2 - np.arctan2(-dx, dy) - lo + t + EDGE_NORMAL_RAD) % np.pi
+    return max([0.0, *t[rel <= (hi - lo) + 2.0 * (t + EDGE_NORMAL_RAD)].tolist()])  # the first largest, as edge by edge

@@ -160,3 +160,28 @@ def test_widest_is_bit_identical(shape: str, seed: int, n: int, physics: Physics
         return
     compiled, numpy_ = _both(lambda: [planner._widest(S.lower, planner.Lifted.of(S.lower, S.upper), r) for r in rooms])
     assert _bits(compiled) == _bits(numpy_)
+
+
+def _tilt_edge_by_edge(analysis: Any, lo: float, hi: float) -> float:
+    """plans._edge_tilt as it was written, one edge at a time (the reference)."""
+    eps, tilt = analysis.robust.band.value_err, 0.0
+    for (ax, ay), (bx, by) in analysis.part.hull.edges:
+        t = 2.0 * eps / float(np.hypot(bx - ax, by - ay))
+        rel = (np.pi / 2 - np.arctan2(-(bx - ax), by - ay) - lo + t + plans.EDGE_NORMAL_RAD) % np.pi
+        if rel <= (hi - lo) + 2.0 * (t + plans.EDGE_NORMAL_RAD):
+            tilt = max(tilt, t)
+    return tilt
+
+
+@settings(max_examples=150, deadline=None)
+@given(shape=st.sampled_from(sorted(DOCS)), seed=st.integers(0, 10_000), n=st.integers(3, 11), physics=PHYSICS,
+       lo=st.floats(-7.0, 7.0), width=st.floats(0.0, 0.5) | st.sampled_from([0.0, 1e-9]))
+def test_edge_tilt_is_edge_by_edge(shape: str, seed: int, n: int, physics: Physics, lo: float, width: float) -> None:
+    """Every edge at once gives each edge's floats as one at a time (numpy's hypot and
+    arctan2 alike on arrays and scalars), and the same first largest tilt."""
+    analysis = analyse_document(DOCS[shape](seed, n), Model(physics=physics))
+    if analysis.robust is None:
+        return
+    flats = [np.pi / 2 - np.arctan2(-(b[0] - a[0]), b[1] - a[1]) for a, b in analysis.part.hull.edges]
+    for x in [lo, *flats[:3]]:  # anywhere, and at edges lying flat
+        assert _bits(plans._edge_tilt(analysis, x, x + width)) == _bits(_tilt_edge_by_edge(analysis, x, x + width))
