@@ -376,4 +376,5 @@ def _edge_tilt(analysis: Analysis, lo: float, hi: float) -> float:
     t = 2.0 * eps / np.hypot(dx, dy)
     # the edge is flat on a jaw at θ with π/2 − θ ≡ its normal (mod π)
     rel = (np.pi / 2 - np.arctan2(-dx, dy) - lo + t + EDGE_NORMAL_RAD) % np.pi
-    return max([0.0, *t[rel <= (hi - lo) + 2.0 * (t + EDGE_NORMAL_RAD)].tolist()])  # the first largest, as edge by edge
+    tilts: list[float] = t[rel <= (hi - lo) + 2.0 * (t + EDGE_NORMAL_RAD)].tolist()
+    return max([0.0, *tilts])  # the first largest, as edge by edge
