@@ -584,18 +584,72 @@ def images(lower, upper, list intervals):
 
 # ------------------------------------------------------------- verification.verify_set
 
-cdef inline double _step_at(double t, double first, double P, const double* starts, const double* values,
-                            Py_ssize_t n, Py_ssize_t* hint) noexcept nogil:
-    """apply_on_ramp's F(θ) of one θ (the lookup kernel's: θ itself on a ramp). ``hint``:
-    the last insertion point, kept when it still is one (starts[i − 1] ≤ x < starts[i]:
-    in a sorted array the count of starts ≤ x, which bisect_right returns), else searched."""
-    cdef double kP = floor((t - first) / P) * P
-    cdef double x = t - kP
-    cdef Py_ssize_t i = hint[0]
-    if not ((i == 0 or starts[i - 1] <= x) and (i == n or x < starts[i])):
-        i = hint[0] = _bisect_right(starts, n, x)
-    cdef double v = values[i]
-    return t if isnan(v) else kP + v
+cdef struct _Fn:
+    double first, P, kP  # kP: the last lookup's lift
+    double* starts
+    double* values  # [last, *values], NaN on ramps (_table's)
+    Py_ssize_t n, hint  # hint: the last insertion point
+
+
+cdef inline Py_ssize_t _piece_of(_Fn* f, double t) noexcept nogil:
+    """The lookup of one θ: its lift into f.kP and its insertion point, the last one kept
+    while it still is one (starts[i − 1] ≤ x < starts[i]: in a sorted array the count of
+    starts ≤ x, which bisect_right returns), else searched."""
+    f.kP = floor((t - f.first) / f.P) * f.P
+    cdef double x = t - f.kP
+    cdef Py_ssize_t i = f.hint
+    if not ((i == 0 or f.starts[i - 1] <= x) and (i == f.n or x < f.starts[i])):
+        i = f.hint = _bisect_right(f.starts, f.n, x)
+    return i
+
+
+cdef inline double _step_at(_Fn* f, double t) noexcept nogil:
+    """apply_on_ramp's F(θ) of one θ (the lookup kernel's: θ itself on a ramp)."""
+    cdef double v = f.values[_piece_of(f, t)]
+    return t if isnan(v) else f.kP + v
+
+
+cdef inline bint _same_step(_Fn* f, double t, double kP, Py_ssize_t i) noexcept nogil:
+    """Whether θ lies in the piece i under the lift kP (then F(θ) is that step's value)."""
+    cdef double k = floor((t - f.first) / f.P) * f.P
+    cdef double x = t - k
+    return k == kP and (i == 0 or f.starts[i - 1] <= x) and (i == f.n or x < f.starts[i])
+
+
+cdef Py_ssize_t _second_action(double* lo, double* hi, Py_ssize_t n, Py_ssize_t sorted_to, double a, _Fn* L,
+                               _Fn* U) noexcept nogil:
+    """The second action over the sample arcs in place, a repeat of the arc before dropped.
+    The first ``sorted_to`` samples are points in order (the arc's linspace, clipped and
+    shifted: monotone), so where both bounds step (not ramp) at one sample, every later
+    sample found in both the same pieces under the same lifts (a prefix, found by
+    galloping) maps to the same arc, a repeat: skipped, unevaluated. Returns the count."""
+    cdef Py_ssize_t i = 0, q = 0, il, iu, good, bad, j, stride
+    cdef double x, y, kl, ku, vl, vu
+    while i < n:
+        il, iu = _piece_of(L, lo[i] - a), _piece_of(U, hi[i] - a)
+        kl, ku, vl, vu = L.kP, U.kP, L.values[il], U.values[iu]
+        x = (lo[i] - a if isnan(vl) else kl + vl) + a
+        y = (hi[i] - a if isnan(vu) else ku + vu) + a
+        if q == 0 or x != lo[q - 1] or y != hi[q - 1]:
+            lo[q], hi[q] = x, y
+            q += 1
+        good = i
+        if i < sorted_to and not isnan(vl) and not isnan(vu):
+            bad, stride = sorted_to, 1
+            while good + stride < sorted_to:  # gallop, then halve: the same pieces are a prefix
+                j = good + stride
+                if not (_same_step(L, lo[j] - a, kl, il) and _same_step(U, hi[j] - a, ku, iu)):
+                    bad = j
+                    break
+                good, stride = j, 2 * stride
+            while bad - good > 1:
+                j = (good + bad) >> 1
+                if _same_step(L, lo[j] - a, kl, il) and _same_step(U, hi[j] - a, ku, iu):
+                    good = j
+                else:
+                    bad = j
+        i = good + 1
+    return q
 
 
 cdef Py_ssize_t _samples_into(double* lo, double* hi, const double[:] starts, double c0, double c1, double T,
@@ -640,12 +694,11 @@ def verify_arcs(lower, upper, const double[:] starts, double c0, double c1, doub
     repeats of the arc before dropped after each; True when every arc ends within
     ``bound`` of a wanted orientation (Python's float remainder, as signed_diff's). The
     same floats as the numpy and plain-float passes it replaces: the verdict is theirs."""
-    cdef double lf, uf, lP = lower.period, uP = upper.period, x, y, a, m, best, d
-    cdef double* ls = NULL
-    cdef double* lv = NULL
-    cdef double* us = NULL
-    cdef double* uv = NULL
-    cdef Py_ssize_t ln, un, n, i, k, q, total = samples + 3 * starts.shape[0] + 1, nw = len(want), lh = 0, uh = 0
+    cdef double x, y, a, m, best, d
+    cdef _Fn L, U
+    L.starts = L.values = U.starts = U.values = NULL
+    L.P, U.P, L.hint, U.hint = lower.period, upper.period, 0, 0
+    cdef Py_ssize_t n, i, k, q, total = samples + 3 * starts.shape[0] + 1, nw = len(want)
     cdef bint ok = True
     cdef double* lo = <double*>malloc(2 * total * sizeof(double))
     cdef double* w = <double*>malloc(max(nw, 1) * sizeof(double))
@@ -661,15 +714,18 @@ def verify_arcs(lower, upper, const double[:] starts, double c0, double c1, doub
     for i in range(nw):
         w[i] = want[i]
     try:
-        _table(lower, &lf, &ls, &lv, &ln)
-        _table(upper, &uf, &us, &uv, &un)
+        _table(lower, &L.first, &L.starts, &L.values, &L.n)
+        _table(upper, &U.first, &U.starts, &U.values, &U.n)
         n = _samples_into(lo, hi, starts, c0, c1, T, angles[0], samples, probe)
         for k in range(1, len(angles)):
             a = angles[k]
+            if k == 1:
+                n = _second_action(lo, hi, n, samples, a, &L, &U)
+                continue
             q = 0
             for i in range(n):
-                x = _step_at(lo[i] - a, lf, lP, ls, lv, ln, &lh) + a
-                y = _step_at(hi[i] - a, uf, uP, us, uv, un, &uh) + a
+                x = _step_at(&L, lo[i] - a) + a
+                y = _step_at(&U, hi[i] - a) + a
                 if q == 0 or x != lo[q - 1] or y != hi[q - 1]:
                     lo[q], hi[q] = x, y
                     q += 1
@@ -686,10 +742,10 @@ def verify_arcs(lower, upper, const double[:] starts, double c0, double c1, doub
     finally:
         free(lo)
         free(w)
-        free(ls)
-        free(lv)
-        free(us)
-        free(uv)
+        free(L.starts)
+        free(L.values)
+        free(U.starts)
+        free(U.values)
     return ok
 
 
