@@ -14,6 +14,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from typing import Any, Literal, NamedTuple
+from weakref import WeakKeyDictionary
 
 import numpy as np
 
@@ -21,6 +22,7 @@ from algrasp.errors import ConfigError, NotOrientableError
 from algrasp.geometry.angles import signed_diff, to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import wrap
+from algrasp.geometry.hull import ConvexHull
 from algrasp.geometry.tolerances import MAX_UNCERTAINTY_RAD, ROUNDING, SYMMETRY_TOL_RAD, UNCERTAINTY_FLOOR_RAD
 from algrasp.planning import limits as lim
 from algrasp.planning.actions import Action
@@ -359,6 +361,8 @@ class _Draft(NamedTuple):
 
 EDGE_NORMAL_RAD = 1e-6
 """A hull edge whose normal is this close to the jaws' normal lies flat on a jaw."""
+_EDGES: WeakKeyDictionary[ConvexHull, tuple[FloatArray, FloatArray]] = WeakKeyDictionary()
+"""Each hull's edge lengths and flat angles (:func:`_edge_tilt`; every plan and limit probe of a part reads them)."""
 
 
 def _edge_tilt(analysis: Analysis, lo: float, hi: float) -> float:
@@ -369,12 +373,15 @@ def _edge_tilt(analysis: Analysis, lo: float, hi: float) -> float:
     interval. 0 when no edge can lie flat there."""
     assert analysis.robust is not None
     eps = analysis.robust.band.value_err  # the drawing's error or the profile tolerance, the larger
-    if not analysis.part.hull.edges:
-        return 0.0
-    e = np.array(analysis.part.hull.edges, dtype=float)  # (m, 2, 2): every edge at once, each value as one at a time
-    dx, dy = e[:, 1, 0] - e[:, 0, 0], e[:, 1, 1] - e[:, 0, 1]
-    t = 2.0 * eps / np.hypot(dx, dy)
-    # the edge is flat on a jaw at θ with π/2 − θ ≡ its normal (mod π)
-    rel = (np.pi / 2 - np.arctan2(-dx, dy) - lo + t + EDGE_NORMAL_RAD) % np.pi
+    got = _EDGES.get(analysis.part.hull)
+    if got is None:  # the part's edges (lengths, the angles they lie flat at), once per hull
+        e = np.array(analysis.part.hull.edges, dtype=float).reshape(-1, 2, 2)  # (m, 2, 2): each value as edge by edge
+        dx, dy = e[:, 1, 0] - e[:, 0, 0], e[:, 1, 1] - e[:, 0, 1]
+        # the edge is flat on a jaw at θ with π/2 − θ ≡ its normal (mod π)
+        got = _EDGES[analysis.part.hull] = np.hypot(dx, dy), np.pi / 2 - np.arctan2(-dx, dy)
+        got[0].flags.writeable = got[1].flags.writeable = False
+    length, flat = got
+    t = 2.0 * eps / length
+    rel = (flat - lo + t + EDGE_NORMAL_RAD) % np.pi
     tilts: list[float] = t[rel <= (hi - lo) + 2.0 * (t + EDGE_NORMAL_RAD)].tolist()
     return max([0.0, *tilts])  # the first largest, as edge by edge
