@@ -819,3 +819,42 @@ def arcs_holding(list lo, list hi, double T):
     finally:
         free(L)
     return out
+
+
+# ------------------------------------------------------------- planner.first_choice
+
+cdef inline double _shortest_turn(double x, double p) noexcept nogil:
+    """angles.shortest_turn: (x + p/2) % p − p/2, Python's float remainder."""
+    return _mod(x + p / 2.0, p) - p / 2.0
+
+
+def first_choice(list arcs, list fit, double need, nxt, double alpha_next, double period, double T,
+                 double two_tol):
+    """planner.first_choice: of the arcs with room ≥ need, each angle centring it in ``nxt``
+    (one per turn mapping the action to itself: T when its room exceeds ``two_tol``, else
+    the period; Python's round half to even), the first least (turning, index); the same floats."""
+    cdef Py_ssize_t k, i, count, best_k = 0, out_k = 0
+    cdef double room, turn, base, alpha, t, r, best_t = 0.0, out_a = 0.0
+    cdef double mid = 0.5 * (<double>nxt[0] + <double>nxt[1])
+    cdef bint found = False
+    for k in range(len(arcs)):
+        room = fit[k]
+        if not room >= need:
+            continue
+        arc = arcs[k]
+        turn = T if room > two_tol else period
+        base = alpha_next + mid - 0.5 * (<double>arc[0] + <double>arc[1])
+        r = 2.0 * M_PI / turn
+        if isnan(r):
+            raise ValueError("cannot convert float NaN to integer")
+        if r == INFINITY or r == -INFINITY:
+            raise OverflowError("cannot convert float infinity to integer")
+        count = <Py_ssize_t>rint(r)
+        for i in range(count if count > 1 else 1):
+            alpha = base + (<double>i) * turn
+            t = fabs(_shortest_turn(alpha, period)) + fabs(_shortest_turn(alpha_next - alpha, period))
+            if not found or (k < best_k if t == best_t else t < best_t):
+                found, best_t, best_k, out_k, out_a = True, t, k, k, alpha
+    if not found:
+        raise ValueError("min() arg is an empty sequence")
+    return out_k, out_a

@@ -295,6 +295,8 @@ def first_choice(arcs: list[tuple[float, float]], fit: list[float], need: float,
     from the last action's angle (0, where the previous part left the gripper) and on to
     the second action's, each the shortest under the action's period (as the execution
     turns). The first least (turning, index) wins. O(arcs · turns)."""
+    if KERNELS is not None:  # typed loops, the same keys and angle (algrasp.compiled)
+        return LOOKUPS.first_choice(arcs, fit, need, nxt, alpha_next, period, T, 2.0 * SYMMETRY_TOL_RAD)  # type: ignore[no-any-return]
     best: tuple[float, int] | None = None
     out = (0, 0.0)
     for k, arc in enumerate(arcs):

@@ -185,3 +185,18 @@ def test_edge_tilt_is_edge_by_edge(shape: str, seed: int, n: int, physics: Physi
     flats = [np.pi / 2 - np.arctan2(-(b[0] - a[0]), b[1] - a[1]) for a, b in analysis.part.hull.edges]
     for x in [lo, *flats[:3]]:  # anywhere, and at edges lying flat
         assert _bits(plans._edge_tilt(analysis, x, x + width)) == _bits(_tilt_edge_by_edge(analysis, x, x + width))
+
+
+@settings(max_examples=400, deadline=None)
+@given(arcs=st.lists(st.tuples(ENDS, WIDTHS), min_size=0, max_size=12), nxt=st.tuples(ENDS, WIDTHS),
+       alpha=ENDS, need=st.sampled_from([0.0, 1e-12, 0.01, 0.3]) | st.floats(-1.0, 1.0),
+       periods=st.sampled_from([(np.pi, np.pi), (2.0 * np.pi, np.pi / 3), (np.pi, np.pi / 2), (2.0 * np.pi, 2.0 * np.pi)]))
+def test_first_choice_is_bit_identical(arcs: list[tuple[float, float]], nxt: tuple[float, float], alpha: float,
+                                       need: float, periods: tuple[float, float]) -> None:
+    """Arcs anywhere, some too wide to fit, rooms on both sides of the symmetry tolerance,
+    ties of turning (equal arcs), and none fitting (both raise alike)."""
+    lifted = [(a, a + w) for a, w in arcs]
+    a, b = nxt[0], nxt[0] + nxt[1]
+    fit = [0.5 * ((b - a) - (hi - lo)) for lo, hi in lifted]
+    compiled, numpy_ = _both(lambda: planner.first_choice(lifted, fit, need, (a, b), alpha, *periods))
+    assert _bits(compiled) == _bits(numpy_)
