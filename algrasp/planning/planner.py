@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -40,9 +40,9 @@ gripper angles carry ~1e-14 rad of rounding, which would push an image end over 
 interval boundary. Costs at most one extra action when the ideal plan fits exactly."""
 
 
-@dataclass(frozen=True, eq=False)
-class _Pieces:
-    """Pieces of one step/ramp function over several periods as arrays (sorted by start)."""
+class _Pieces(NamedTuple):
+    """Pieces of one step/ramp function over several periods as arrays (sorted by start;
+    a named tuple: two are made per planning attempt)."""
 
     starts: FloatArray
     ends: FloatArray
