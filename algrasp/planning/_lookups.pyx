@@ -12,7 +12,7 @@ only. Radians throughout; O(m log n) for m θ and n pieces.
 
 import numpy as np
 
-from libc.math cimport floor, isnan, rint, NAN
+from libc.math cimport fabs, floor, isnan, rint, INFINITY, M_PI, NAN
 from libc.stdlib cimport free, malloc
 from cpython.float cimport PyFloat_AS_DOUBLE
 from cpython.list cimport PyList_GET_ITEM, PyList_GET_SIZE
@@ -320,46 +320,124 @@ def widest(const double[:] starts, const double[:] ramp_starts, const double[:] 
            const double[:] at_starts, lower, upper, double room):
     """planner._widest after _fixed: the top-right candidates inside ramps (tops a ramp's
     box reaches), each left end's right end, the first widest; the same floats."""
-    cdef const double[:] ls = lower.starts, lv = lower.values, keys = upper.keys, ue = upper.ends, us = upper.starts
-    cdef const unsigned char[:] lr = lower.ramp.view(np.uint8), ur = upper.ramp.view(np.uint8)
-    cdef Py_ssize_t ns = starts.shape[0], nr = ramp_starts.shape[0], nt = tops.shape[0], t, k, i, j, c, d
-    cdef Py_ssize_t n = ns + (nt if nr else 0)
-    cdef double x, y, at, b, w, mw = 0.0, bb = 0.0, bx = 0.0
-    cdef bint found = False
-    cdef Py_ssize_t* lo = <Py_ssize_t*>malloc(max(2 * nr, 1) * sizeof(Py_ssize_t))
-    if lo == NULL:
-        raise MemoryError()
-    for k in range(nr):  # _ramp_candidates' lo and hi (sorted: the ramps are)
-        lo[k], lo[nr + k] = _bisect_left(tops, ramp_starts[k] + room), _bisect_left(tops, ramp_ends[k] + room)
-    try:
+    cdef Widest w = Widest(lower, upper, starts.shape[0], ramp_starts.shape[0], tops.shape[0])
+    cdef Py_ssize_t i
+    for i in range(w.ns):
+        w.starts[i], w.at_starts[i] = starts[i], at_starts[i]
+    for i in range(w.nr):
+        w.ramp_starts[i], w.ramp_ends[i] = ramp_starts[i], ramp_ends[i]
+    for i in range(w.nt):
+        w.tops[i] = tops[i]
+    return w.at(room)
+
+
+cdef inline Py_ssize_t _left_p(const double* a, Py_ssize_t n, double x) noexcept nogil:
+    """searchsorted(side="left") on a sorted C array."""
+    cdef Py_ssize_t lo = 0, hi = n, mid
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if a[mid] < x:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+cdef class Widest:
+    """:func:`widest` for one function and lifting with :func:`fixed`'s arrays made once,
+    in C (:meth:`of`): each box height costs one call (A′ asks for several: every sink
+    width, every interval), and no array is made."""
+
+    cdef double* buf
+    cdef double* starts
+    cdef double* at_starts
+    cdef double* ramp_starts
+    cdef double* ramp_ends
+    cdef double* tops
+    cdef Py_ssize_t ns, nr, nt
+    cdef const double[:] ls, lv, keys, ue, us
+    cdef const unsigned char[:] lr, ur
+
+    def __cinit__(self, lower, upper, Py_ssize_t ns, Py_ssize_t nr, Py_ssize_t nt):
+        self.buf = <double*>malloc(max(2 * ns + 2 * nr + nt, 1) * sizeof(double))
+        if self.buf == NULL:
+            raise MemoryError()
+        self.starts, self.at_starts = self.buf, self.buf + ns
+        self.ramp_starts, self.ramp_ends, self.tops = self.buf + 2 * ns, self.buf + 2 * ns + nr, self.buf + 2 * ns + 2 * nr
+        self.ns, self.nr, self.nt = ns, nr, nt
+        self.ls, self.lv, self.keys, self.ue, self.us = lower.starts, lower.values, upper.keys, upper.ends, upper.starts
+        self.lr, self.ur = lower.ramp.view(np.uint8), upper.ramp.view(np.uint8)
+
+    def __dealloc__(self):
+        free(self.buf)
+
+    @staticmethod
+    def of(double base, double period, lower, upper, double rounding):
+        """The table of :func:`fixed`'s arrays (the same floats), made in C."""
+        cdef const double[:] ls = lower.starts, le = lower.ends, lv = lower.values, uv = upper.values
+        cdef const unsigned char[:] lr = lower.ramp.view(np.uint8)
+        cdef Py_ssize_t n = ls.shape[0], i, ns = 0, nr = 0
+        cdef double lo = base - rounding, hi = base + period - rounding
         for i in range(n):
-            if i < ns:
-                x, at = starts[i], at_starts[i]
-            else:  # tops[t] − room where more ranges start than end by t
-                t = i - ns
-                c = d = 0
-                for k in range(nr):
-                    c += lo[k] <= t
-                    d += lo[nr + k] <= t
-                if not c > d:
-                    continue
-                x = tops[t] - room
-                j = _wrap(_right(ls, x) - 1, ls.shape[0])
-                at = x if lr[j] else lv[j]
-            y = at + room
-            j = _bisect_left(keys, y)
-            if j >= us.shape[0]:
-                raise IndexError(f"index {j} is out of bounds for axis 0 with size {us.shape[0]}")
-            k = _wrap(j - 1, us.shape[0])
-            b = y if (ur[k] and ue[k] > y) else us[j]
-            w = b - x
-            if not found or (not isnan(mw) and not (w <= mw)):  # argmax: the first maximum, a NaN first
-                found, mw, bb, bx = True, w, b, x
-    finally:
-        free(lo)
-    if not found:
-        raise ValueError("attempt to get argmax of an empty sequence")
-    return float(bx), float(bb)
+            if ls[i] >= lo and ls[i] < hi:
+                ns += 1
+                nr += lr[i] != 0
+        cdef Widest w = Widest(lower, upper, ns, nr, uv.shape[0])
+        ns = nr = 0
+        for i in range(n):
+            if ls[i] >= lo and ls[i] < hi:
+                w.starts[ns] = ls[i]
+                w.at_starts[ns] = _value_at(ls, lr, lv, ls[i])
+                ns += 1
+                if lr[i]:
+                    w.ramp_starts[nr], w.ramp_ends[nr] = ls[i], le[i]
+                    nr += 1
+        w.nt = _distinct_into(uv, w.tops)
+        return w
+
+    def at(self, double room):
+        """The widest [a, b) whose image fits a box of height ``room`` (planner._widest)."""
+        cdef const double[:] ls = self.ls, lv = self.lv, keys = self.keys, ue = self.ue, us = self.us
+        cdef const unsigned char[:] lr = self.lr, ur = self.ur
+        cdef Py_ssize_t ns = self.ns, nr = self.nr, nt = self.nt, t, k, i, j, c, d
+        cdef Py_ssize_t n = ns + (nt if nr else 0)
+        cdef double x, y, at, b, w, mw = 0.0, bb = 0.0, bx = 0.0
+        cdef bint found = False
+        cdef Py_ssize_t* lo = <Py_ssize_t*>malloc(max(2 * nr, 1) * sizeof(Py_ssize_t))
+        if lo == NULL:
+            raise MemoryError()
+        for k in range(nr):  # _ramp_candidates' lo and hi (sorted: the ramps are)
+            lo[k] = _left_p(self.tops, nt, self.ramp_starts[k] + room)
+            lo[nr + k] = _left_p(self.tops, nt, self.ramp_ends[k] + room)
+        try:
+            for i in range(n):
+                if i < ns:
+                    x, at = self.starts[i], self.at_starts[i]
+                else:  # tops[t] − room where more ranges start than end by t
+                    t = i - ns
+                    c = d = 0
+                    for k in range(nr):
+                        c += lo[k] <= t
+                        d += lo[nr + k] <= t
+                    if not c > d:
+                        continue
+                    x = self.tops[t] - room
+                    j = _wrap(_right(ls, x) - 1, ls.shape[0])
+                    at = x if lr[j] else lv[j]
+                y = at + room
+                j = _bisect_left(keys, y)
+                if j >= us.shape[0]:
+                    raise IndexError(f"index {j} is out of bounds for axis 0 with size {us.shape[0]}")
+                k = _wrap(j - 1, us.shape[0])
+                b = y if (ur[k] and ue[k] > y) else us[j]
+                w = b - x
+                if not found or (not isnan(mw) and not (w <= mw)):  # argmax: the first maximum, a NaN first
+                    found, mw, bb, bx = True, w, b, x
+        finally:
+            free(lo)
+        if not found:
+            raise ValueError("attempt to get argmax of an empty sequence")
+        return float(bx), float(bb)
 
 
 # ------------------------------------------------------------------ setcells.rest_zones
@@ -412,9 +490,15 @@ cdef inline double _value_at(const double[:] ls, const unsigned char[:] lr, cons
 
 cdef object _distinct(const double[:] a):
     """planner._unique: np.array(sorted(set(a.tolist()))) (the first of equal values kept)."""
-    cdef Py_ssize_t n = a.shape[0], m = 0, i, j
-    out_ = np.empty(n)
+    out_ = np.empty(a.shape[0])
     cdef double[:] out = out_
+    cdef Py_ssize_t m = _distinct_into(a, &out[0]) if a.shape[0] else 0
+    return out_[:m].copy()
+
+
+cdef Py_ssize_t _distinct_into(const double[:] a, double* out) noexcept:
+    """:func:`_distinct` into ``out`` (room for all of a): the count kept."""
+    cdef Py_ssize_t n = a.shape[0], m = 0, i, j
     cdef double x
     for i in range(n):
         x = a[i]
@@ -428,7 +512,7 @@ cdef object _distinct(const double[:] a):
                 j -= 1
             out[j + 1] = x
             m += 1
-    return out_[:m].copy()
+    return m
 
 
 def fixed(double base, double period, lower, upper, double rounding):
@@ -496,3 +580,281 @@ def images(lower, upper, list intervals):
         j = _wrap(_bisect_left(us, b) - 1, us.shape[0])
         out.append((_value_at(ls, lr, lv, a), b if ur[j] else uv[j]))
     return out
+
+
+# ------------------------------------------------------------- verification.verify_set
+
+cdef struct _Fn:
+    double first, P, kP  # kP: the last lookup's lift
+    double* starts
+    double* values  # [last, *values], NaN on ramps (_table's)
+    Py_ssize_t n, hint  # hint: the last insertion point
+
+
+cdef inline Py_ssize_t _piece_of(_Fn* f, double t) noexcept nogil:
+    """The lookup of one θ: its lift into f.kP and its insertion point, the last one kept
+    while it still is one (starts[i − 1] ≤ x < starts[i]: in a sorted array the count of
+    starts ≤ x, which bisect_right returns), else searched."""
+    f.kP = floor((t - f.first) / f.P) * f.P
+    cdef double x = t - f.kP
+    cdef Py_ssize_t i = f.hint
+    if not ((i == 0 or f.starts[i - 1] <= x) and (i == f.n or x < f.starts[i])):
+        i = f.hint = _bisect_right(f.starts, f.n, x)
+    return i
+
+
+cdef inline double _step_at(_Fn* f, double t) noexcept nogil:
+    """apply_on_ramp's F(θ) of one θ (the lookup kernel's: θ itself on a ramp)."""
+    cdef double v = f.values[_piece_of(f, t)]
+    return t if isnan(v) else f.kP + v
+
+
+cdef inline bint _same_step(_Fn* f, double t, double kP, Py_ssize_t i) noexcept nogil:
+    """Whether θ lies in the piece i under the lift kP (then F(θ) is that step's value)."""
+    cdef double k = floor((t - f.first) / f.P) * f.P
+    cdef double x = t - k
+    return k == kP and (i == 0 or f.starts[i - 1] <= x) and (i == f.n or x < f.starts[i])
+
+
+cdef Py_ssize_t _second_action(double* lo, double* hi, Py_ssize_t n, Py_ssize_t sorted_to, double a, _Fn* L,
+                               _Fn* U) noexcept nogil:
+    """The second action over the sample arcs in place, a repeat of the arc before dropped.
+    The first ``sorted_to`` samples are points in order (the arc's linspace, clipped and
+    shifted: monotone), so where both bounds step (not ramp) at one sample, every later
+    sample found in both the same pieces under the same lifts (a prefix, found by
+    galloping) maps to the same arc, a repeat: skipped, unevaluated. Returns the count."""
+    cdef Py_ssize_t i = 0, q = 0, il, iu, good, bad, j, stride
+    cdef double x, y, kl, ku, vl, vu
+    while i < n:
+        il, iu = _piece_of(L, lo[i] - a), _piece_of(U, hi[i] - a)
+        kl, ku, vl, vu = L.kP, U.kP, L.values[il], U.values[iu]
+        x = (lo[i] - a if isnan(vl) else kl + vl) + a
+        y = (hi[i] - a if isnan(vu) else ku + vu) + a
+        if q == 0 or x != lo[q - 1] or y != hi[q - 1]:
+            lo[q], hi[q] = x, y
+            q += 1
+        good = i
+        if i < sorted_to and not isnan(vl) and not isnan(vu):
+            bad, stride = sorted_to, 1
+            while good + stride < sorted_to:  # gallop, then halve: the same pieces are a prefix
+                j = good + stride
+                if not (_same_step(L, lo[j] - a, kl, il) and _same_step(U, hi[j] - a, ku, iu)):
+                    bad = j
+                    break
+                good, stride = j, 2 * stride
+            while bad - good > 1:
+                j = (good + bad) >> 1
+                if _same_step(L, lo[j] - a, kl, il) and _same_step(U, hi[j] - a, ku, iu):
+                    good = j
+                else:
+                    bad = j
+        i = good + 1
+    return q
+
+
+cdef Py_ssize_t _samples_into(double* lo, double* hi, const double[:] starts, double c0, double c1, double T,
+                              double a1, Py_ssize_t samples, double probe) noexcept nogil:
+    """verification._samples into lo and hi (room for samples + 3·len(starts) + 1): the
+    linspace of the arc (numpy's: i·step + c0, the last c1), each piece start's cut inside
+    it less the probe, itself, plus the probe, clipped to the arc (numpy's clip keeps an
+    end equal to x), shifted by a1; the whole arc last. Returns the count."""
+    cdef Py_ssize_t i, j, m = 0, nc = 0, ns = starts.shape[0]
+    cdef double delta = c1 - c0, div = <double>(samples - 1), step, x, cut
+    step = delta / div if samples > 1 else NAN
+    for i in range(samples):
+        if samples <= 1:
+            x = (<double>i) * delta + c0
+        elif step == 0.0:
+            x = ((<double>i) / div) * delta + c0
+        else:
+            x = (<double>i) * step + c0
+        lo[m] = x
+        m += 1
+    if samples > 1:
+        lo[m - 1] = c1
+    for j in range(3):
+        for i in range(ns):
+            cut = c0 + _mod(starts[i] - c0, T)
+            if cut <= c1:
+                lo[m] = cut - probe if j == 0 else (cut if j == 1 else cut + probe)
+                m += 1
+    for i in range(m):
+        x = lo[i]
+        x = c0 if x < c0 else x
+        x = c1 if x > c1 else x
+        lo[i] = hi[i] = x + a1
+    lo[m], hi[m] = c0 + a1, c1 + a1
+    return m + 1
+
+
+def verify_arcs(lower, upper, const double[:] starts, double c0, double c1, double T, list angles,
+                Py_ssize_t samples, double probe, list want, double bound):
+    """verification.verify_set after its outcome check: the sample arcs (:func:`_samples_into`)
+    run through the actions after the first (``angles``: every action's gripper angle),
+    repeats of the arc before dropped after each; True when every arc ends within
+    ``bound`` of a wanted orientation (Python's float remainder, as signed_diff's). The
+    same floats as the numpy and plain-float passes it replaces: the verdict is theirs."""
+    cdef double x, y, a, m, best, d
+    cdef _Fn L, U
+    L.starts = L.values = U.starts = U.values = NULL
+    L.P, U.P, L.hint, U.hint = lower.period, upper.period, 0, 0
+    cdef Py_ssize_t n, i, k, q, total = samples + 3 * starts.shape[0] + 1, nw = len(want)
+    cdef bint ok = True
+    cdef double* lo = <double*>malloc(2 * total * sizeof(double))
+    cdef double* w = <double*>malloc(max(nw, 1) * sizeof(double))
+    if lo == NULL or w == NULL:
+        free(lo)
+        free(w)
+        raise MemoryError()
+    cdef double* hi = lo + total
+    if nw == 0:
+        free(lo)
+        free(w)
+        raise ValueError("min() arg is an empty sequence")
+    for i in range(nw):
+        w[i] = want[i]
+    try:
+        _table(lower, &L.first, &L.starts, &L.values, &L.n)
+        _table(upper, &U.first, &U.starts, &U.values, &U.n)
+        n = _samples_into(lo, hi, starts, c0, c1, T, angles[0], samples, probe)
+        for k in range(1, len(angles)):
+            a = angles[k]
+            if k == 1:
+                n = _second_action(lo, hi, n, samples, a, &L, &U)
+                continue
+            q = 0
+            for i in range(n):
+                x = _step_at(&L, lo[i] - a) + a
+                y = _step_at(&U, hi[i] - a) + a
+                if q == 0 or x != lo[q - 1] or y != hi[q - 1]:
+                    lo[q], hi[q] = x, y
+                    q += 1
+            n = q
+        for i in range(n):
+            m = 0.5 * (lo[i] + hi[i])
+            best = INFINITY
+            for q in range(nw):
+                d = fabs(_mod(m - w[q] + M_PI, 2.0 * M_PI) - M_PI)
+                best = d if d < best else best
+            if not (best + 0.5 * (hi[i] - lo[i]) <= bound):
+                ok = False
+                break
+    finally:
+        free(lo)
+        free(w)
+        free(L.starts)
+        free(L.values)
+        free(U.starts)
+        free(U.values)
+    return ok
+
+
+# ------------------------------------------------------------- transfer.arcs_holding
+
+cdef void _stable_sort_by(double* key, double* a, Py_ssize_t* b, Py_ssize_t n) noexcept nogil:
+    """Sort key[0:n] ascending carrying a and b along (stable, as sorted(key=...) is; an
+    insertion sort: the runs it gets are short and nearly sorted)."""
+    cdef Py_ssize_t i, j, vb
+    cdef double vk, va
+    for i in range(1, n):
+        vk, va, vb = key[i], a[i], b[i]
+        j = i - 1
+        while j >= 0 and vk < key[j]:
+            key[j + 1], a[j + 1], b[j + 1] = key[j], a[j], b[j]
+            j -= 1
+        key[j + 1], a[j + 1], b[j + 1] = vk, va, vb
+
+
+def arcs_holding(list lo, list hi, double T):
+    """transfer.arcs_holding's plain-float path: the three lifted copies of the intervals
+    shifted into [0, T) (floor keeping −0.0), sorted stably by start, every gap after a
+    running reach (numpy's maximum: reach ≥ h keeps reach) in [0, T), the widest first
+    (stable); the same floats."""
+    cdef Py_ssize_t n = min(len(lo), len(hi)), m = 3 * n, i, k, ng = 0
+    cdef double widest = 0.0, w, a, b, shift, reach, h, gap
+    if n == 0:
+        raise ValueError("max() arg is an empty sequence")
+    for i in range(n):  # max(b − a): the first of equals, replaced only by a larger one
+        w = <double>hi[i] - <double>lo[i]
+        if i == 0 or w > widest:
+            widest = w
+    if widest >= T:
+        return [(0.0, T)]
+    cdef double* L = <double*>malloc(5 * m * sizeof(double) + 2 * m * sizeof(Py_ssize_t))
+    if L == NULL:
+        raise MemoryError()
+    cdef double* H = L + m
+    cdef double* G = L + 2 * m
+    cdef double* R = L + 3 * m
+    cdef double* spare = L + 4 * m
+    cdef Py_ssize_t* idx = <Py_ssize_t*>(L + 5 * m)
+    cdef Py_ssize_t* kk = idx + m
+    cdef list out = []
+    try:
+        for i in range(n):
+            a, b = lo[i], hi[i]
+            shift = floor(a / T) * T
+            a, b = a - shift, b - shift
+            L[i], L[n + i], L[2 * n + i] = a - T, a, a + T
+            H[i], H[n + i], H[2 * n + i] = b - T, b, b + T
+        for i in range(m):
+            idx[i] = i
+            spare[i] = 0.0
+        _stable_sort_by(L, spare, idx, m)
+        for i in range(m):
+            spare[i] = H[idx[i]]
+        reach = -INFINITY
+        for k in range(m - 1):
+            h = spare[k]
+            reach = reach if reach >= h else h
+            gap = L[k + 1] - reach
+            if 0.0 <= reach < T and gap > 0.0:
+                G[ng], R[ng], kk[ng] = -gap, reach, k
+                ng += 1
+        if ng == 0:
+            return [(0.0, T)]
+        _stable_sort_by(G, R, kk, ng)
+        for i in range(ng):
+            out.append((L[kk[i] + 1], R[i] + T))
+    finally:
+        free(L)
+    return out
+
+
+# ------------------------------------------------------------- planner.first_choice
+
+cdef inline double _shortest_turn(double x, double p) noexcept nogil:
+    """angles.shortest_turn: (x + p/2) % p − p/2, Python's float remainder."""
+    return _mod(x + p / 2.0, p) - p / 2.0
+
+
+def first_choice(list arcs, list fit, double need, nxt, double alpha_next, double period, double T,
+                 double two_tol):
+    """planner.first_choice: of the arcs with room ≥ need, each angle centring it in ``nxt``
+    (one per turn mapping the action to itself: T when its room exceeds ``two_tol``, else
+    the period; Python's round half to even), the first least (turning, index); the same floats."""
+    cdef Py_ssize_t k, i, count, best_k = 0, out_k = 0
+    cdef double room, turn, base, alpha, t, r, best_t = 0.0, out_a = 0.0
+    cdef double mid = 0.5 * (<double>nxt[0] + <double>nxt[1])
+    cdef bint found = False
+    for k in range(len(arcs)):
+        room = fit[k]
+        if not room >= need:
+            continue
+        arc = arcs[k]
+        turn = T if room > two_tol else period
+        base = alpha_next + mid - 0.5 * (<double>arc[0] + <double>arc[1])
+        r = 2.0 * M_PI / turn
+        if isnan(r):
+            raise ValueError("cannot convert float NaN to integer")
+        if r == INFINITY or r == -INFINITY:
+            raise OverflowError("cannot convert float infinity to integer")
+        count = <Py_ssize_t>rint(r)
+        for i in range(count if count > 1 else 1):
+            alpha = base + (<double>i) * turn
+            t = fabs(_shortest_turn(alpha, period)) + fabs(_shortest_turn(alpha_next - alpha, period))
+            if not found or (k < best_k if t == best_t else t < best_t):
+                found, best_t, best_k, out_k, out_a = True, t, k, k, alpha
+    if not found:
+        raise ValueError("min() arg is an empty sequence")
+    return out_k, out_a

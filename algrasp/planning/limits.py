@@ -124,8 +124,9 @@ def _reads(analysis: Analysis, physics: Physics | None, action: str, planner: Pl
     base = analysis.robust
     if base is None or base.terms is None:
         return None
+    # The analysis's own band was made from its physics as a probe's is (dead_band of the same terms).
+    band = base.band if physics is None else dead_band(analysis.part, physics, analysis.tol, base.terms)
     physics = base.physics if physics is None else physics
-    band = dead_band(analysis.part, physics, analysis.tol, base.terms)
     keys = set_keys(analysis.diameter.kind, analysis.radius.kind, band, physics, analysis.tol.angle_rad)
     return (planner, margin_deg, *plan_reads(keys, band, physics, action))
 

@@ -205,7 +205,7 @@ class Physics:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: ranges as ``[lo, hi]``."""
-        return {f.name: list(v) if isinstance(v := getattr(self, f.name), tuple) else v for f in fields(self)}
+        return {name: list(v) if isinstance(v := getattr(self, name), tuple) else v for name in _FIELDS}
 
     def differences(self) -> dict[str, Any]:
         """The fields that differ from the defaults (what a run record keeps)."""
@@ -263,6 +263,9 @@ def _checked(name: str, value: Any) -> Any:
 _CHECKED: dict[str, None] = dict.fromkeys((*PARAMETERS, *SCALARS, "creep", "placement"))
 """The fields of :class:`Physics` in the order they are checked."""
 
+
+_FIELDS: tuple[str, ...] = tuple(f.name for f in fields(Physics))
+"""The fields of :class:`Physics` in their order (what :meth:`Physics.to_dict` writes)."""
 
 DEFAULT_PHYSICS = Physics()
 IDEAL_CELL = Physics(support_friction=(0.3, 0.3), jaw_friction=(0.0, 0.0), part_mass_kg=(0.02, 0.02),

@@ -18,15 +18,16 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from algrasp.compiled import KERNELS
 from algrasp.errors import NotOrientableError
-from algrasp.geometry.angles import to_deg, to_rad
+from algrasp.geometry.angles import shortest_turn, to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
-from algrasp.geometry.tolerances import PLANNING_RAD, ROUNDING
-from algrasp.planning.transfer import TransferFunction
+from algrasp.geometry.tolerances import PLANNING_RAD, ROUNDING, SYMMETRY_TOL_RAD
+from algrasp.planning.transfer import LOOKUPS, TransferFunction
 
 STRICT_RAD = 1e-9
 """How far below the box's top a step value must stay (a step value on the top edge
@@ -39,9 +40,9 @@ gripper angles carry ~1e-14 rad of rounding, which would push an image end over 
 interval boundary. Costs at most one extra action when the ideal plan fits exactly."""
 
 
-@dataclass(frozen=True, eq=False)
-class _Pieces:
-    """Pieces of one step/ramp function over several periods as arrays (sorted by start)."""
+class _Pieces(NamedTuple):
+    """Pieces of one step/ramp function over several periods as arrays (sorted by start;
+    a named tuple: two are made per planning attempt)."""
 
     starts: FloatArray
     ends: FloatArray
@@ -67,6 +68,9 @@ class Lifted:
     upper: _Pieces
     fixed: dict[int, _Fixed] = field(default_factory=dict)
     """What :func:`_widest` reads that no box height changes, by the function's id."""
+    tables: dict[int, Any] = field(default_factory=dict)
+    """The compiled :func:`_widest` of each function (``_lookups.Widest``: its arrays held
+    typed), by the function's id."""
 
     @staticmethod
     def of(F: TransferFunction, upper: TransferFunction | None = None) -> Lifted:
@@ -181,9 +185,13 @@ def _widest(F: TransferFunction, lifted: Lifted, room: float) -> tuple[float, fl
     worth trying: the piece starts of one period (bottom-left placements; their lower
     values are fixed), then the points of ramps :func:`_ramp_candidates` gives (the first
     widest wins)."""
-    starts, ramp_starts, ramp_ends, tops, at_starts = _fixed(F, lifted)
     if KERNELS is not None:  # typed loops, the same interval (algrasp.compiled)
-        return KERNELS.widest(starts, ramp_starts, ramp_ends, tops, at_starts, lifted.lower, lifted.upper, room)  # type: ignore[no-any-return]
+        table = lifted.tables.get(id(F))
+        if table is None:
+            table = lifted.tables[id(F)] = LOOKUPS.Widest.of(F.pieces[0].start, F.period, lifted.lower, lifted.upper,
+                                                             ROUNDING)
+        return table.at(room)  # type: ignore[no-any-return]
+    starts, ramp_starts, ramp_ends, tops, at_starts = _fixed(F, lifted)
     inner = _ramp_candidates(ramp_starts, ramp_ends, tops, room)
     if len(inner):  # one search for both kinds; argmax's first maximum keeps the starts' priority
         starts, at_starts = np.concatenate((starts, inner)), np.concatenate((at_starts, lifted.value_at(inner)))
@@ -263,6 +271,47 @@ def images(F: TransferFunction, intervals: list[tuple[float, float]], upper: Tra
     lo = lifted.value_at(np.array([a for a, _ in intervals]))
     hi, _ = lifted.top(np.array([b for _, b in intervals]))
     return [(float(x), float(y)) for x, y in zip(lo, hi)]
+
+
+# ------------------------------------------------------ gripper angles (plans.gripper_steps)
+
+
+def self_turn(period: float, T: float, margin: float) -> float:
+    """The smallest turn that maps an action to itself: T (the part's symmetry, true to
+    SYMMETRY_TOL_RAD) when the margin absorbs that on both image ends, else the period."""
+    return T if margin > 2.0 * SYMMETRY_TOL_RAD else period
+
+
+def nearest(angle: float, ref: float, turn: float) -> float:
+    """``angle`` plus the multiple of ``turn`` that brings it nearest ``ref`` (radians)."""
+    return angle - turn * round((angle - ref) / turn)
+
+
+def first_choice(arcs: list[tuple[float, float]], fit: list[float], need: float, nxt: tuple[float, float],
+                  alpha_next: float, period: float, T: float) -> tuple[int, float]:
+    """The arc (its index) and first action's angle needing the least turning, of the arcs
+    with room ``fit`` ≥ ``need`` and, for each, the angles that centre it in the second
+    action's interval ``nxt`` (one per turn that maps the action to itself): the turns
+    from the last action's angle (0, where the previous part left the gripper) and on to
+    the second action's, each the shortest under the action's period (as the execution
+    turns). The first least (turning, index) wins. O(arcs · turns)."""
+    if KERNELS is not None:  # typed loops, the same keys and angle (algrasp.compiled)
+        return LOOKUPS.first_choice(arcs, fit, need, nxt, alpha_next, period, T, 2.0 * SYMMETRY_TOL_RAD)  # type: ignore[no-any-return]
+    best: tuple[float, int] | None = None
+    out = (0, 0.0)
+    for k, arc in enumerate(arcs):
+        if not fit[k] >= need:
+            continue
+        turn = self_turn(period, T, fit[k])
+        base = alpha_next + 0.5 * (nxt[0] + nxt[1]) - 0.5 * (arc[0] + arc[1])
+        for i in range(max(1, round(2 * np.pi / turn))):
+            alpha = base + i * turn
+            key = (abs(shortest_turn(alpha, period)) + abs(shortest_turn(alpha_next - alpha, period)), k)
+            if best is None or key < best:
+                best, out = key, (k, alpha)
+    if best is None:
+        raise ValueError("min() arg is an empty sequence")
+    return out
 
 
 def _unique(a: FloatArray) -> FloatArray:

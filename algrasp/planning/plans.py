@@ -13,19 +13,21 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from typing import Any, Literal
+from typing import Any, Literal, NamedTuple
+from weakref import WeakKeyDictionary
 
 import numpy as np
 
 from algrasp.errors import ConfigError, NotOrientableError
-from algrasp.geometry.angles import shortest_turn, signed_diff, to_deg, to_rad
+from algrasp.geometry.angles import signed_diff, to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import wrap
+from algrasp.geometry.hull import ConvexHull
 from algrasp.geometry.tolerances import MAX_UNCERTAINTY_RAD, ROUNDING, SYMMETRY_TOL_RAD, UNCERTAINTY_FLOOR_RAD
 from algrasp.planning import limits as lim
 from algrasp.planning.actions import Action
 from algrasp.planning.analysis import Analysis, uses_sets
-from algrasp.planning.planner import GUARD_RAD, Lifted, algorithm_a_prime, images, set_a_prime
+from algrasp.planning.planner import GUARD_RAD, Lifted, algorithm_a_prime, first_choice, images, nearest, self_turn, set_a_prime
 from algrasp.planning.setvalued import SetTransfer
 from algrasp.planning.transfer import TransferFunction
 from algrasp.planning.verification import run_steps, through, verify, verify_set
@@ -185,43 +187,16 @@ def gripper_steps(F: TransferFunction, intervals: list[tuple[float, float]], T: 
     for j in range(n - 2, 0, -1):
         (lo, hi), (a, b) = later[j - 1], order[j + 1]
         margin = max(0.0, 0.5 * ((b - a) - (hi - lo)))
-        alphas[j] = _nearest(alphas[j + 1] + 0.5 * (a + b - lo - hi), alphas[j + 1], _self_turn(P, T, margin))
+        alphas[j] = nearest(alphas[j + 1] + 0.5 * (a + b - lo - hi), alphas[j + 1], self_turn(P, T, margin))
         margins[j + 1] = margin
     arcs = F.circle_images(T) if first_images is None else first_images
     a, b = order[1]
     fit = [0.5 * ((b - a) - (hi - lo)) for lo, hi in arcs]  # room on each side; < 0: does not fit
     # At least the plan's tolerance and the guard room every image keeps; the widest always.
     need = min(max(min([m for m in margins[2:] if m is not None], default=np.inf), GUARD_RAD), max(fit))
-    choices = [(k, alpha) for k in range(len(arcs)) if fit[k] >= need
-               for alpha in _first_angles(arcs[k], order[1], alphas[1], _self_turn(P, T, fit[k]))]
-    k, alphas[0] = min(choices, key=lambda c: (_turning(c[1], alphas[1], P), c[0]))
+    k, alphas[0] = first_choice(arcs, fit, need, order[1], alphas[1], P, T)
     margins[1] = max(0.0, fit[k])
     return [PlanStep(float(al), m) for al, m in zip(alphas, margins)], arcs[k]
-
-
-def _self_turn(period: float, T: float, margin: float) -> float:
-    """The smallest turn that maps an action to itself: T (the part's symmetry, true to
-    SYMMETRY_TOL_RAD) when the margin absorbs that on both image ends, else the period."""
-    return T if margin > 2.0 * SYMMETRY_TOL_RAD else period
-
-
-def _nearest(angle: float, ref: float, turn: float) -> float:
-    """``angle`` plus the multiple of ``turn`` that brings it nearest ``ref`` (radians)."""
-    return angle - turn * round((angle - ref) / turn)
-
-
-def _first_angles(arc: tuple[float, float], nxt: tuple[float, float], alpha_next: float, turn: float) -> list[float]:
-    """The first action's angles that centre ``arc`` in the second action's interval, one
-    per turn that maps the action to itself."""
-    base = alpha_next + 0.5 * (nxt[0] + nxt[1]) - 0.5 * (arc[0] + arc[1])
-    return [base + i * turn for i in range(max(1, round(2 * np.pi / turn)))]
-
-
-def _turning(alpha_first: float, alpha_second: float, period: float) -> float:
-    """Turns (radians) that depend on the first action's angle: from the last action's
-    (0, where the previous part left the gripper) and on to the second action's, each the
-    shortest to an equivalent angle under the action's period (as the execution turns)."""
-    return abs(shortest_turn(alpha_first, period)) + abs(shortest_turn(alpha_second - alpha_first, period))
 
 
 def final_orientations(F: TransferFunction, intervals: list[tuple[float, float]], T: float) -> list[float]:
@@ -251,7 +226,7 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0, l
     if action not in ("squeeze", "push_grasp"):
         raise ConfigError("action", f"expected squeeze or push_grasp, got {action!r}")
     if analysis.robust is None:
-        return replace(plan_once(analysis, action, min_margin_deg), analysis=analysis)
+        return plan_once(analysis, action, min_margin_deg)
     try:
         plan = plan_once(analysis, action, min_margin_deg)
     except NotOrientableError as e:
@@ -261,9 +236,9 @@ def make_plan(analysis: Analysis, action: Action, min_margin_deg: float = 0.0, l
         raise NotOrientableError(e.reason, e.message, search=_refusal_limits(analysis, action, e.message, min_margin_deg)) from None
     lim.remember(analysis, action, plan_once, min_margin_deg, True)
     if limits in ("none", "refusal"):
-        return replace(plan, analysis=analysis)
+        return plan
     wanted = lim.HEADLINE if limits == "headline" else tuple(lim.SEARCHES)
-    return replace(plan, analysis=analysis, limits=lim.limits(analysis, action, plan_once, wanted, min_margin_deg, refused=False))
+    return replace(plan, limits=lim.limits(analysis, action, plan_once, wanted, min_margin_deg, refused=False))
 
 
 def _refusal_limits(analysis: Analysis, action: Action, message: str,
@@ -283,7 +258,7 @@ def _refusal_limits(analysis: Analysis, action: Action, message: str,
 
 
 def plan_once(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -> Plan:
-    """:func:`make_plan` without limits: one planning attempt."""
+    """:func:`make_plan` without limits: one planning attempt (the plan holds ``analysis``)."""
     if not (np.isfinite(min_margin_deg) and 0.0 <= min_margin_deg < 180.0):
         raise ConfigError("min_margin_deg", f"must be in [0, 180), got {min_margin_deg}")
     band = None if analysis.robust is None else analysis.robust.band
@@ -304,7 +279,7 @@ def plan_once(analysis: Analysis, action: Action, min_margin_deg: float = 0.0) -
     if not ok:
         raise NotOrientableError("verification_failed", "the plan did not verify: please report this part")
     return Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), True,
-                {"planning": t1 - t0, "verification": t2 - t1})
+                {"planning": t1 - t0, "verification": t2 - t1}, analysis=analysis)
 
 
 def _set_for(analysis: Analysis, action: Action) -> SetTransfer:
@@ -365,17 +340,29 @@ def _robust_plan(analysis: Analysis, action: Action, margin: float) -> Plan:
     k = int(round(2 * np.pi / T))
     finals = sorted(wrap(0.5 * (lo + hi) + i * T, 2 * np.pi, ROUNDING) for i in range(k))
     t1 = time.perf_counter()
-    plan = Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), False, {}, S,
-                uncertainty, {**analysis.robust.physics.to_dict(), **analysis.robust.band.to_dict()})
-    ok = verify_set(plan, S.circle_images()[0] if first is None else first)
+    ok = verify_set(_Draft(F, steps, finals, uncertainty, S), S.circle_images()[0] if first is None else first)
     t2 = time.perf_counter()
     if not ok:
         raise NotOrientableError("verification_failed", "the plan did not verify: please report this part")
-    return replace(plan, verified=True, timings_s={"planning": t1 - t0, "verification": t2 - t1})
+    return Plan(action, F, T, tuple(intervals), tuple(steps), tuple(finals), True,
+                {"planning": t1 - t0, "verification": t2 - t1}, S, uncertainty,
+                {**analysis.robust.physics.to_dict(), **analysis.robust.band.to_dict()}, analysis=analysis)
+
+
+class _Draft(NamedTuple):
+    """What :func:`verify_set` reads of a plan not yet made (the plan is made once, verified)."""
+
+    transfer: TransferFunction
+    steps: list[PlanStep]
+    final_orientations: list[float]
+    final_uncertainty: float
+    bounds: SetTransfer
 
 
 EDGE_NORMAL_RAD = 1e-6
 """A hull edge whose normal is this close to the jaws' normal lies flat on a jaw."""
+_EDGES: WeakKeyDictionary[ConvexHull, tuple[FloatArray, FloatArray]] = WeakKeyDictionary()
+"""Each hull's edge lengths and flat angles (:func:`_edge_tilt`; every plan and limit probe of a part reads them)."""
 
 
 def _edge_tilt(analysis: Analysis, lo: float, hi: float) -> float:
@@ -386,13 +373,15 @@ def _edge_tilt(analysis: Analysis, lo: float, hi: float) -> float:
     interval. 0 when no edge can lie flat there."""
     assert analysis.robust is not None
     eps = analysis.robust.band.value_err  # the drawing's error or the profile tolerance, the larger
-    tilt = 0.0
-    for (ax, ay), (bx, by) in analysis.part.hull.edges:
-        length = float(np.hypot(bx - ax, by - ay))
-        t = 2.0 * eps / length
+    got = _EDGES.get(analysis.part.hull)
+    if got is None:  # the part's edges (lengths, the angles they lie flat at), once per hull
+        e = np.array(analysis.part.hull.edges, dtype=float).reshape(-1, 2, 2)  # (m, 2, 2): each value as edge by edge
+        dx, dy = e[:, 1, 0] - e[:, 0, 0], e[:, 1, 1] - e[:, 0, 1]
         # the edge is flat on a jaw at θ with π/2 − θ ≡ its normal (mod π)
-        flat = np.pi / 2 - np.arctan2(-(bx - ax), by - ay)
-        rel = (flat - lo + t + EDGE_NORMAL_RAD) % np.pi
-        if rel <= (hi - lo) + 2.0 * (t + EDGE_NORMAL_RAD):
-            tilt = max(tilt, t)
-    return tilt
+        got = _EDGES[analysis.part.hull] = np.hypot(dx, dy), np.pi / 2 - np.arctan2(-dx, dy)
+        got[0].flags.writeable = got[1].flags.writeable = False
+    length, flat = got
+    t = 2.0 * eps / length
+    rel = (flat - lo + t + EDGE_NORMAL_RAD) % np.pi
+    tilts: list[float] = t[rel <= (hi - lo) + 2.0 * (t + EDGE_NORMAL_RAD)].tolist()
+    return max([0.0, *tilts])  # the first largest, as edge by edge

@@ -15,7 +15,8 @@ import operator
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
-from typing import NamedTuple
+from importlib import import_module
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -27,14 +28,14 @@ from algrasp.geometry.functions import Run
 from algrasp.geometry.tolerances import ROUNDING
 
 BoolArray = NDArray[np.bool_]
+LOOKUPS: Any = None if KERNELS is None else import_module("algrasp.planning._lookups")  # what _kernels does not re-export
 LIFTS = range(-1, 4)
 """The periods :attr:`TransferFunction.lifted` covers: a plan's intervals and images
 start in the first period and reach at most two periods beyond it."""
 
 
 FEW_PROBES = 16
-"""Up to this many θ :meth:`TransferFunction.values_at` reads in plain floats (a vectorised
-pass costs ~5 µs whatever its size, a float ~0.4 µs)."""
+"""Up to this many θ :meth:`TransferFunction.values_at` reads in plain floats (a vectorised pass ~5 µs, a float ~0.4 µs)."""
 
 
 class TransferPiece(NamedTuple):
@@ -86,16 +87,14 @@ class TransferFunction:
 
     @cached_property
     def _search(self) -> tuple[float, FloatArray]:
-        """The first start and the step values after the last's copy, indexed by the
-        search's insertion point i (the piece i − 1): i = 0 (θ rounded below the first
-        start) reads the last piece."""
+        """The first start and the step values after the last's copy, indexed by the search's
+        insertion point i (piece i − 1): i = 0 (θ rounded below the first start) reads the last."""
         starts, values = self._arrays
         return float(starts[0]), np.concatenate([values[-1:], values])
 
     @cached_property
     def _floats(self) -> tuple[float, list[float], list[float]]:
-        """:attr:`_search` in plain floats, with the piece starts: what :meth:`steps_floats`
-        reads. Made from the pieces directly (the same floats: no array is needed)."""
+        """:attr:`_search` in plain floats with the piece starts (:meth:`steps_floats`), from the pieces."""
         starts = self.starts
         values = [math.nan if p.value is None else float(p.value) for p in self.pieces]
         return float(starts[0]), starts, [values[-1], *values]
@@ -355,8 +354,7 @@ def from_runs(runs: list[Run], period: float, tol_rad: float) -> TransferFunctio
 
 
 FEW_ARCS = 64
-"""Up to this many intervals :func:`arcs_holding` works in plain floats (a vectorised
-pass costs ~20 array calls whatever its size)."""
+"""Up to this many intervals :func:`arcs_holding` works in plain floats (a vectorised pass costs ~20 array calls)."""
 
 
 def arcs_holding(lo: list[float], hi: list[float], T: float) -> list[tuple[float, float]]:
@@ -366,6 +364,8 @@ def arcs_holding(lo: list[float], hi: list[float], T: float) -> list[tuple[float
     sorts), else vectorised; the same arcs either way. O(n log n)."""
     if len(lo) > FEW_ARCS:
         return holding_arcs(np.array(lo, dtype=float), np.array(hi, dtype=float), T)
+    if KERNELS is not None:  # typed loops, the same arcs (algrasp.compiled)
+        return LOOKUPS.arcs_holding(lo, hi, T)  # type: ignore[no-any-return]
     if max(b - a for a, b in zip(lo, hi)) >= T:
         return [(0.0, T)]
     los, his = [], []

@@ -9,11 +9,12 @@ from typing import Protocol
 
 import numpy as np
 
+from algrasp.compiled import KERNELS
 from algrasp.geometry.angles import signed_diff
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.tolerances import PROBE_RAD
 from algrasp.planning.setvalued import SetTransfer
-from algrasp.planning.transfer import TransferFunction
+from algrasp.planning.transfer import LOOKUPS, TransferFunction
 
 
 class PlanStep(Protocol):
@@ -122,6 +123,8 @@ def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SA
     S = plan.bounds
     if not _outcomes_within(S, circle):
         return False
+    if KERNELS is not None:  # typed loops, the same floats and verdict (algrasp.compiled)
+        return _verify_arcs(plan, circle, samples)
     lo, hi = _runs(*run_steps(S, plan.steps[1:2], *_samples(plan, circle, samples)))
     k = 2
     while len(lo) > FEW_ARCS and k < len(plan.steps):
@@ -133,6 +136,17 @@ def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SA
         return all(min(abs(signed_diff(0.5 * (x + y), w)) for w in want) + 0.5 * (y - x) <= bound for x, y in arcs)
     off = np.abs(signed_diff((0.5 * (lo + hi))[:, None], np.array(want))).min(axis=1)
     return bool((off + 0.5 * (hi - lo) <= bound).all())
+
+
+def _verify_arcs(plan: Plan, circle: tuple[float, float], samples: int) -> bool:
+    """:func:`verify_set` after the outcome check in one compiled pass (the same arcs,
+    the same floats: repeats dropped alike, each arc's verdict alike)."""
+    S = plan.bounds
+    assert S is not None
+    starts = np.concatenate([S.lower.starts_array, S.upper.starts_array])
+    return bool(LOOKUPS.verify_arcs(S.lower, S.upper, starts, *circle, S.symmetry, [s.gripper_angle for s in plan.steps],
+                                    samples, PROBE_RAD, list(plan.final_orientations),
+                                    plan.final_uncertainty + FINAL_CLUSTER_RAD))
 
 
 def _runs(lo: FloatArray, hi: FloatArray) -> tuple[FloatArray, FloatArray]:
