@@ -41,4 +41,4 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_cli.py
 
 clean:
-	rm -rf $(VENV) build *.egg-info algrasp/*/_kernels.c algrasp/*/_kernels.*.so algrasp/*/_lookups.c algrasp/*/_lookups.*.so
+	rm -rf $(VENV) build *.egg-info $(foreach k,_kernels _lookups _geometry _polygon,algrasp/*/$(k).c algrasp/*/$(k).*.so)

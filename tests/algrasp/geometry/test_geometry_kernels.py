@@ -8,8 +8,7 @@ with the hook switched off)."""
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -25,50 +24,14 @@ from algrasp.geometry.functions import Run, analyse, theta_runs
 from algrasp.geometry.part import load_part
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES as TOL
 from algrasp.testing import shapes
+from algrasp.testing.kernels import bits, both
 
 needs_kernels = pytest.mark.skipif(GEOMETRY is None, reason="compiled geometry kernels not built (or ALGRASP_PURE set)")
 
 
-@contextmanager
-def _python_path() -> Iterator[None]:
-    """The Python reference: the hook sees no kernels (and no cells cached by the other path)."""
-    saved = functions.GEOMETRY
-    functions.GEOMETRY = None
-    functions._cells.cache_clear()
-    try:
-        yield
-    finally:
-        functions.GEOMETRY = saved
-        functions._cells.cache_clear()
-
-
-@contextmanager
-def _compiled_path() -> Iterator[None]:
-    functions._cells.cache_clear()
-    yield
-
-
-def _bits(value: Any) -> Any:
-    """A comparable form that tells apart every bit pattern (−0.0, NaN payloads, int from float)."""
-    if isinstance(value, np.ndarray):
-        return ("array", value.dtype.str, value.shape, value.tobytes())
-    if isinstance(value, (list, tuple)):
-        return (type(value).__name__, tuple(_bits(v) for v in value))
-    if isinstance(value, float):
-        return ("float", value.hex())
-    return (type(value).__name__, repr(value))
-
-
 def _both(make: Callable[[], Any]) -> tuple[Any, Any]:
-    """(compiled, Python) results of ``make``, or the error each raised."""
-    out: list[Any] = []
-    for ctx in (_compiled_path, _python_path):
-        with ctx():
-            try:
-                out.append(_bits(make()))
-            except (IndexError, ValueError, StopIteration) as e:
-                out.append(("raised", type(e).__name__))
-    return out[0], out[1]
+    """(compiled, Python) results of ``make`` in :func:`bits` form, or the error each raised."""
+    return both(lambda: bits(make()))
 
 
 DOCS = {
@@ -298,7 +261,7 @@ def test_vertex_support_is_bit_identical(shape: str, seed: int, n: int, psi: lis
         python = [hull.support_many(a) for a in normals]
     finally:
         bank.GEOMETRY = GEOMETRY
-    assert _bits(compiled) == _bits(python)
+    assert bits(compiled) == bits(python)
 
 
 CLOUD = st.lists(st.tuples(COORD, COORD), min_size=1, max_size=40)
@@ -313,10 +276,10 @@ def test_hull_order_is_bit_identical(points: list[tuple[float, float]], line: in
     from algrasp.geometry import hull
 
     cloud = [*points, *((t / 7.0, slope * t / 7.0) for t in range(line))]
-    compiled = _bits(hull.hull_order(np.array(cloud)))
+    compiled = bits(hull.hull_order(np.array(cloud)))
     hull.GEOMETRY = None
     try:
-        python = _bits(hull.hull_order(np.array(cloud)))
+        python = bits(hull.hull_order(np.array(cloud)))
     finally:
         hull.GEOMETRY = GEOMETRY
     assert compiled == python
@@ -331,7 +294,7 @@ def test_corner_ranges_are_bit_identical(shape: str, seed: int, n: int, sliver: 
 
     part = load_part(DOCS[shape](seed, n), TOL)
     corners = [f.center for f in part.hull.features]
-    assert _bits(GEOMETRY.corner_ranges(corners, sliver)) == _bits(hull._corner_ranges(corners, sliver))  # type: ignore[union-attr]
+    assert bits(GEOMETRY.corner_ranges(corners, sliver)) == bits(hull._corner_ranges(corners, sliver))  # type: ignore[union-attr]
 
 
 @needs_kernels
@@ -353,10 +316,10 @@ def test_values_are_bit_identical(shape: str, seed: int, n: int, theta: list[flo
             python = [f.values(np.array(theta)), f.values(f.kink_thetas)]
         finally:
             functions.GEOMETRY = bank.GEOMETRY = GEOMETRY
-        assert _bits(compiled) == _bits(python)
+        assert bits(compiled) == bits(python)
         bp = part.hull.breakpoints
         kinks = [np.pi / 2 - bp, 1.5 * np.pi - bp] if kind == "diameter" else [1.5 * np.pi - bp]
-        assert _bits(f.kink_thetas) == _bits(np.concatenate([*kinks, np.array([r.start for r in f.runs])]))
+        assert bits(f.kink_thetas) == bits(np.concatenate([*kinks, np.array([r.start for r in f.runs])]))
 
 
 @needs_kernels

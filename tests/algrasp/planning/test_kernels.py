@@ -5,8 +5,7 @@ The numpy path is the reference (run here with the hooks switched off)."""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager, suppress
+from contextlib import suppress
 from typing import Any
 
 import numpy as np
@@ -19,61 +18,14 @@ from algrasp.errors import NotOrientableError
 from algrasp.geometry.functions import SupportPairFunction, analyse
 from algrasp.geometry.part import load_part
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES as TOL
-from algrasp.planning import edges, placement, planner, setcells, setvalued, transfer
+from algrasp.planning import placement, planner, setcells
 from algrasp.planning.edges import CURVE_GRID_RAD, crossings
 from algrasp.planning.setvalued import GRID_RAD, _Band, _classify, set_transfer
 from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical, from_runs
 from algrasp.testing import shapes
+from algrasp.testing.kernels import bits, both, reference_path
 
-HOOKED: tuple[Any, ...] = (edges, placement, planner, setcells, setvalued, transfer)
-"""The modules whose hooks read algrasp.compiled.KERNELS."""
 pytestmark = pytest.mark.skipif(KERNELS is None, reason="compiled kernels not built (or ALGRASP_PURE set)")
-
-
-@contextmanager
-def _numpy_path() -> Iterator[None]:
-    """The numpy reference: the hooks see no kernels."""
-    saved = [m.KERNELS for m in HOOKED]
-    for m in HOOKED:
-        m.KERNELS = None
-    try:
-        yield
-    finally:
-        for m, k in zip(HOOKED, saved):
-            m.KERNELS = k
-
-
-def _bits(value: Any) -> Any:
-    """A comparable form that tells apart every bit pattern (−0.0, NaN payloads, dtypes)."""
-    if isinstance(value, np.ndarray):
-        return ("array", value.dtype.str, value.shape, value.tobytes())
-    if isinstance(value, (list, tuple)):
-        return tuple(_bits(v) for v in value)
-    if isinstance(value, float):
-        return ("float", value.hex())
-    return repr(value)
-
-
-def _both(make: Callable[[], Any]) -> tuple[Any, Any]:
-    """(compiled, numpy) results of ``make``, or the refusal's message, or the error it
-    raised: both paths must refuse, and fail, alike (hypothesis pairs bounds no plan
-    pairs, where A′'s lookups run past the last piece: numpy's IndexError then, and the
-    kernels')."""
-    out: list[Any] = []
-    for ctx in (_compiled_path, _numpy_path):
-        with ctx():
-            try:
-                out.append(make())
-            except NotOrientableError as e:
-                out.append(("refused", str(e)))
-            except (IndexError, ValueError) as e:
-                out.append(("raised", type(e).__name__, str(e)))
-    return out[0], out[1]
-
-
-@contextmanager
-def _compiled_path() -> Iterator[None]:
-    yield
 
 
 DOCS = {
@@ -115,8 +67,8 @@ def test_set_transfer_is_bit_identical(shape: str, seed: int, n: int, kind: str,
         st_ = set_transfer(f, **args)
         return (st_.lower.pieces, st_.upper.pieces, st_.symmetry, st_.rest_zones, st_.outcomes)
 
-    compiled, numpy_ = _both(made)
-    assert _bits(compiled) == _bits(numpy_)
+    compiled, numpy_ = both(made)
+    assert bits(compiled) == bits(numpy_)
 
 
 @settings(max_examples=80, deadline=None)
@@ -138,8 +90,8 @@ def test_classify_is_bit_identical(shape: str, seed: int, n: int, kind: str, ban
         c = p.cells
         return (c.x, c.right, c.left, c.rest, c.barrier_right, c.barrier_left, p.g, p.rims, p.near, c.runs)
 
-    compiled, numpy_ = _both(made)
-    assert _bits(compiled) == _bits(numpy_)
+    compiled, numpy_ = both(made)
+    assert bits(compiled) == bits(numpy_)
 
 
 @settings(max_examples=300, deadline=None)
@@ -152,8 +104,8 @@ def test_canonical_is_bit_identical(cuts: list[float], kinds: list[int], period:
     values = [None, 0.5, 0.5 + tol / 2, starts[0] + period + 0.25]
     pieces = [TransferPiece(a, b, values[k] if k != 3 else values[3] - (period if i == 0 else 0.0))
               for i, (a, b, k) in enumerate(zip(starts, ends, kinds))]
-    compiled, numpy_ = _both(lambda: canonical(list(pieces), period, tol))
-    assert _bits(compiled) == _bits(numpy_)
+    compiled, numpy_ = both(lambda: canonical(list(pieces), period, tol))
+    assert bits(compiled) == bits(numpy_)
     assert all(type(p) is TransferPiece for p in compiled)
 
 
@@ -178,8 +130,8 @@ def test_compositions_are_bit_identical(shape: str, seed: int, n: int, band: tup
             out.append(a.compose_after(b, TOL.angle_rad).outcomes)
         return out
 
-    compiled, numpy_ = _both(made)
-    assert _bits(compiled) == _bits(numpy_)
+    compiled, numpy_ = both(made)
+    assert bits(compiled) == bits(numpy_)
 
 
 @settings(max_examples=120, deadline=None)
@@ -189,8 +141,8 @@ def test_compositions_are_bit_identical(shape: str, seed: int, n: int, band: tup
 def test_crossings_are_bit_identical(shape: str, seed: int, n: int, kind: str, slopes: list[float],
                                      jaw: tuple[float, float] | None, levels: list[float]) -> None:
     f = _function(shape, seed, n, kind)
-    compiled, numpy_ = _both(lambda: crossings(f, tuple(slopes), jaw, TOL, CURVE_GRID_RAD, levels=tuple(levels)))
-    assert _bits(compiled) == _bits(numpy_)
+    compiled, numpy_ = both(lambda: crossings(f, tuple(slopes), jaw, TOL, CURVE_GRID_RAD, levels=tuple(levels)))
+    assert bits(compiled) == bits(numpy_)
 
 
 def _probes(F: TransferFunction, rng: np.random.Generator) -> list[float]:
@@ -219,7 +171,7 @@ def test_lookups_and_plans_are_bit_identical(shape: str, seed: int, n: int, band
     A′'s keys, the vectorised and plain-float lookups, shifts, pointwise minima and maxima,
     and the plans A′ finds."""
     d, r = (_function(shape, seed, n, kind) for kind in ("diameter", "radius"))
-    with _numpy_path():
+    with reference_path():
         fs = [from_runs(list(f.runs), f.period, TOL.angle_rad) for f in (d, r)]
         sets = []
         for f in (d, r):
@@ -259,8 +211,8 @@ def test_lookups_and_plans_are_bit_identical(shape: str, seed: int, n: int, band
                 out.append(str(e))
         return out
 
-    compiled, numpy_ = _both(made)
-    assert _bits(compiled) == _bits(numpy_)
+    compiled, numpy_ = both(made)
+    assert bits(compiled) == bits(numpy_)
 
 
 @settings(max_examples=300, deadline=None)
@@ -271,12 +223,12 @@ def test_rest_zones_are_bit_identical(cuts: list[float], rest: list[bool], T: fl
     nodes = np.array(sorted({c * T for c in cuts}) or [0.0])
     nodes[0] = -0.0 if K % 2 else nodes[0]
     r = np.array(rest[:len(nodes)])
-    compiled, numpy_ = _both(lambda: setcells.rest_zones(nodes, T, r, K * T))
-    assert _bits(compiled) == _bits(numpy_)
+    compiled, numpy_ = both(lambda: setcells.rest_zones(nodes, T, r, K * T))
+    assert bits(compiled) == bits(numpy_)
 
 
 def test_the_comparison_can_fail() -> None:
     """_bits tells apart what float equality does not."""
-    assert _bits(np.array([0.0])) != _bits(np.array([-0.0]))
-    assert _bits([0.0]) != _bits([-0.0])
-    assert _bits(np.array([True])) != _bits(np.array([1], dtype=np.uint8))
+    assert bits(np.array([0.0])) != bits(np.array([-0.0]))
+    assert bits([0.0]) != bits([-0.0])
+    assert bits(np.array([True])) != bits(np.array([1], dtype=np.uint8))

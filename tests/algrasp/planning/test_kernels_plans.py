@@ -7,8 +7,6 @@ The numpy path is the reference (run here with the hooks switched off)."""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
 from dataclasses import replace
 from typing import Any
 
@@ -24,53 +22,9 @@ from algrasp.planning.analysis import Model, analyse_document
 from algrasp.planning.physics import Physics
 from algrasp.planning.plans import Plan, PlanStep, make_plan
 from algrasp.testing import shapes
+from algrasp.testing.kernels import bits, both
 
-HOOKED: tuple[Any, ...] = (planner, transfer, verification)
-"""The modules whose hooks read algrasp.compiled.KERNELS."""
 pytestmark = pytest.mark.skipif(KERNELS is None, reason="compiled kernels not built (or ALGRASP_PURE set)")
-
-
-@contextmanager
-def _numpy_path() -> Iterator[None]:
-    """The numpy reference: the hooks see no kernels."""
-    saved = [m.KERNELS for m in HOOKED]
-    for m in HOOKED:
-        m.KERNELS = None
-    try:
-        yield
-    finally:
-        for m, k in zip(HOOKED, saved):
-            m.KERNELS = k
-
-
-def _bits(value: Any) -> Any:
-    """A comparable form that tells apart every bit pattern (−0.0, NaN payloads, dtypes)."""
-    if isinstance(value, np.ndarray):
-        return ("array", value.dtype.str, value.shape, value.tobytes())
-    if isinstance(value, (list, tuple)):
-        return tuple(_bits(v) for v in value)
-    if isinstance(value, float):
-        return ("float", value.hex())
-    return repr(value)
-
-
-def _both(make: Callable[[], Any]) -> tuple[Any, Any]:
-    """(compiled, numpy) results of ``make``, or the refusal's message, or the error raised."""
-    out: list[Any] = []
-    for numpy_path in (False, True):
-        with _numpy_path() if numpy_path else _no_change():
-            try:
-                out.append(make())
-            except NotOrientableError as e:
-                out.append(("refused", str(e)))
-            except (IndexError, ValueError) as e:
-                out.append(("raised", type(e).__name__, str(e)))
-    return out[0], out[1]
-
-
-@contextmanager
-def _no_change() -> Iterator[None]:
-    yield
 
 
 DOCS = {
@@ -114,8 +68,8 @@ def test_verify_set_is_bit_identical(shape: str, seed: int, n: int, physics: Phy
     arcs = plan.bounds.circle_images()
     p = _disturbed(plan, shift, k, shrink)
     for circle in [arcs[0], *arcs[1:2], (arcs[0][0], arcs[0][0])]:  # the hull, another arc, a point
-        compiled, numpy_ = _both(lambda c=circle: verification.verify_set(p, c, samples))
-        assert _bits(compiled) == _bits(numpy_)
+        compiled, numpy_ = both(lambda c=circle: verification.verify_set(p, c, samples))
+        assert bits(compiled) == bits(numpy_)
 
 
 ENDS = st.floats(-7.0, 14.0) | st.sampled_from([0.0, -0.0, np.pi, -np.pi, 2.0 * np.pi, 1e-12])
@@ -128,11 +82,11 @@ WIDTHS = st.floats(0.0, 1.0) | st.sampled_from([0.0, 1e-9, np.pi / 3, np.pi, 2.0
 def test_arcs_holding_is_bit_identical(arcs: list[tuple[float, float]], T: float) -> None:
     """Intervals anywhere (several periods off, ±0.0, touching, as wide as T)."""
     lo, hi = [a for a, _ in arcs], [a + w for a, w in arcs]
-    compiled, numpy_ = _both(lambda: transfer.arcs_holding(lo, hi, T))
-    assert _bits(compiled) == _bits(numpy_)
+    compiled, numpy_ = both(lambda: transfer.arcs_holding(lo, hi, T))
+    assert bits(compiled) == bits(numpy_)
 
 
-def _plan_bits(plan: Plan) -> Any:
+def _planbits(plan: Plan) -> Any:
     """Everything a plan says but its timings."""
     return (plan.action, plan.symmetry_period, plan.intervals, [(s.gripper_angle, s.margin) for s in plan.steps],
             plan.final_orientations, plan.verified, plan.final_uncertainty)
@@ -145,8 +99,8 @@ def test_plans_are_bit_identical(shape: str, seed: int, n: int, physics: Physics
     """A′'s search (the compiled widest tables, sink widths, images), the gripper angles and
     the verification: the same plan, or the same refusal, either way."""
     analysis = analyse_document(DOCS[shape](seed, n), Model(physics=physics))
-    compiled, numpy_ = _both(lambda: _plan_bits(plans.plan_once(analysis, action, margin)))  # type: ignore[arg-type]
-    assert _bits(compiled) == _bits(numpy_)
+    compiled, numpy_ = both(lambda: _planbits(plans.plan_once(analysis, action, margin)))  # type: ignore[arg-type]
+    assert bits(compiled) == bits(numpy_)
 
 
 @settings(max_examples=80, deadline=None)
@@ -158,8 +112,8 @@ def test_widest_is_bit_identical(shape: str, seed: int, n: int, physics: Physics
     S = None if analysis.robust is None else getattr(analysis.robust, action)
     if S is None:
         return
-    compiled, numpy_ = _both(lambda: [planner._widest(S.lower, planner.Lifted.of(S.lower, S.upper), r) for r in rooms])
-    assert _bits(compiled) == _bits(numpy_)
+    compiled, numpy_ = both(lambda: [planner._widest(S.lower, planner.Lifted.of(S.lower, S.upper), r) for r in rooms])
+    assert bits(compiled) == bits(numpy_)
 
 
 def _tilt_edge_by_edge(analysis: Any, lo: float, hi: float) -> float:
@@ -184,7 +138,7 @@ def test_edge_tilt_is_edge_by_edge(shape: str, seed: int, n: int, physics: Physi
         return
     flats = [np.pi / 2 - np.arctan2(-(b[0] - a[0]), b[1] - a[1]) for a, b in analysis.part.hull.edges]
     for x in [lo, *flats[:3]]:  # anywhere, and at edges lying flat
-        assert _bits(plans._edge_tilt(analysis, x, x + width)) == _bits(_tilt_edge_by_edge(analysis, x, x + width))
+        assert bits(plans._edge_tilt(analysis, x, x + width)) == bits(_tilt_edge_by_edge(analysis, x, x + width))
 
 
 @settings(max_examples=400, deadline=None)
@@ -198,5 +152,5 @@ def test_first_choice_is_bit_identical(arcs: list[tuple[float, float]], nxt: tup
     lifted = [(a, a + w) for a, w in arcs]
     a, b = nxt[0], nxt[0] + nxt[1]
     fit = [0.5 * ((b - a) - (hi - lo)) for lo, hi in lifted]
-    compiled, numpy_ = _both(lambda: planner.first_choice(lifted, fit, need, (a, b), alpha, *periods))
-    assert _bits(compiled) == _bits(numpy_)
+    compiled, numpy_ = both(lambda: planner.first_choice(lifted, fit, need, (a, b), alpha, *periods))
+    assert bits(compiled) == bits(numpy_)

@@ -7,8 +7,6 @@ numpy path is the reference (run here with every module's hook switched off)."""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
 from typing import Any
 
 import numpy as np
@@ -21,56 +19,13 @@ from algrasp.errors import NotOrientableError
 from algrasp.geometry.functions import SupportPairFunction, analyse
 from algrasp.geometry.part import load_part
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES as TOL
-from algrasp.planning import barriers, edges, placement, planner, setcells, setvalued, symmetry, transfer
+from algrasp.planning import barriers, edges, placement, setvalued, symmetry
 from algrasp.planning.analysis import Analysis, Model, analyse_document
 from algrasp.planning.setvalued import set_transfer
 from algrasp.testing import shapes
+from algrasp.testing.kernels import bits, both, reference_path
 
-HOOKED: tuple[Any, ...] = (edges, placement, planner, setcells, setvalued, symmetry, transfer)
-"""The modules whose hooks read algrasp.compiled.KERNELS."""
 pytestmark = pytest.mark.skipif(KERNELS is None, reason="compiled kernels not built (or ALGRASP_PURE set)")
-
-
-@contextmanager
-def _numpy_path() -> Iterator[None]:
-    """The numpy reference: the hooks see no kernels."""
-    saved = [getattr(m, "KERNELS", None) for m in HOOKED]
-    for m in HOOKED:
-        m.KERNELS = None
-    try:
-        yield
-    finally:
-        for m, k in zip(HOOKED, saved):
-            m.KERNELS = k
-
-
-def _bits(value: Any) -> Any:
-    """A comparable form that tells apart every bit pattern (−0.0, NaN payloads, dtypes)."""
-    if isinstance(value, np.ndarray):
-        return ("array", value.dtype.str, value.shape, value.tobytes())
-    if isinstance(value, (list, tuple)):
-        return tuple(_bits(v) for v in value)
-    if isinstance(value, dict):
-        return tuple((k, _bits(v)) for k, v in value.items())
-    if isinstance(value, float):
-        return ("float", value.hex())
-    return repr(value)
-
-
-def _both(make: Callable[[], Any]) -> tuple[Any, Any]:
-    """(compiled, numpy) results of ``make``, or the refusal's message: both paths must
-    refuse alike."""
-    out: list[Any] = []
-    for numpy_path in (False, True):
-        try:
-            if numpy_path:
-                with _numpy_path():
-                    out.append(make())
-            else:
-                out.append(make())
-        except NotOrientableError as e:
-            out.append(("refused", str(e)))
-    return out[0], out[1]
 
 
 DOCS = {
@@ -118,8 +73,8 @@ def test_fused_set_transfer_is_bit_identical(shape: str, seed: int, n: int, kind
         s = set_transfer(f, **args)
         return (s.lower.pieces, s.upper.pieces, s.symmetry, s.rest_zones, s.outcomes)
 
-    compiled, numpy_ = _both(made)
-    assert _bits(compiled) == _bits(numpy_)
+    compiled, numpy_ = both(made)
+    assert bits(compiled) == bits(numpy_)
 
 
 def test_the_refinement_and_second_pass_are_reached() -> None:
@@ -129,12 +84,12 @@ def test_the_refinement_and_second_pass_are_reached() -> None:
     scale = float(np.max(f.values(np.linspace(0.0, np.pi, 64))))
     band = setvalued._Band((1e-3 * scale, 2e-3 * scale), 1e-3 * scale, 0.0, 1e-2 * scale, 0.1 * scale)
     slopes_at, jaw = band.thresholds()
-    with _numpy_path():
+    with reference_path():
         found, _ = edges.crossings(f, slopes_at, jaw, TOL, edges.CURVE_GRID_RAD)
         first = setvalued._classify(f, f.period, found, np.zeros(0), band, first=True)
         assert first.rims and setvalued._to_refine(first, band).any()
-    compiled, numpy_ = _both(lambda: setvalued._bounds(f, f.period, band, TOL.angle_rad))
-    assert _bits(compiled) == _bits(numpy_)
+    compiled, numpy_ = both(lambda: setvalued._bounds(f, f.period, band, TOL.angle_rad))
+    assert bits(compiled) == bits(numpy_)
 
 
 VALUES = st.lists(st.sampled_from([0.0, -0.0, 0.5, 1.0, 1.0 + 2.0 ** -52, 2.0, 3.0, 1e300, -1e300]), min_size=1,
@@ -157,7 +112,7 @@ def test_barriers_are_bit_identical(values: list[float], K: int, stall: float, e
     assert KERNELS is not None
     compiled = KERNELS.barriers(x, T, node, cell_max, stall, eps)
     numpy_ = barriers.barriers(x, T, node, cell_max, stall, eps)
-    assert _bits(list(compiled)) == _bits(list(numpy_))
+    assert bits(list(compiled)) == bits(list(numpy_))
 
 
 PHYSICS = st.fixed_dictionaries({}, optional={
@@ -175,8 +130,8 @@ def test_robust_analyses_are_bit_identical(shape: str, seed: int, n: int, physic
     make_doc = shapes.bezier_blob if shape == "blob" else None
     doc = make_doc(max(n, 4), seed) if make_doc else DOCS[shape](seed, n)
     model = Model.from_options({"physics": physics})
-    compiled, numpy_ = _both(lambda: _everything(analyse_document(doc, model)))
-    assert _bits(compiled) == _bits(numpy_)
+    compiled, numpy_ = both(lambda: _everything(analyse_document(doc, model)))
+    assert bits(compiled) == bits(numpy_)
 
 
 def _everything(a: Analysis) -> Any:
@@ -195,7 +150,7 @@ def test_set_compositions_and_push_hulls_are_bit_identical(shape: str, seed: int
     """SetTransfer.compose_after (both bounds and the outcomes that meet, over every copy
     of a symmetric outer function) and the off-centre squeeze's hull of partial pushes
     (symmetric pushes: a period T below 2π), on functions made once, on the numpy path."""
-    with _numpy_path():
+    with reference_path():
         sets = []
         for sh, kind in ((shape, "diameter"), (shape, "radius"), (other, "radius")):
             f = _function(sh, seed, n, kind)
@@ -215,8 +170,8 @@ def test_set_compositions_and_push_hulls_are_bit_identical(shape: str, seed: int
             out.append((s.lower.pieces, s.upper.pieces, s.symmetry, s.rest_zones, s.outcomes))
         return out
 
-    compiled, numpy_ = _both(made)
-    assert _bits(compiled) == _bits(numpy_)
+    compiled, numpy_ = both(made)
+    assert bits(compiled) == bits(numpy_)
 
 
 @settings(max_examples=150, deadline=None)
@@ -238,5 +193,5 @@ def test_symmetry_and_contacts_are_bit_identical(shape: str, seed: int, n: int, 
                 [symmetry._none_by_runs(f, e.theta, e.value, tol) for e in f.extrema],
                 c.rho, c.R, c.phi0, c.a, c.b, [a.flags.writeable for a in (c.rho, c.R, c.phi0, c.a, c.b)])
 
-    compiled, numpy_ = _both(made)
-    assert _bits(compiled) == _bits(numpy_)
+    compiled, numpy_ = both(made)
+    assert bits(compiled) == bits(numpy_)
