@@ -21,7 +21,7 @@ from algrasp.errors import PartDocumentError
 from algrasp.geometry import functions
 from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.functions import Run, analyse, theta_runs
-from algrasp.geometry.part import load_part
+from algrasp.geometry.part import SIMPLE_RING_MAX_POINTS, load_part
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES as TOL
 from algrasp.testing import shapes
 from algrasp.testing.kernels import bits, both
@@ -347,3 +347,14 @@ def test_mean_radius_is_bit_identical(seed: int, n: int, scale: float, shift: fl
     finally:
         deadband.GEOMETRY = GEOMETRY
     assert compiled.hex() == python.hex()
+
+
+@pytest.mark.parametrize("n", [SIMPLE_RING_MAX_POINTS, SIMPLE_RING_MAX_POINTS + 1, 400])
+def test_long_rings_are_judged_alike_on_both_sides_of_the_proof_limit(n: int) -> None:
+    """Past SIMPLE_RING_MAX_POINTS the O(n²) proof is skipped for GEOS: a simple ring is
+    still accepted and a crossed one (two corners swapped) still refused (its explanation as before)."""
+    regular = shapes.regular_polygon(n, 2.0, 7.0)
+    assert len(load_part(regular).hull.features) == n
+    crossed = regular["polygon"]
+    with pytest.raises(PartDocumentError, match="self-intersecting boundary"):
+        load_part({**regular, "polygon": [crossed[0], crossed[2], crossed[1], *crossed[3:]]})
