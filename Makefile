@@ -7,7 +7,7 @@ STAMP := $(VENV)/.installed
 .PHONY: run test lint bench clean
 
 # The compiled kernels are built at install (setup.py): a changed .pyx or .pxd re-installs.
-$(STAMP): pyproject.toml setup.py $(wildcard algrasp/*/*.pyx algrasp/*/*.pxd)
+$(STAMP): pyproject.toml setup.py $(wildcard algrasp/*.pxd algrasp/*/*.pyx algrasp/*/*.pxd)
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e '.[all,dev]'

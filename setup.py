@@ -6,7 +6,7 @@ package installs and runs on its numpy path (algrasp.compiled)."""
 from setuptools import Extension, setup
 
 # -ffp-contract=off: no fused multiply-adds, so every product rounds as numpy's does.
-# (each package's _floats.pxd holds inline helpers its kernels cimport: no module of its own.)
+# (algrasp/_floats.pxd holds inline helpers every kernel cimports: no module of its own.)
 EXTENSIONS = [Extension(f"algrasp.{package}.{name}", [f"algrasp/{package}/{name}.pyx"],
                         extra_compile_args=["-O2", "-ffp-contract=off", "-fno-fast-math"], optional=True)
               for package, name in (("planning", "_kernels"), ("planning", "_lookups"),

@@ -21,7 +21,7 @@ import numpy as np
 from libc.math cimport atan2, ceil, cos, fabs, floor, sin, sqrt, INFINITY
 from libc.stdlib cimport free, malloc, qsort
 
-from algrasp.geometry._floats cimport _bisect_right, _mod
+from algrasp._floats cimport _bisect_right, _mod
 
 from algrasp.geometry._polygon import corner_ranges, hull_order, simple_ring  # re-exported: one GEOMETRY
 from algrasp.geometry.angles import TWO_PI as _TWO_PI_PY

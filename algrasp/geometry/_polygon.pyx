@@ -16,7 +16,7 @@ import math
 from libc.math cimport atan2, fabs, isfinite, sqrt
 from libc.stdlib cimport free, malloc, qsort
 
-from algrasp.geometry._floats cimport _mod
+from algrasp._floats cimport _mod
 
 from algrasp.geometry.angles import TWO_PI as _TWO_PI_PY
 from algrasp.geometry.tolerances import ROUNDING as _ROUNDING_PY

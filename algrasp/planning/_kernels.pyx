@@ -15,7 +15,7 @@ from libc.math cimport ceil, cos, fabs, floor, isfinite, isnan, sin, INFINITY, N
 from cpython.tuple cimport PyTuple_GET_ITEM
 from libc.stdlib cimport calloc, free, malloc
 
-from algrasp.planning._floats cimport _bisect_right, _insertion_sort, _max, _min, _mod
+from algrasp._floats cimport _add_distinct, _bisect_left, _bisect_right, _insertion_sort, _max, _min, _mod
 
 from algrasp.planning._lookups import (fixed, images, keys, lifted, lookup, pointwise, rest_zones, shifted,
                                       sink_widths, steps_floats, widest)  # re-exported: one KERNELS
@@ -1386,13 +1386,7 @@ cdef Py_ssize_t _cut_list(const Table* tf, const Table* ts, double P, double* ou
     for f in range(2):
         t = tf if f == 0 else ts
         for i in range(t.n):
-            x = 0.0 + _mod(t.starts[i] - 0.0, P)
-            for j in range(n):
-                if out[j] == x:
-                    break
-            else:
-                out[n] = x
-                n += 1
+            n = _add_distinct(out, n, 0.0 + _mod(t.starts[i] - 0.0, P))
     j = 0
     for i in range(n):  # kept in [0, P], then sorted (distinct values)
         if 0.0 <= out[i] <= 0.0 + P:
@@ -1502,18 +1496,6 @@ cdef Py_ssize_t _distinct(double* a, Py_ssize_t n) noexcept nogil:
             a[m] = a[i]
             m += 1
     return m
-
-
-cdef inline Py_ssize_t _bisect_left(const double* a, Py_ssize_t n, double x) noexcept nogil:
-    """bisect.bisect_left on a sorted C array."""
-    cdef Py_ssize_t lo = 0, hi = n, mid
-    while lo < hi:
-        mid = (lo + hi) >> 1
-        if a[mid] < x:
-            lo = mid + 1
-        else:
-            hi = mid
-    return lo
 
 
 # --------------------------------------------------------------- edges._point_roots

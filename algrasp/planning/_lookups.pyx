@@ -18,7 +18,7 @@ from cpython.float cimport PyFloat_AS_DOUBLE
 from cpython.list cimport PyList_GET_ITEM, PyList_GET_SIZE
 from cpython.tuple cimport PyTuple_GET_ITEM
 
-from algrasp.planning._floats cimport _bisect_right, _insertion_sort, _mod
+from algrasp._floats cimport _add_distinct, _bisect_left, _bisect_right, _insertion_sort, _mod
 
 cdef Py_ssize_t LIFTS_LO = -1, LIFTS_HI = 4  # transfer.LIFTS: checked against it at first use
 cdef bint _ready = False
@@ -180,13 +180,8 @@ cdef Py_ssize_t _cuts(list fs, double a, double P, double* out) noexcept:
     for F in fs:
         pieces = F.pieces
         for i in range(len(pieces)):
-            x = a + _mod(<double>(<object>PyTuple_GET_ITEM(<object>PyTuple_GET_ITEM(pieces, i), 0)) - a, P)
-            for j in range(n):
-                if out[j] == x:
-                    break
-            else:
-                out[n] = x
-                n += 1
+            x = <double>(<object>PyTuple_GET_ITEM(<object>PyTuple_GET_ITEM(pieces, i), 0))
+            n = _add_distinct(out, n, a + _mod(x - a, P))
     j = 0
     for i in range(n):  # kept in [a, a + P], then an insertion sort (distinct values)
         if a <= out[i] <= a + P:
@@ -294,16 +289,9 @@ def pointwise(list fs, bint take_max):
 
 # ------------------------------------------------------------------- planner._widest
 
-cdef inline Py_ssize_t _bisect_left(const double[:] a, double x) noexcept nogil:
+cdef inline Py_ssize_t _left(const double[:] a, double x) noexcept nogil:
     """searchsorted(side="left") on a sorted array."""
-    cdef Py_ssize_t lo = 0, hi = a.shape[0], mid
-    while lo < hi:
-        mid = (lo + hi) >> 1
-        if a[mid] < x:
-            lo = mid + 1
-        else:
-            hi = mid
-    return lo
+    return _bisect_left(&a[0], a.shape[0], x) if a.shape[0] else 0
 
 
 cdef inline Py_ssize_t _right(const double[:] a, double x) noexcept nogil:
@@ -329,18 +317,6 @@ def widest(const double[:] starts, const double[:] ramp_starts, const double[:] 
     for i in range(w.nt):
         w.tops[i] = tops[i]
     return w.at(room)
-
-
-cdef inline Py_ssize_t _left_p(const double* a, Py_ssize_t n, double x) noexcept nogil:
-    """searchsorted(side="left") on a sorted C array."""
-    cdef Py_ssize_t lo = 0, hi = n, mid
-    while lo < hi:
-        mid = (lo + hi) >> 1
-        if a[mid] < x:
-            lo = mid + 1
-        else:
-            hi = mid
-    return lo
 
 
 cdef class Widest:
@@ -407,8 +383,8 @@ cdef class Widest:
         if lo == NULL:
             raise MemoryError()
         for k in range(nr):  # _ramp_candidates' lo and hi (sorted: the ramps are)
-            lo[k] = _left_p(self.tops, nt, self.ramp_starts[k] + room)
-            lo[nr + k] = _left_p(self.tops, nt, self.ramp_ends[k] + room)
+            lo[k] = _bisect_left(self.tops, nt, self.ramp_starts[k] + room)
+            lo[nr + k] = _bisect_left(self.tops, nt, self.ramp_ends[k] + room)
         try:
             for i in range(n):
                 if i < ns:
@@ -425,7 +401,7 @@ cdef class Widest:
                     j = _wrap(_right(ls, x) - 1, ls.shape[0])
                     at = x if lr[j] else lv[j]
                 y = at + room
-                j = _bisect_left(keys, y)
+                j = _left(keys, y)
                 if j >= us.shape[0]:
                     raise IndexError(f"index {j} is out of bounds for axis 0 with size {us.shape[0]}")
                 k = _wrap(j - 1, us.shape[0])
@@ -577,7 +553,7 @@ def images(lower, upper, list intervals):
     cdef list out = []
     for pair in intervals:
         a, b = pair
-        j = _wrap(_bisect_left(us, b) - 1, us.shape[0])
+        j = _wrap(_left(us, b) - 1, us.shape[0])
         out.append((_value_at(ls, lr, lv, a), b if ur[j] else uv[j]))
     return out
 

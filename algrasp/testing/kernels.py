@@ -18,12 +18,18 @@ from __future__ import annotations
 import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from algrasp.errors import NotOrientableError
 from algrasp.geometry import functions
+from algrasp.geometry.part import load_part
+from algrasp.geometry.tolerances import DEFAULT_TOLERANCES
+from algrasp.testing import shapes
+
+if TYPE_CHECKING:
+    from algrasp.geometry.functions import SupportPairFunction
 
 HOOKS = ("KERNELS", "GEOMETRY")
 """The module attributes that hold a compiled module (None: the reference path)."""
@@ -83,3 +89,38 @@ def both(make: Callable[[], Any]) -> tuple[Any, Any]:
             except ERRORS as e:
                 out.append(("raised", type(e).__name__, str(e)))
     return out[0], out[1]
+
+
+FAMILIES: dict[str, Callable[[int, int], dict[str, Any]]] = {
+    "polygon": lambda seed, n: shapes.random_polygon(n, seed),
+    "regular": lambda seed, n: shapes.regular_polygon(n, 1.0 + seed % 7, phase_deg=seed % 90),
+    "reuleaux": lambda seed, n: shapes.reuleaux(1.0 + seed % 5),
+    "flats": lambda seed, n: shapes.disk_with_flats(1.0, 5.0 + seed % 30),
+    "pie": lambda seed, n: shapes.pie(5.0, 10.0 + seed % 40),
+    "blob": lambda seed, n: shapes.bezier_blob(max(n, 4), seed),
+    "disk": lambda seed, n: shapes.disk(1.0 + seed % 3),
+    "rectangle": lambda seed, n: shapes.rectangle(1.0 + seed % 5, 1.0 + n % 3),
+}
+"""Part documents by family, (seed, n) → document: what the kernel tests draw from (each
+test file its own subset: the fused set-valued call, for one, takes point-like contacts only)."""
+
+
+def families(*names: str) -> dict[str, Callable[[int, int], dict[str, Any]]]:
+    """The named :data:`FAMILIES`."""
+    return {n: FAMILIES[n] for n in names}
+
+
+def support_function(doc: dict[str, Any], kind: str) -> SupportPairFunction:
+    """d (``kind`` "diameter") or r ("radius") of the part ``doc``, default tolerances."""
+    part = load_part(doc)
+    return functions.analyse(kind, part.hull, part.center_of_mass, part.size, DEFAULT_TOLERANCES)  # type: ignore[arg-type]
+
+
+def set_args(f: SupportPairFunction, s: tuple[float, ...]) -> dict[str, Any]:
+    """set_transfer's arguments after f for a dead band scaled to f: ``s`` = (stall low,
+    stall extra, σ, value tolerance, value error, jaw μ, shallow depth) as fractions of
+    f's largest value."""
+    scale = float(np.max(f.values(np.linspace(0.0, np.pi, 64))))
+    s_lo, s_extra, sigma, tol, err, mu, depth = (scale * v for v in s)
+    return {"stall": (s_lo, s_lo + s_extra), "sigma": sigma, "value_tol": tol, "tol_rad": DEFAULT_TOLERANCES.angle_rad,
+            "jaw_friction": mu / scale if f.kind == "diameter" else 0.0, "value_err": err, "shallow": depth}

@@ -24,7 +24,7 @@ from algrasp.geometry.functions import Run, analyse, theta_runs
 from algrasp.geometry.part import SIMPLE_RING_MAX_POINTS, load_part
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES as TOL
 from algrasp.testing import shapes
-from algrasp.testing.kernels import bits, both
+from algrasp.testing.kernels import bits, both, families
 
 needs_kernels = pytest.mark.skipif(GEOMETRY is None, reason="compiled geometry kernels not built (or ALGRASP_PURE set)")
 
@@ -34,15 +34,7 @@ def _both(make: Callable[[], Any]) -> tuple[Any, Any]:
     return both(lambda: bits(make()))
 
 
-DOCS = {
-    "polygon": lambda seed, n: shapes.random_polygon(n, seed),
-    "regular": lambda seed, n: shapes.regular_polygon(n, 1.0 + seed % 7, phase_deg=seed % 90),
-    "reuleaux": lambda seed, n: shapes.reuleaux(1.0 + seed % 5),
-    "flats": lambda seed, n: shapes.disk_with_flats(1.0, 5.0 + seed % 30),
-    "pie": lambda seed, n: shapes.pie(5.0, 10.0 + seed % 40),
-    "disk": lambda seed, n: shapes.disk(1.0 + seed % 3),
-    "rectangle": lambda seed, n: shapes.rectangle(1.0 + seed % 5, 1.0 + n % 3),
-}
+DOCS = families("polygon", "regular", "reuleaux", "flats", "pie", "disk", "rectangle")
 
 
 @needs_kernels

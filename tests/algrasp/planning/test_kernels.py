@@ -15,40 +15,19 @@ from hypothesis import strategies as st
 
 from algrasp.compiled import KERNELS
 from algrasp.errors import NotOrientableError
-from algrasp.geometry.functions import SupportPairFunction, analyse
-from algrasp.geometry.part import load_part
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES as TOL
 from algrasp.planning import placement, planner, setcells
 from algrasp.planning.edges import CURVE_GRID_RAD, crossings
 from algrasp.planning.setvalued import GRID_RAD, _Band, _classify, set_transfer
 from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical, from_runs
-from algrasp.testing import shapes
-from algrasp.testing.kernels import bits, both, reference_path
+from algrasp.testing.kernels import bits, both, families, reference_path, set_args, support_function
 
 pytestmark = pytest.mark.skipif(KERNELS is None, reason="compiled kernels not built (or ALGRASP_PURE set)")
 
 
-DOCS = {
-    "polygon": lambda seed, n: shapes.random_polygon(n, seed),
-    "regular": lambda seed, n: shapes.regular_polygon(n, 1.0 + seed % 7, phase_deg=seed % 90),
-    "reuleaux": lambda seed, n: shapes.reuleaux(1.0 + seed % 5),
-    "flats": lambda seed, n: shapes.disk_with_flats(1.0, 5.0 + seed % 30),
-    "pie": lambda seed, n: shapes.pie(5.0, 10.0 + seed % 40),
-    "blob": lambda seed, n: shapes.bezier_blob(max(n, 4), seed),
-}
+DOCS = families("polygon", "regular", "reuleaux", "flats", "pie", "blob")
 
 
-def _function(shape: str, seed: int, n: int, kind: str) -> SupportPairFunction:
-    part = load_part(DOCS[shape](seed, n))
-    return analyse(kind, part.hull, part.center_of_mass, part.size, TOL)  # type: ignore[arg-type]
-
-
-def _set_args(f: SupportPairFunction, s: tuple[float, ...]) -> dict[str, Any]:
-    """A dead band scaled to f (fractions ``s`` of its largest value)."""
-    scale = float(np.max(f.values(np.linspace(0.0, np.pi, 64))))
-    s_lo, s_extra, sigma, tol, err, mu, depth = (scale * v for v in s)
-    return {"stall": (s_lo, s_lo + s_extra), "sigma": sigma, "value_tol": tol, "tol_rad": TOL.angle_rad,
-            "jaw_friction": mu / scale if f.kind == "diameter" else 0.0, "value_err": err, "shallow": depth}
 
 
 BAND = st.tuples(st.sampled_from([0.0, 0.01, 0.05, 0.2]), st.floats(0.0, 0.1), st.sampled_from([0.0, 1e-3, 0.02, 2.0]),
@@ -60,8 +39,8 @@ BAND = st.tuples(st.sampled_from([0.0, 0.01, 0.05, 0.2]), st.floats(0.0, 0.1), s
 @given(shape=st.sampled_from(sorted(DOCS)), seed=st.integers(0, 10_000), n=st.integers(3, 11),
        kind=st.sampled_from(["diameter", "radius"]), band=BAND)
 def test_set_transfer_is_bit_identical(shape: str, seed: int, n: int, kind: str, band: tuple[float, ...]) -> None:
-    f = _function(shape, seed, n, kind)
-    args = _set_args(f, band)
+    f = support_function(DOCS[shape](seed, n), kind)
+    args = set_args(f, band)
 
     def made() -> Any:
         st_ = set_transfer(f, **args)
@@ -76,8 +55,8 @@ def test_set_transfer_is_bit_identical(shape: str, seed: int, n: int, kind: str,
        kind=st.sampled_from(["diameter", "radius"]), band=BAND, first=st.booleans(), grid=st.booleans())
 def test_classify_is_bit_identical(shape: str, seed: int, n: int, kind: str, band: tuple[float, ...], first: bool,
                                    grid: bool) -> None:
-    f = _function(shape, seed, n, kind)
-    a = _set_args(f, band)
+    f = support_function(DOCS[shape](seed, n), kind)
+    a = set_args(f, band)
     b = _Band(a["stall"], a["sigma"], a["jaw_friction"], a["value_err"], a["shallow"])
     slopes_at, jaw = b.thresholds()
     edges, curves = crossings(f, slopes_at, jaw, TOL, CURVE_GRID_RAD)
@@ -114,14 +93,14 @@ def test_canonical_is_bit_identical(cuts: list[float], kinds: list[int], period:
 def test_compositions_are_bit_identical(shape: str, seed: int, n: int, band: tuple[float, ...]) -> None:
     """Set-valued bounds (steps, ramps where a part may stay) and exact functions (ramps on
     constant runs), composed both ways round."""
-    d, r = (_function(shape, seed, n, kind) for kind in ("diameter", "radius"))
+    d, r = (support_function(DOCS[shape](seed, n), kind) for kind in ("diameter", "radius"))
 
     def made() -> Any:
         out: list[Any] = []
         exact = [from_runs(list(f.runs), f.period, TOL.angle_rad) for f in (d, r)]
         out += [exact[0].compose_after(exact[1], TOL.angle_rad).pieces, exact[1].compose_after(exact[0], TOL.angle_rad).pieces]
         try:
-            sets = [set_transfer(f, **_set_args(f, band)) for f in (d, r)]
+            sets = [set_transfer(f, **set_args(f, band)) for f in (d, r)]
         except NotOrientableError:
             return out  # the exact compositions alone
         for a, b in ((sets[0], sets[1]), (sets[1], sets[0]), (sets[0], sets[0])):
@@ -140,7 +119,7 @@ def test_compositions_are_bit_identical(shape: str, seed: int, n: int, band: tup
        jaw=st.none() | st.tuples(st.floats(0.0, 0.6), st.floats(0.0, 0.5)), levels=st.lists(st.floats(0.0, 3.0), max_size=2))
 def test_crossings_are_bit_identical(shape: str, seed: int, n: int, kind: str, slopes: list[float],
                                      jaw: tuple[float, float] | None, levels: list[float]) -> None:
-    f = _function(shape, seed, n, kind)
+    f = support_function(DOCS[shape](seed, n), kind)
     compiled, numpy_ = both(lambda: crossings(f, tuple(slopes), jaw, TOL, CURVE_GRID_RAD, levels=tuple(levels)))
     assert bits(compiled) == bits(numpy_)
 
@@ -170,13 +149,13 @@ def test_lookups_and_plans_are_bit_identical(shape: str, seed: int, n: int, band
     """Exact functions and set-valued bounds (and their compositions): the lifted pieces,
     A′'s keys, the vectorised and plain-float lookups, shifts, pointwise minima and maxima,
     and the plans A′ finds."""
-    d, r = (_function(shape, seed, n, kind) for kind in ("diameter", "radius"))
+    d, r = (support_function(DOCS[shape](seed, n), kind) for kind in ("diameter", "radius"))
     with reference_path():
         fs = [from_runs(list(f.runs), f.period, TOL.angle_rad) for f in (d, r)]
         sets = []
         for f in (d, r):
             with suppress(NotOrientableError):
-                sets.append(set_transfer(f, **_set_args(f, band)))
+                sets.append(set_transfer(f, **set_args(f, band)))
         fs += [F for s in sets for F in (s.lower, s.upper)] + [fs[0].compose_after(fs[1], TOL.angle_rad)]
     rng = np.random.default_rng(seed)
     probes = [_probes(F, rng) for F in fs]

@@ -21,19 +21,12 @@ from algrasp.planning import planner, plans, transfer, verification
 from algrasp.planning.analysis import Model, analyse_document
 from algrasp.planning.physics import Physics
 from algrasp.planning.plans import Plan, PlanStep, make_plan
-from algrasp.testing import shapes
-from algrasp.testing.kernels import bits, both
+from algrasp.testing.kernels import bits, both, families
 
 pytestmark = pytest.mark.skipif(KERNELS is None, reason="compiled kernels not built (or ALGRASP_PURE set)")
 
 
-DOCS = {
-    "polygon": lambda seed, n: shapes.random_polygon(n, seed),
-    "regular": lambda seed, n: shapes.regular_polygon(n, 1.0 + seed % 7, phase_deg=seed % 90),
-    "flats": lambda seed, n: shapes.disk_with_flats(1.0, 5.0 + seed % 30),
-    "pie": lambda seed, n: shapes.pie(5.0, 10.0 + seed % 40),
-    "blob": lambda seed, n: shapes.bezier_blob(max(n, 4), seed),
-}
+DOCS = families("polygon", "regular", "flats", "pie", "blob")
 PHYSICS = st.builds(lambda jaw, sup, tol, placement: Physics(jaw_friction=(0.0, jaw), support_friction=sup,
                                                             profile_tolerance=tol, placement=placement),
                     st.sampled_from([0.0, 0.05, 0.1, 0.3]), st.sampled_from([(0.2, 0.45), (0.3, 0.3), (0.0, 0.1)]),

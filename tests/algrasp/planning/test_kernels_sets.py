@@ -16,39 +16,20 @@ from hypothesis import strategies as st
 
 from algrasp.compiled import KERNELS
 from algrasp.errors import NotOrientableError
-from algrasp.geometry.functions import SupportPairFunction, analyse
-from algrasp.geometry.part import load_part
 from algrasp.geometry.tolerances import DEFAULT_TOLERANCES as TOL
 from algrasp.planning import barriers, edges, placement, setvalued, symmetry
 from algrasp.planning.analysis import Analysis, Model, analyse_document
 from algrasp.planning.setvalued import set_transfer
 from algrasp.testing import shapes
-from algrasp.testing.kernels import bits, both, reference_path
+from algrasp.testing.kernels import bits, both, families, reference_path, set_args, support_function
 
 pytestmark = pytest.mark.skipif(KERNELS is None, reason="compiled kernels not built (or ALGRASP_PURE set)")
 
 
-DOCS = {
-    "polygon": lambda seed, n: shapes.random_polygon(n, seed),
-    "regular": lambda seed, n: shapes.regular_polygon(n, 1.0 + seed % 7, phase_deg=seed % 90),
-    "reuleaux": lambda seed, n: shapes.reuleaux(1.0 + seed % 5),
-    "flats": lambda seed, n: shapes.disk_with_flats(1.0, 5.0 + seed % 30),
-    "pie": lambda seed, n: shapes.pie(5.0, 10.0 + seed % 40),
-}
+DOCS = families("polygon", "regular", "reuleaux", "flats", "pie")
 """Parts whose contacts are all point-like (vertices, circular arcs): the fused call's."""
 
 
-def _function(shape: str, seed: int, n: int, kind: str) -> SupportPairFunction:
-    part = load_part(DOCS[shape](seed, n))
-    return analyse(kind, part.hull, part.center_of_mass, part.size, TOL)  # type: ignore[arg-type]
-
-
-def _set_args(f: SupportPairFunction, s: tuple[float, ...]) -> dict[str, Any]:
-    """A dead band scaled to f (fractions ``s`` of its largest value)."""
-    scale = float(np.max(f.values(np.linspace(0.0, np.pi, 64))))
-    s_lo, s_extra, sigma, tol, err, mu, depth = (scale * v for v in s)
-    return {"stall": (s_lo, s_lo + s_extra), "sigma": sigma, "value_tol": tol, "tol_rad": TOL.angle_rad,
-            "jaw_friction": mu / scale if f.kind == "diameter" else 0.0, "value_err": err, "shallow": depth}
 
 
 # Small stalls and slope tolerances with a value error: the first pass asks for the
@@ -65,9 +46,9 @@ BAND = st.tuples(st.sampled_from([0.0, 1e-3, 0.01, 0.05, 0.2]), st.floats(0.0, 0
 def test_fused_set_transfer_is_bit_identical(shape: str, seed: int, n: int, kind: str, band: tuple[float, ...]) -> None:
     """set_transfer through one set_bounds call (every contact point-like) equals the numpy
     path's passes, refinement, bounds and rest zones."""
-    f = _function(shape, seed, n, kind)
+    f = support_function(DOCS[shape](seed, n), kind)
     assert edges.point_contacts(f, setvalued._tolerances(TOL.angle_rad)) is not None  # the fused call is taken
-    args = _set_args(f, band)
+    args = set_args(f, band)
 
     def made() -> Any:
         s = set_transfer(f, **args)
@@ -80,7 +61,7 @@ def test_fused_set_transfer_is_bit_identical(shape: str, seed: int, n: int, kind
 def test_the_refinement_and_second_pass_are_reached() -> None:
     """The fused call's rarer branches are exercised: a first pass that marks cells for the
     grid and one that finds shallow basins (checked on the numpy path's own passes)."""
-    f = _function("polygon", 3, 7, "radius")
+    f = support_function(DOCS["polygon"](3, 7), "radius")
     scale = float(np.max(f.values(np.linspace(0.0, np.pi, 64))))
     band = setvalued._Band((1e-3 * scale, 2e-3 * scale), 1e-3 * scale, 0.0, 1e-2 * scale, 0.1 * scale)
     slopes_at, jaw = band.thresholds()
@@ -153,9 +134,9 @@ def test_set_compositions_and_push_hulls_are_bit_identical(shape: str, seed: int
     with reference_path():
         sets = []
         for sh, kind in ((shape, "diameter"), (shape, "radius"), (other, "radius")):
-            f = _function(sh, seed, n, kind)
+            f = support_function(DOCS[sh](seed, n), kind)
             try:
-                sets.append(set_transfer(f, **_set_args(f, band)))
+                sets.append(set_transfer(f, **set_args(f, band)))
             except NotOrientableError:
                 return
 
@@ -180,7 +161,7 @@ def test_set_compositions_and_push_hulls_are_bit_identical(shape: str, seed: int
 def test_symmetry_and_contacts_are_bit_identical(shape: str, seed: int, n: int, kind: str, tol: float) -> None:
     """The symmetry screen's run test (symmetry._none_by_runs) and the contact cells'
     arrays (edges._grid), uncached, on parts with and without symmetry."""
-    f = _function(shape, seed, n, kind)
+    f = support_function(DOCS[shape](seed, n), kind)
     if not f.extrema:  # constant width: no screen at an extremum
         return
     lowest = min(f.extrema, key=lambda e: e.value)

@@ -1,4 +1,5 @@
-# Float helpers shared by the compiled kernels (_kernels.pyx, _lookups.pyx): each
+# Float helpers shared by the compiled kernels (planning/_kernels.pyx, _lookups.pyx,
+# geometry/_geometry.pyx, _polygon.pyx): each
 # reproduces, bit for bit, the numpy or Python operation its docstring names. Inline, so
 # cimporting them needs no module of their own at run time.
 
@@ -49,3 +50,26 @@ cdef inline void _insertion_sort(double* a, Py_ssize_t n) noexcept nogil:
             a[j + 1] = a[j]
             j -= 1
         a[j + 1] = v
+
+
+cdef inline Py_ssize_t _bisect_left(const double* a, Py_ssize_t n, double x) noexcept nogil:
+    """bisect.bisect_left / searchsorted(side="left") on a sorted C array."""
+    cdef Py_ssize_t lo = 0, hi = n, mid
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if a[mid] < x:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+cdef inline Py_ssize_t _add_distinct(double* out, Py_ssize_t n, double x) noexcept nogil:
+    """x appended to out[0:n] unless a value there equals it (a Python set's first of
+    equal values kept: −0.0 and 0.0 are one); the new count."""
+    cdef Py_ssize_t j
+    for j in range(n):
+        if out[j] == x:
+            return n
+    out[n] = x
+    return n + 1
