@@ -22,12 +22,12 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from algrasp.compiled import KERNELS
+from algrasp.compiled import KERNELS, LOOKUPS
 from algrasp.errors import NotOrientableError
 from algrasp.geometry.angles import shortest_turn, to_deg, to_rad
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.tolerances import PLANNING_RAD, ROUNDING, SYMMETRY_TOL_RAD
-from algrasp.planning.transfer import LOOKUPS, TransferFunction
+from algrasp.planning.transfer import TransferFunction
 
 STRICT_RAD = 1e-9
 """How far below the box's top a step value must stay (a step value on the top edge
@@ -185,7 +185,7 @@ def _widest(F: TransferFunction, lifted: Lifted, room: float) -> tuple[float, fl
     worth trying: the piece starts of one period (bottom-left placements; their lower
     values are fixed), then the points of ramps :func:`_ramp_candidates` gives (the first
     widest wins)."""
-    if KERNELS is not None:  # typed loops, the same interval (algrasp.compiled)
+    if LOOKUPS is not None:  # typed loops, the same interval (algrasp.compiled)
         table = lifted.tables.get(id(F))
         if table is None:
             table = lifted.tables[id(F)] = LOOKUPS.Widest.of(F.pieces[0].start, F.period, lifted.lower, lifted.upper,
@@ -295,7 +295,7 @@ def first_choice(arcs: list[tuple[float, float]], fit: list[float], need: float,
     from the last action's angle (0, where the previous part left the gripper) and on to
     the second action's, each the shortest under the action's period (as the execution
     turns). The first least (turning, index) wins. O(arcs · turns)."""
-    if KERNELS is not None:  # typed loops, the same keys and angle (algrasp.compiled)
+    if LOOKUPS is not None:  # typed loops, the same keys and angle (algrasp.compiled)
         return LOOKUPS.first_choice(arcs, fit, need, nxt, alpha_next, period, T, 2.0 * SYMMETRY_TOL_RAD)  # type: ignore[no-any-return]
     best: tuple[float, int] | None = None
     out = (0, 0.0)

@@ -15,20 +15,18 @@ import operator
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
-from importlib import import_module
-from typing import Any, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
-from algrasp.compiled import KERNELS
+from algrasp.compiled import KERNELS, LOOKUPS
 from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import Run
 from algrasp.geometry.tolerances import ROUNDING
 
 BoolArray = NDArray[np.bool_]
-LOOKUPS: Any = None if KERNELS is None else import_module("algrasp.planning._lookups")  # what _kernels does not re-export
 LIFTS = range(-1, 4)
 """The periods :attr:`TransferFunction.lifted` covers: a plan's intervals and images
 start in the first period and reach at most two periods beyond it."""
@@ -364,7 +362,7 @@ def arcs_holding(lo: list[float], hi: list[float], T: float) -> list[tuple[float
     sorts), else vectorised; the same arcs either way. O(n log n)."""
     if len(lo) > FEW_ARCS:
         return holding_arcs(np.array(lo, dtype=float), np.array(hi, dtype=float), T)
-    if KERNELS is not None:  # typed loops, the same arcs (algrasp.compiled)
+    if LOOKUPS is not None:  # typed loops, the same arcs (algrasp.compiled)
         return LOOKUPS.arcs_holding(lo, hi, T)  # type: ignore[no-any-return]
     if max(b - a for a, b in zip(lo, hi)) >= T:
         return [(0.0, T)]

@@ -5,16 +5,17 @@ allows and densely on its ramps. Pure: no I/O; angles in radians."""
 from __future__ import annotations
 
 from collections.abc import Sequence
+from types import ModuleType
 from typing import Protocol
 
 import numpy as np
 
-from algrasp.compiled import KERNELS
+from algrasp.compiled import LOOKUPS
 from algrasp.geometry.angles import signed_diff
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.tolerances import PROBE_RAD
 from algrasp.planning.setvalued import SetTransfer
-from algrasp.planning.transfer import LOOKUPS, TransferFunction
+from algrasp.planning.transfer import TransferFunction
 
 
 class PlanStep(Protocol):
@@ -123,8 +124,8 @@ def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SA
     S = plan.bounds
     if not _outcomes_within(S, circle):
         return False
-    if KERNELS is not None:  # typed loops, the same floats and verdict (algrasp.compiled)
-        return _verify_arcs(plan, circle, samples)
+    if LOOKUPS is not None:  # typed loops, the same floats and verdict (algrasp.compiled)
+        return _verify_arcs(plan, circle, samples, LOOKUPS)
     lo, hi = _runs(*run_steps(S, plan.steps[1:2], *_samples(plan, circle, samples)))
     k = 2
     while len(lo) > FEW_ARCS and k < len(plan.steps):
@@ -138,13 +139,13 @@ def verify_set(plan: Plan, circle: tuple[float, float], samples: int = VERIFY_SA
     return bool((off + 0.5 * (hi - lo) <= bound).all())
 
 
-def _verify_arcs(plan: Plan, circle: tuple[float, float], samples: int) -> bool:
+def _verify_arcs(plan: Plan, circle: tuple[float, float], samples: int, lookups: ModuleType) -> bool:
     """:func:`verify_set` after the outcome check in one compiled pass (the same arcs,
     the same floats: repeats dropped alike, each arc's verdict alike)."""
     S = plan.bounds
     assert S is not None
     starts = np.concatenate([S.lower.starts_array, S.upper.starts_array])
-    return bool(LOOKUPS.verify_arcs(S.lower, S.upper, starts, *circle, S.symmetry, [s.gripper_angle for s in plan.steps],
+    return bool(lookups.verify_arcs(S.lower, S.upper, starts, *circle, S.symmetry, [s.gripper_angle for s in plan.steps],
                                     samples, PROBE_RAD, list(plan.final_orientations),
                                     plan.final_uncertainty + FINAL_CLUSTER_RAD))
 

@@ -31,7 +31,7 @@ from algrasp.testing import shapes
 if TYPE_CHECKING:
     from algrasp.geometry.functions import SupportPairFunction
 
-HOOKS = ("KERNELS", "GEOMETRY")
+HOOKS = ("KERNELS", "LOOKUPS", "GEOMETRY")
 """The module attributes that hold a compiled module (None: the reference path)."""
 
 
