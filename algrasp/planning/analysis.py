@@ -215,7 +215,7 @@ def analyse_document(doc: Mapping[str, Any], model: Model = ROBUST, tol: Toleran
 
 def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, physics: Physics,
                     tol: Tolerances, terms: PartTerms | None = None, action: str | None = None,
-                    memo: SetMemo | None = None) -> RobustAnalysis:
+                    memo: SetMemo | None = None, band: DeadBand | None = None) -> RobustAnalysis:
     """Dead band and set-valued squeeze, push and push-grasp functions over the physics
     ranges; with ``placement="any"`` the squeeze starts with a partial push by either jaw
     (push-grasps are unaffected: the pushing jaw meets the part first by design).
@@ -223,10 +223,11 @@ def robust_analysis(part: Part, d: SupportPairFunction, r: SupportPairFunction, 
     ``action``: build only what a plan of that action reads (a limit search's probes;
     nothing once the squeeze, which every plan reads, is refused); the rest is None with
     the reason "not built". ``memo``: set-valued functions already built for this part's
-    d and r (:attr:`RobustAnalysis.sets` of another analysis of it), kept by the result."""
+    d and r (:attr:`RobustAnalysis.sets` of another analysis of it), kept by the result.
+    ``band``: the dead band of ``physics`` on ``terms`` when already made (a limit probe's key)."""
     terms = part_terms(part, tol) if terms is None else terms
     memo = SetMemo() if memo is None else memo
-    band = dead_band(part, physics, tol, terms)
+    band = dead_band(part, physics, tol, terms) if band is None else band
     reasons: dict[str, str] = {}
     funcs: dict[str, SetTransfer | None] = {}
     keys = set_keys(d.kind, r.kind, band, physics, tol.angle_rad)

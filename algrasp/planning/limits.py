@@ -17,7 +17,7 @@ from typing import Any
 
 from algrasp.errors import NotOrientableError
 from algrasp.planning.analysis import Analysis, plan_reads, robust_analysis, set_keys
-from algrasp.planning.deadband import dead_band, profile_floor
+from algrasp.planning.deadband import DeadBand, dead_band, profile_floor
 from algrasp.planning.physics import Physics
 
 BISECTIONS = 8
@@ -95,11 +95,13 @@ def plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Plan
     :attr:`~algrasp.planning.analysis.SetMemo.plans`, shared by every probe and plan on it)."""
     if known is not None and physics in known:
         return known[physics]
-    key = _reads(analysis, physics, action, planner, margin_deg)
-    plans = {} if key is None or analysis.robust is None else analysis.robust.sets.plans
+    base = analysis.robust
+    band = None if base is None or base.terms is None else dead_band(analysis.part, physics, analysis.tol, base.terms)
+    key = _reads(analysis, physics, action, planner, margin_deg, band)
+    plans = {} if key is None or base is None else base.sets.plans
     exists = plans.get(key) if key is not None else None
     if exists is None:
-        exists = _plan_exists(analysis, physics, action, planner, margin_deg)
+        exists = _plan_exists(analysis, physics, action, planner, margin_deg, band)
         if key is not None:
             plans[key] = exists
     if known is not None:
@@ -117,7 +119,7 @@ def remember(analysis: Analysis, action: str, planner: Planner, margin_deg: floa
 
 
 def _reads(analysis: Analysis, physics: Physics | None, action: str, planner: Planner,
-           margin_deg: float) -> tuple[object, ...] | None:
+           margin_deg: float, band: DeadBand | None = None) -> tuple[object, ...] | None:
     """What a plan of ``action`` under ``physics`` (None: the analysis's) reads
     (:func:`~algrasp.planning.analysis.plan_reads`), behind the planner and margin; None
     without the part's dead-band terms (the exact model). O(1): the dead band only."""
@@ -125,18 +127,20 @@ def _reads(analysis: Analysis, physics: Physics | None, action: str, planner: Pl
     if base is None or base.terms is None:
         return None
     # The analysis's own band was made from its physics as a probe's is (dead_band of the same terms).
-    band = base.band if physics is None else dead_band(analysis.part, physics, analysis.tol, base.terms)
+    if band is None:
+        band = base.band if physics is None else dead_band(analysis.part, physics, analysis.tol, base.terms)
     physics = base.physics if physics is None else physics
     keys = set_keys(analysis.diameter.kind, analysis.radius.kind, band, physics, analysis.tol.angle_rad)
     return (planner, margin_deg, *plan_reads(keys, band, physics, action))
 
 
-def _plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float) -> bool:
+def _plan_exists(analysis: Analysis, physics: Physics, action: str, planner: Planner, margin_deg: float,
+                 band: DeadBand | None = None) -> bool:
     try:
         base = analysis.robust
         terms, sets = (None, None) if base is None else (base.terms, base.sets)
         robust = robust_analysis(analysis.part, analysis.diameter, analysis.radius, physics, analysis.tol, terms, action,
-                                 sets)
+                                 sets, band)
         planner(replace(analysis, robust=robust), action, margin_deg)
     except NotOrientableError:
         return False
