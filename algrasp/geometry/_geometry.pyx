@@ -253,6 +253,19 @@ def extremum_keys(list runs, double period, double angle_rad, list labels):
         free(kept)
 
 
+cdef double* _vertex_table(list bp, list centers) except NULL:
+    """A table of vertices in one C buffer (3n): the breakpoints, then the centres' x, then
+    their y; the caller frees it."""
+    cdef Py_ssize_t n = len(bp), i
+    cdef double* buf = <double*> malloc(3 * n * sizeof(double))
+    if buf == NULL:
+        raise MemoryError()
+    for i in range(n):
+        buf[i] = bp[i]
+        buf[n + i], buf[2 * n + i] = centers[i][0], centers[i][1]
+    return buf
+
+
 def widest(list bp, list centers, list psi, list cos_psi, list sin_psi):
     """:func:`algrasp.planning.deadband.nominal_size` of a hull of vertices only (breakpoints
     ``bp``, vertex ``centers``): the largest ⟨c(ψ) − c(ψ + π), u(ψ)⟩ over the m normals ψ
@@ -262,14 +275,11 @@ def widest(list bp, list centers, list psi, list cos_psi, list sin_psi):
     cdef Py_ssize_t n = len(bp), m = len(cos_psi), k, i, j
     cdef double base, x, v, best = -INFINITY
     cdef bint nan = False
-    cdef double* buf = <double*> malloc(3 * n * sizeof(double))
+    cdef double* buf = _vertex_table(bp, centers)
     cdef double* rest = buf
     cdef double* cx = buf + n
     cdef double* cy = buf + 2 * n
     try:
-        for i in range(n):
-            rest[i] = bp[i]
-            cx[i], cy[i] = centers[i][0], centers[i][1]
         base = rest[0]
         for k in range(m):
             x = psi[k]
@@ -294,7 +304,7 @@ cdef object _vertex_support(list bp, list centers, const double[:] psi, bint pai
     SupportPairFunction.values makes them), and the result is h(ψ) + h(ψ + π). O(m log n)."""
     cdef Py_ssize_t n = len(bp), m = psi.shape[0], total = 2 * m if pair else m, k, i, j
     cdef double base, p
-    cdef double* buf = <double*> malloc(3 * n * sizeof(double))
+    cdef double* buf = _vertex_table(bp, centers)
     cdef double* rest = buf
     cdef double* cx = buf + n
     cdef double* cy = buf + 2 * n
@@ -304,9 +314,6 @@ cdef object _vertex_support(list bp, list centers, const double[:] psi, bint pai
     cdef double[::1] xv = x, ov = out
     cdef const double[::1] cv, sv
     try:
-        for i in range(n):
-            rest[i] = bp[i]
-            cx[i], cy[i] = centers[i][0], centers[i][1]
         base = rest[0]
         for k in range(m):
             p = HALF_PI - psi[k] if pair else psi[k]

@@ -15,7 +15,7 @@ lengths of all features at once (used for the diameter/radius analysis).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -44,9 +44,9 @@ def unit_vectors(psi: FloatArray) -> FloatArray:
     return out
 
 
-def _no_radius(features: Sequence[HullFeature]) -> bool:
-    """Every feature's radius +0.0 (−0.0 has its sign bit)."""
-    return all(f.radius == 0.0 and math.copysign(1.0, f.radius) > 0.0 for f in features)
+def _no_radius(radii: Iterable[float]) -> bool:
+    """Every radius +0.0 (−0.0 has its sign bit)."""
+    return all(r == 0.0 and math.copysign(1.0, r) > 0.0 for r in radii)
 
 
 def _no_negative_zero(centers: list[tuple[float, float]]) -> bool:
@@ -163,7 +163,7 @@ class FeatureTable:
             # The cached properties the features give in plain floats, set now (their arrays' .tolist()).
             pairs = [(float(f.center[0]), float(f.center[1])) for f in features]
             table.__dict__.update(breakpoint_list=[float(f.psi0) for f in features], center_list=pairs,
-                                  vertices_only=_no_radius(features) and _no_negative_zero(pairs))
+                                  vertices_only=_no_radius(f.radius for f in features) and _no_negative_zero(pairs))
             return table
         slots, n = [], 0
         for f in features:
@@ -243,8 +243,7 @@ class FeatureTable:
         support point is the centre itself, exactly c + 0·u(ψ), and the support value
         ⟨c, u⟩ + 0.0 (a polygon's hull)."""
         # In plain floats (a few features; ~8 array calls otherwise): −0.0 has its sign bit.
-        return not len(self.s0) and all(r == 0.0 and math.copysign(1.0, r) > 0.0 for r in self.radii.tolist()) and \
-            _no_negative_zero(self.center_list)
+        return not len(self.s0) and _no_radius(self.radii.tolist()) and _no_negative_zero(self.center_list)
 
     def support_of(self, psi: FloatArray) -> FloatArray:
         """Support values h(ψ) (n,) at normals ψ (n,): :meth:`support` of
