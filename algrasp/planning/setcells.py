@@ -9,13 +9,13 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass
-from functools import cached_property
 
 import numpy as np
 
 from algrasp.compiled import KERNELS
 from algrasp.errors import NotOrientableError
 from algrasp.geometry.curves import FloatArray
+from algrasp.geometry.lazy import cached_property
 from algrasp.planning.transfer import TransferFunction, TransferPiece, canonical
 
 

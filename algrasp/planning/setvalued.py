@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
-from functools import cached_property
 from typing import cast
 
 import numpy as np
@@ -40,6 +39,7 @@ import numpy as np
 from algrasp.compiled import KERNELS
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import SupportPairFunction
+from algrasp.geometry.lazy import cached_property
 from algrasp.geometry.tolerances import ROUNDING, Tolerances
 from algrasp.planning.barriers import barrier_sets, basin_cells, basins
 from algrasp.planning.edges import CURVE_GRID_RAD, crossings, point_contacts, slopes

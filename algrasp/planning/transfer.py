@@ -14,7 +14,6 @@ import math
 import operator
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from functools import cached_property
 from typing import NamedTuple
 
 import numpy as np
@@ -24,6 +23,7 @@ from algrasp.compiled import KERNELS, LOOKUPS
 from algrasp.geometry.angles import TWO_PI
 from algrasp.geometry.curves import FloatArray
 from algrasp.geometry.functions import Run
+from algrasp.geometry.lazy import cached_property
 from algrasp.geometry.tolerances import ROUNDING
 
 BoolArray = NDArray[np.bool_]
