@@ -321,7 +321,8 @@ class UnavailableError(AlgraspError):
     Attributes
     ----------
     reason : str
-        Why, as a word: ``queue_full``, ``no_workers``, ``worker_lost``, ``shutting_down``, ``scheduler``.
+        Why, as a word: ``queue_full``, ``no_workers``, ``worker_lost`` (its worker died),
+        ``pool_lost`` (lost with a wedged or broken worker pool), ``shutting_down``, ``scheduler``.
     retry_after_s : float
         When to try again (seconds; the HTTP ``Retry-After`` header).
     http_status, exit_code : int

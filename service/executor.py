@@ -13,6 +13,7 @@ import contextlib
 import multiprocessing
 import pickle
 import re
+import threading
 from collections.abc import Callable
 from typing import Any, Protocol
 
@@ -72,10 +73,14 @@ class LocalExecutor:
     name = "local"
 
     def __init__(self, workers: int, niceness: int = 0) -> None:
+        from service.pool_watch import PoolWatch
+
         self.workers = workers
         self.niceness = niceness
         self._pool = self._new_pool()
         self._closed = False
+        self._swap = threading.Lock()
+        self.watch = PoolWatch(lambda: self._pool, self._replace)
 
     def _new_pool(self) -> Any:
         from pebble import ProcessPool
@@ -95,20 +100,34 @@ class LocalExecutor:
         payload = pickled(fn, args, out)
         if payload is None:
             return out
-        if not self._pool.active and not self._closed:  # a broken pool is replaced, not kept
-            self._pool = self._new_pool()
+        pool = self._pool
+        if not pool.active:  # a broken pool is replaced, not kept
+            pool = self._replace(pool)
         try:
-            inner = self._pool.schedule(_call, args=(payload,), timeout=timeout_s)
+            inner = pool.schedule(_call, args=(payload,), timeout=timeout_s)
         except RuntimeError:  # shutting down
             _fail(out, UnavailableError("shutting_down", "the service is shutting down", 5.0))
             return out
+        self.watch.track(out, pool)  # pebble can lose a task when a worker dies at a bad moment
         inner.add_done_callback(lambda f: _settle(out, f, stage, timeout_s))
         out.add_done_callback(lambda f: inner.cancel() if f.cancelled() else None)
         return out
 
+    def _replace(self, old: Any) -> Any:
+        """A new pool in place of ``old`` (broken or wedged), unless another thread has
+        replaced it already or the executor is closed; returns the current pool."""
+        from service.pool_watch import discard
+
+        with self._swap:
+            if self._pool is old and not self._closed:
+                self._pool = self._new_pool()
+                discard(old)
+            return self._pool
+
     def shutdown(self) -> None:
         """Stop at once: work in flight is cancelled and its workers are killed."""
         self._closed = True
+        self.watch.stop()
         self._pool.stop()
         self._pool.join(timeout=5)
 

@@ -207,13 +207,15 @@ class JobRunner:
 
     def _collect(self, job_id: str, fut: cf.Future[Any], group: list[Item], step: _Step) -> None:
         """The outcomes of a finished task into ``step``: parts to dispatch again go to
-        ``retry``; a record-store fault retries the whole task, uncounted, after a pause."""
+        ``retry``; a record-store fault retries the whole task, uncounted, after a pause;
+        a task lost with its pool (``pool_lost``), uncounted at once."""
         exc = fut.exception()
-        if isinstance(exc, StorageError):  # the worker's disk is full: not the part's fault
+        pool_lost = isinstance(exc, UnavailableError) and exc.reason == "pool_lost"
+        if isinstance(exc, StorageError) or pool_lost:  # a full disk, a wedged pool: not the parts' fault
             for idx, doc, run_id in group:
                 discard_partial(Path(self.cfg.record_dir), run_id)
                 step.retry.append((idx, doc))
-            step.paused = True
+            step.paused = not pool_lost
             return
         if len(group) == 1:
             idx, doc, run_id = group[0]

@@ -4,6 +4,7 @@ SQLite database; tests talk to it over HTTP with httpx."""
 from __future__ import annotations
 
 import json
+import resource
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -49,6 +50,26 @@ def pool_workers(pid: int) -> list[psutil.Process]:
         except psutil.NoSuchProcess:  # gone, or a zombie (ZombieProcess is one)
             continue
     return out
+
+
+def refuse_writes(server: LocalServer, limit: int) -> None:
+    """RLIMIT_FSIZE on the server's workers: no file they write may grow past ``limit``
+    bytes (0: every record write fails, as on a full disk; -1 lifts it). Not on the
+    server: its own log and database are files too."""
+    for p in psutil.Process(server.proc.pid).children(recursive=True):
+        try:
+            _, hard = resource.prlimit(p.pid, resource.RLIMIT_FSIZE)
+            resource.prlimit(p.pid, resource.RLIMIT_FSIZE, (limit if limit >= 0 else hard, hard))
+        except (psutil.NoSuchProcess, ProcessLookupError):
+            pass
+
+
+PAUSED = "run records cannot be written"
+
+
+def paused(server: LocalServer) -> int:
+    """How often the service's jobs have paused on a record-store fault (its logs)."""
+    return sum(p.read_text(errors="replace").count(PAUSED) for p in server.log_dir.glob("server-*.log"))
 
 
 def start_server(log_dir: Path, **env: str) -> LocalServer:

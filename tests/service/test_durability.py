@@ -8,7 +8,6 @@ for faults that were not its own (server deaths cost no attempt)."""
 from __future__ import annotations
 
 import random
-import resource
 import time
 from pathlib import Path
 
@@ -17,7 +16,7 @@ import psutil
 
 from algrasp.testing.shapes import rectangle
 from service.store import Store
-from tests.service.conftest import Server, pool_workers, start_server
+from tests.service.conftest import Server, paused, pool_workers, refuse_writes, start_server
 
 PARTS = 2000
 WINDOW = 8  # parts in flight: 2 chunks of 4 for the one worker
@@ -53,28 +52,14 @@ def _wait_progress(c: httpx.Client, job_id: str, at_least: int) -> tuple[int, st
     raise AssertionError(f"no progress to {at_least} parts")
 
 
-def _refuse_writes(server: Server, limit: int) -> None:
-    """RLIMIT_FSIZE on the server's workers (0 bytes: every record write fails, as on a
-    full disk; -1 lifts it). Not on the server: its own log is a file too."""
-    for p in psutil.Process(server.proc.pid).children(recursive=True):
-        try:
-            _, hard = resource.prlimit(p.pid, resource.RLIMIT_FSIZE)
-            resource.prlimit(p.pid, resource.RLIMIT_FSIZE, (limit if limit >= 0 else hard, hard))
-        except (psutil.NoSuchProcess, ProcessLookupError):
-            pass
-
-
-PAUSED = "run records cannot be written"
-
-
-def _paused(server: Server) -> int:
-    return sum(p.read_text(errors="replace").count(PAUSED) for p in server.log_dir.glob("server-*.log"))
-
-
-def _wait_log(server: Server, seen: int) -> None:
+def _wait_paused(server: Server, c: httpx.Client, job_id: str, seen: int) -> None:
+    """Until the job reports the record-store fault. The write limit is laid again on every
+    worker at each look: a pool replaced meanwhile (``service.pool_watch``) has new ones."""
     deadline = time.monotonic() + GUARD_S
-    while _paused(server) <= seen:
+    while paused(server) <= seen:
+        assert _finished(c, job_id)[1] in ("queued", "running"), "the job ended without meeting the fault"
         assert time.monotonic() < deadline, "the job never met the record-store fault"
+        refuse_writes(server, 0)
         time.sleep(0.02)
 
 
@@ -101,10 +86,10 @@ def test_one_job_through_100_faults(tmp_path: Path) -> None:
                 if kind == "worker" and (w := _busy_worker(server)) is not None:
                     w.kill()
                 elif kind == "records":
-                    seen = _paused(server)
-                    _refuse_writes(server, 0)
-                    _wait_log(server, seen)  # the event: the job saw the fault and paused
-                    _refuse_writes(server, -1)
+                    seen = paused(server)
+                    refuse_writes(server, 0)
+                    _wait_paused(server, c, job_id, seen)  # the event: the job saw the fault and paused
+                    refuse_writes(server, -1)
                 elif kind == "server":
                     c.close()
                     server.kill()

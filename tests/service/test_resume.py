@@ -3,34 +3,65 @@ finishes with every part stored once and nothing finished before the kill redone
 
 from __future__ import annotations
 
+import math
 import time
+from collections.abc import Callable
 from pathlib import Path
 
+import httpx
 import pytest
 
 from algrasp.testing.shapes import rectangle
 from service.store import Store
-from tests.service.conftest import start_server, wait_job
+from tests.service.conftest import paused, refuse_writes, start_server, wait_job
 
 PARTS = 12
+ROUND = 2  # parts that cannot be oriented: small run records, designed before the kill
+GUARD_S = 120.0  # a hang guard on each wait, not a performance bound
+
+
+def _round(i: int) -> dict[str, object]:
+    """A regular 40-gon (and up): no plan orients it, so its run record is small."""
+    n, r = 40 + i, 5.0 + i
+    return {"name": f"round-{i}", "polygon": [[r * math.cos(2 * math.pi * k / n), r * math.sin(2 * math.pi * k / n)]
+                                              for k in range(n)]}
+
+
+def _record_sizes(c: httpx.Client, tmp_path: Path, parts: list[dict[str, object]]) -> list[int]:
+    """The run-record sizes (bytes) of ``parts`` designed in a job of their own."""
+    job_id = c.post("/v1/jobs", json={"parts": parts}).json()["id"]
+    assert wait_job(c, job_id)["state"] == "done"
+    rows = Store(f"sqlite:///{tmp_path / 'algrasp.db'}").results(job_id)
+    return [(tmp_path / f"{r['run_id']}.mcap").stat().st_size for r in rows]
+
+
+def _until(ready: Callable[[], bool], what: str) -> None:
+    deadline = time.monotonic() + GUARD_S
+    while not ready():
+        assert time.monotonic() < deadline, what
+        time.sleep(0.02)
 
 
 def test_restart_resumes_without_losing_or_redoing(tmp_path: Path) -> None:
-    parts = [dict(rectangle(10.0 + i, 3.0 + 0.1 * i), name=f"rect-{i}") for i in range(PARTS)]
-    # One part per dispatch: with chunks of 8, the second chunk of this small job could
-    # finish before the kill lands (seen in CI once parts got faster).
+    """The kill lands mid-job by construction, not by timing: the job's worker may write no
+    file past a size that the round parts' records fit and the rectangles' do not (a disk
+    full for those), so the round parts finish and every rectangle waits."""
+    parts = [_round(i) for i in range(ROUND)]
+    parts += [dict(rectangle(10.0 + i, 3.0 + 0.1 * i), name=f"rect-{i}") for i in range(PARTS - ROUND)]
     server = start_server(tmp_path, ALGRASP_BATCH_CHUNK="1")
     try:
         with server.client() as c:
+            small, big = _record_sizes(c, tmp_path, [_round(9), dict(rectangle(9.0, 2.0), name="probe")])
+            assert 2 * small < big, (small, big)  # the limit below tells them apart
+            refuse_writes(server, (small + big) // 2)  # on the job pool's worker, started by the probe
             job_id = c.post("/v1/jobs", json={"parts": parts}).json()["id"]
-            deadline = time.time() + 120
-            while time.time() < deadline and c.get(f"/v1/jobs/{job_id}").json()["done"] < 2:
-                time.sleep(0.05)
+            store = Store(f"sqlite:///{tmp_path / 'algrasp.db'}")
+            _until(lambda: paused(server) > 0 and sum(r["status"] == "done" for r in store.results(job_id)) >= ROUND,
+                   "the round parts never finished, or the rectangles never met the limit")
     finally:
         server.kill()
-    store = Store(f"sqlite:///{tmp_path / 'algrasp.db'}")
     before = {r["index"]: r for r in store.results(job_id) if r["status"] == "done"}
-    assert 2 <= len(before) < PARTS, "the kill must land mid-job"
+    assert sorted(before) == list(range(ROUND)), "exactly the round parts were done before the kill"
 
     server = start_server(tmp_path)  # resumes unfinished jobs at start-up
     try:
