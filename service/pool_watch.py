@@ -83,7 +83,10 @@ class PoolWatch:
             self.check()
 
     def check(self) -> None:
-        """One look: settle the tasks of pools that broke or wedged (any thread)."""
+        """One look: settle the tasks of pools that broke or wedged (any thread; none
+        once stopped: a pool the executor shuts down is not one that broke)."""
+        if self._stop.is_set():
+            return
         with self._lock:
             pools = {id(p): p for p in self._tasks.values()}
         current = self._current()

@@ -134,6 +134,36 @@ class _QuickExecutor(_DyingExecutor):
         return fut
 
 
+class _WedgingExecutor(_QuickExecutor):
+    """The first ``lost`` tasks are lost with a wedged pool (``service.pool_watch``)."""
+
+    def __init__(self, lost: int) -> None:
+        self.lost = lost
+
+    def submit(self, fn: object, *args: object, timeout_s: float, stage: str) -> object:
+        import concurrent.futures as cf
+
+        from algrasp.errors import UnavailableError
+
+        if self.lost <= 0:
+            return super().submit(fn, *args, timeout_s=timeout_s, stage=stage)
+        self.lost -= 1
+        fut: cf.Future[object] = cf.Future()
+        fut.set_exception(UnavailableError("pool_lost", "the task was lost: the pool wedged"))
+        return fut
+
+
+def test_tasks_lost_with_a_wedged_pool_are_sent_again_uncounted(tmp_path: Path) -> None:
+    from service.jobs import MAX_ATTEMPTS, JobRunner, RunnerConfig
+
+    store = Store(f"sqlite:///{tmp_path / 'jobs.db'}")
+    job_id = store.create_job({}, [(f"p{i}", rectangle(2.0 + i, 1.0), None) for i in range(2)])
+    ex = _WedgingExecutor(lost=2 * MAX_ATTEMPTS)  # more losses than a part may have attempts
+    JobRunner(store, ex, RunnerConfig(str(tmp_path), 1, 10.0, 2)).run(job_id)  # type: ignore[arg-type]
+    rows = store.results(job_id)
+    assert ex.lost == 0 and [(r["status"], r["attempts"]) for r in rows] == [("done", 1)] * 2
+
+
 def test_a_read_only_database_pauses_a_job_and_loses_nothing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     from sqlalchemy.exc import OperationalError
 
