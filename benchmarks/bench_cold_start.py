@@ -74,18 +74,16 @@ push_grasp = engine.generate_bounded_push_grasp_function(push, wide)
 engine.generate_transfer_extrema_callable(push_grasp, period=2 * np.pi)
 engine.generate_plan(engine.generate_intervals(squeeze, default_T=np.pi))
 engine.generate_plan(engine.generate_intervals(push_grasp, default_T=2 * np.pi))
-print(json.dumps(time.perf_counter() - t))
+print(json.dumps([time.perf_counter() - t]))
 """
 
 
-def _median_ms(code: str, *args: str, index: int | None = None) -> list[float]:
-    """Medians (ms) over 5 fresh processes running ``code`` with ``args``: each prints a
-    JSON number or list (``index``: None for a number)."""
+def _median_ms(code: str, *args: str) -> list[float]:
+    """Medians (ms) over 5 fresh processes running ``code`` with ``args``, each printing a
+    JSON list of seconds."""
     rows = [json.loads(subprocess.run([sys.executable, "-c", code, *args], capture_output=True, text=True,
                                       check=True).stdout) for _ in range(5)]
-    if index is None:
-        return [1000 * statistics.median(rows)]
-    return [1000 * statistics.median(r[i] for r in rows) for i in range(index)]
+    return [1000 * statistics.median(column) for column in zip(*rows)]
 
 
 def main() -> None:
@@ -102,7 +100,7 @@ def main() -> None:
         print(f"{'part':28s} {'imports ms':>11s} {'first ms':>9s} {'warm ms':>8s} {'first/warm':>11s} "
               f"{'part-feeder/first':>18s}  (median of 5 processes)")
         for name, doc in cases:
-            imp, first, warm = _median_ms(PROBE, json.dumps(doc), limits, index=3)
+            imp, first, warm = _median_ms(PROBE, json.dumps(doc), limits)
             pf, whose = (feeder[name], f"  (part-feeder here: {feeder[name]:.0f} ms)") if name in feeder else \
                 (PART_FEEDER_FIRST_MS, "")
             print(f"{name:28s} {imp:11.0f} {first:9.1f} {warm:8.1f} {first / warm:10.2f}× {pf / first:17.0f}×{whose}")

@@ -83,30 +83,27 @@ class PoolWatch:
             self.check()
 
     def check(self) -> None:
-        """One look: settle the tasks of pools that broke or wedged (any thread; none
-        once stopped: a pool the executor shuts down is not one that broke)."""
+        """One look: replace each broken or wedged pool holding tasks, then fail its tasks
+        (any thread; none once stopped: a pool the executor shuts down did not break)."""
         if self._stop.is_set():
             return
         with self._lock:
             pools = {id(p): p for p in self._tasks.values()}
         current = self._current()
+        busy = any(p is current for p in pools.values())
+        self._taken_for = self._taken_for + WATCH_S if busy and channel_taken(current) else 0.0
         for pool in pools.values():
-            if not pool.active:
-                self.settle(pool, "its worker pool broke")
-            elif pool is current:
-                self._watch_channel(pool)
-        if not any(p is current for p in pools.values()):
-            self._taken_for = 0.0
-
-    def _watch_channel(self, pool: Any) -> None:
-        self._taken_for = self._taken_for + WATCH_S if channel_taken(pool) else 0.0
-        if self._taken_for >= WEDGED_S:
-            self._taken_for = 0.0
-            self._replace(pool)
-            self.settle(pool, "a worker died handing it over and left the pool wedged")
+            if pool is current and self._taken_for >= WEDGED_S:
+                self._taken_for, why = 0.0, "a worker died handing it over and left the pool wedged"
+            elif not pool.active:
+                why = "its worker pool broke"
+            else:
+                continue
+            self._replace(pool)  # first, so that the callers' retries go to the new pool
+            self.settle(pool, why)
 
     def settle(self, pool: Any, why: str) -> int:
-        """Fail ``pool``'s unsettled tasks as lost workers; returns how many."""
+        """Fail ``pool``'s unsettled tasks as ``pool_lost``; returns how many."""
         with self._lock:
             lost = [out for out, p in self._tasks.items() if p is pool]
         settled = 0

@@ -227,13 +227,8 @@ def test_nominal_size_is_bit_identical(shape: str, seed: int, n: int) -> None:
     from algrasp.planning import deadband
 
     part = load_part(DOCS[shape](seed, n), TOL)
-    compiled = deadband.nominal_size(part)
-    deadband.GEOMETRY = None
-    try:
-        python = deadband.nominal_size(part)
-    finally:
-        deadband.GEOMETRY = GEOMETRY
-    assert compiled.hex() == python.hex()
+    compiled, python = _both(lambda: deadband.nominal_size(part))
+    assert compiled == python
 
 
 @needs_kernels
@@ -242,18 +237,12 @@ def test_nominal_size_is_bit_identical(shape: str, seed: int, n: int) -> None:
        psi=st.lists(st.one_of(st.floats(-30.0, 30.0), st.sampled_from([0.0, -0.0, math.pi, -TWO_PI, math.nan])),
                     max_size=20))
 def test_vertex_support_is_bit_identical(shape: str, seed: int, n: int, psi: list[float]) -> None:
-    from algrasp.geometry import bank
 
     hull = load_part(DOCS[shape](seed, n), TOL).hull
     assert hull.table.vertices_only
     normals = [np.array(psi), hull.breakpoints, hull.breakpoints + math.pi]
-    compiled = [hull.support_many(a) for a in normals]
-    bank.GEOMETRY = None
-    try:
-        python = [hull.support_many(a) for a in normals]
-    finally:
-        bank.GEOMETRY = GEOMETRY
-    assert bits(compiled) == bits(python)
+    compiled, python = _both(lambda: [hull.support_many(a) for a in normals])
+    assert compiled == python
 
 
 CLOUD = st.lists(st.tuples(COORD, COORD), min_size=1, max_size=40)
@@ -268,12 +257,7 @@ def test_hull_order_is_bit_identical(points: list[tuple[float, float]], line: in
     from algrasp.geometry import hull
 
     cloud = [*points, *((t / 7.0, slope * t / 7.0) for t in range(line))]
-    compiled = bits(hull.hull_order(np.array(cloud)))
-    hull.GEOMETRY = None
-    try:
-        python = bits(hull.hull_order(np.array(cloud)))
-    finally:
-        hull.GEOMETRY = GEOMETRY
+    compiled, python = _both(lambda: hull.hull_order(np.array(cloud)))
     assert compiled == python
 
 
@@ -297,18 +281,12 @@ def test_corner_ranges_are_bit_identical(shape: str, seed: int, n: int, sliver: 
 def test_values_are_bit_identical(shape: str, seed: int, n: int, theta: list[float]) -> None:
     """SupportPairFunction.values (the diameter's compiled pair of supports) and kink_thetas
     (in plain floats) against numpy's arrays."""
-    from algrasp.geometry import bank
 
     part = load_part(DOCS[shape](seed, n), TOL)
     for kind in ("diameter", "radius"):
         f = analyse(kind, part.hull, part.center_of_mass, part.size, TOL)  # type: ignore[arg-type]
-        compiled = [f.values(np.array(theta)), f.values(f.kink_thetas)]
-        functions.GEOMETRY = bank.GEOMETRY = None
-        try:
-            python = [f.values(np.array(theta)), f.values(f.kink_thetas)]
-        finally:
-            functions.GEOMETRY = bank.GEOMETRY = GEOMETRY
-        assert bits(compiled) == bits(python)
+        compiled, python = _both(lambda: [f.values(np.array(theta)), f.values(f.kink_thetas)])  # noqa: B023
+        assert compiled == python
         bp = part.hull.breakpoints
         kinks = [np.pi / 2 - bp, 1.5 * np.pi - bp] if kind == "diameter" else [1.5 * np.pi - bp]
         assert bits(f.kink_thetas) == bits(np.concatenate([*kinks, np.array([r.start for r in f.runs])]))
@@ -332,13 +310,8 @@ def test_mean_radius_is_bit_identical(seed: int, n: int, scale: float, shift: fl
     except PartDocumentError:  # too small for its place, or a hole crossing the boundary
         assume(False)
         return
-    compiled = deadband.mean_radius(part)
-    deadband.GEOMETRY = None
-    try:
-        python = deadband.mean_radius(part)
-    finally:
-        deadband.GEOMETRY = GEOMETRY
-    assert compiled.hex() == python.hex()
+    compiled, python = _both(lambda: deadband.mean_radius(part))
+    assert compiled == python
 
 
 @pytest.mark.parametrize("n", [SIMPLE_RING_MAX_POINTS, SIMPLE_RING_MAX_POINTS + 1, 400])
