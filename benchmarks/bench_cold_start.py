@@ -8,12 +8,21 @@ paid once per process, before any part arrives); once with the refusal's limit s
 read (what the CLI answers) and once with ``limits="none"`` (a catalogue screen; a
 refusal's pending search that is never read costs the same).
 
+Which table the ≥ 100× is judged on: the issue timed the first call as ``algrasp plan
+--json`` reports it (the plan document's ``timings_s``: analysis, planning,
+verification), which never holds a limit search, not even a plan's headline limit, and
+part-feeder has none; that is the ``limits="none"`` table, the answer alone, the same
+measure every warm target of the issue is judged on (``bench_default_model.py``). The
+refusal's limit search (~20 more analyses and plans per refused action, the advice the
+CLI prints) is the other table: reported, with no target of its own.
+
 ``--part-feeder PATH``: also run part-feeder's own engine side by side (``PATH`` is its
 ``part_feeder/engine.py`` from a checkout of BerkeleyAutomation/part-feeder, numpy only;
 not shipped here), in the call order of its ``create_page`` (hull, diameter and radius
 functions, squeeze, push and push-grasp functions, both plans), first call in fresh
 processes, on the polygon parts; the last column is then against that part's own time.
-Measured so on 2026-12-07: random 7-gon 608 ms, random 5-gon 701 ms.
+Measured so on 2026-12-07: random 7-gon 608–758 ms, random 5-gon 654–827 ms (its times
+move by a quarter from run to run on this shared machine; each run's own are printed).
 """
 
 from __future__ import annotations
@@ -95,8 +104,9 @@ def main() -> None:
              ("50 cubic Bezier segments", shapes.bezier_blob(50, 2))]
     feeder = {name: _median_ms(PART_FEEDER_PROBE, engine, json.dumps(doc))[0]
               for name, doc in cases if engine and "polygon" in doc}
-    for limits in ("refusal", "none"):
-        print(f"limits {limits!r}")
+    for limits, what in (("refusal", "with the refusal's limit search read (the CLI's advice; reported)"),
+                         ("none", "the answer alone, as the plan document times it (target ≥ 100× part-feeder)")):
+        print(f"limits {limits!r}: {what}")
         print(f"{'part':28s} {'imports ms':>11s} {'first ms':>9s} {'warm ms':>8s} {'first/warm':>11s} "
               f"{'part-feeder/first':>18s}  (median of 5 processes)")
         for name, doc in cases:
