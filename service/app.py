@@ -93,11 +93,10 @@ def create_app(settings: Settings | None = None, warmup: dict[str, Any] | None =
         svc.runner.resume_all()
         sweeper = asyncio.create_task(retention_loop(svc.settings, svc.store))
         adopter = asyncio.create_task(_adopt_jobs(svc))
-        if warmup is not None:
-            plan = await run_task(svc, "slow", "warmup", plan_task, warmup,
-                                  {"action": "push_grasp", "optimise": True, "physics": settings.cell_physics.to_dict()},
-                                  str(settings.log_dir), settings.sim_workers, timeout_s=settings.plan_time_limit_s,
-                                  stage="plan")
+        if warmup is not None:  # as a client's request: the route's body, options and task
+            req = _plan_request(svc, PlanBody.model_validate({"part": warmup, "action": "push_grasp", "optimise": True}))
+            plan = await run_task(svc, "slow", "warmup", plan_task, warmup, req, str(settings.log_dir),
+                                  settings.sim_workers, timeout_s=settings.plan_time_limit_s, stage="plan")
             print(f"planned the example part {warmup.get('name')!r}: {len(plan['steps'])}-step push-grasp plan, "
                   f"cycle {plan['cycle_time_s']:.2f} s, run {plan['run_id']}", flush=True)
         if url:

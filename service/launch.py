@@ -39,15 +39,25 @@ def free_port() -> int:
 
 
 def start_server(log_dir: Path, timeout_s: float = 60.0, **env: str) -> LocalServer:
-    """``algrasp serve`` with ``ALGRASP_LOG_DIR=log_dir`` (and ``env``); returns once
-    ``/healthz`` answers. The server's output goes to ``log_dir/server-PORT.log``."""
+    """``algrasp serve --no-example`` with ``ALGRASP_LOG_DIR=log_dir`` (and ``env``); returns
+    once ``/healthz`` answers. The server's output goes to ``log_dir/server-PORT.log``."""
+    return _start(log_dir, timeout_s, ("--no-example",), env)
+
+
+def start_example_server(log_dir: Path, timeout_s: float = 60.0, **env: str) -> LocalServer:
+    """:func:`start_server` as ``make run`` starts it: the example part planned at start-up
+    (``/healthz`` answers once that plan is made)."""
+    return _start(log_dir, timeout_s, (), env)
+
+
+def _start(log_dir: Path, timeout_s: float, flags: tuple[str, ...], env: dict[str, str]) -> LocalServer:
     import httpx
 
     port = free_port()
     log_path = log_dir / f"server-{port}.log"
     with open(log_path, "ab") as log:
-        proc = subprocess.Popen([sys.executable, "-m", "algrasp.cli", "serve", "--no-example", "--port", str(port),
-                                 "--log-level", "warning"], env={**os.environ, "ALGRASP_LOG_DIR": str(log_dir), **env},
+        proc = subprocess.Popen([sys.executable, "-m", "algrasp.cli", "serve", *flags, "--port", str(port), "--log-level",
+                                 "warning"], env={**os.environ, "ALGRASP_LOG_DIR": str(log_dir), **env},
                                 stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
     server = LocalServer(f"http://127.0.0.1:{port}", proc, log_dir)
     deadline = time.time() + timeout_s

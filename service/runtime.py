@@ -6,8 +6,9 @@ from __future__ import annotations
 import asyncio
 import importlib.metadata
 import json
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Annotated, Any
+from typing import Annotated, Any, TypeVarTuple
 
 from cachetools import LRUCache
 from fastapi import Depends, HTTPException, Request
@@ -25,6 +26,8 @@ from service.store import Store, cause
 VERSION = importlib.metadata.version("algrasp")
 LATE_S = 5.0
 """Grace past a task's own time limit before the server stops waiting for its worker."""
+Ts = TypeVarTuple("Ts")
+"""A task's positional arguments: :func:`run_task` checks them against the task's own."""
 
 
 @dataclass
@@ -76,8 +79,8 @@ def sees(request: Request) -> str | None:
     return owner(who(request)) or "key:none"
 
 
-async def run_task(svc: ServiceState, pool: str, client: str, fn: Any, *args: Any, timeout_s: float, stage: str,
-                   run_id: str | None = None) -> Any:
+async def run_task(svc: ServiceState, pool: str, client: str, fn: Callable[[*Ts], Any], *args: *Ts, timeout_s: float,
+                   stage: str, run_id: str | None = None) -> Any:
     """Run ``fn`` on ``pool`` with a time limit that always fires; index its run; raise
     its user error. Refused at once (503/429) when the pool or the client is full."""
     with svc.gate.admit(pool, client):
