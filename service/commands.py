@@ -18,6 +18,12 @@ the paper's 5 mm pie (``pie-20.json``) is not (its constant-width arc is not cer
 under a manufacturing tolerance)."""
 
 
+def example_part() -> dict[str, Any]:
+    """The part document of :data:`EXAMPLE` (bundled with the package)."""
+    doc: dict[str, Any] = json.loads(resources.files("algrasp").joinpath("examples", EXAMPLE).read_text())
+    return doc
+
+
 def cmd_serve(args: argparse.Namespace) -> int:
     try:
         import uvicorn
@@ -27,7 +33,7 @@ def cmd_serve(args: argparse.Namespace) -> int:
     from service.app import create_app
     from service.settings import load_settings
 
-    warmup = None if args.no_example else json.loads(resources.files("algrasp").joinpath("examples", EXAMPLE).read_text())
+    warmup = None if args.no_example else example_part()
     url = f"http://{args.host}:{args.port}"
     settings = load_settings()
     app = create_app(settings, warmup=warmup, url=url)

@@ -5,14 +5,12 @@ task a dict where the route hands it a checked request) and no test saw it."""
 
 from __future__ import annotations
 
-import json
 import re
-from importlib import resources
 from pathlib import Path
 
 import pytest
 
-from service.commands import EXAMPLE
+from service.commands import example_part
 from service.launch import start_example_server
 
 
@@ -29,7 +27,7 @@ def test_make_run_plans_the_example_part_then_serves(tmp_path: Path, monkeypatch
         said = re.search(r"planned the example part '(\w+)': (\d+)-step push-grasp plan, cycle ([\d.]+) s, run (\S+)", log)
         assert said is not None, log
         name, steps, cycle_s, run_id = said.group(1), int(said.group(2)), float(said.group(3)), said.group(4)
-        doc = json.loads(resources.files("algrasp").joinpath("examples", EXAMPLE).read_text())
+        doc = example_part()
         assert name == doc["name"] and cycle_s > 0.0
         assert steps == len(make_plan(analyse_document(doc), "push_grasp").steps)  # the core's plan in the default cell
         assert "algrasp service ready" in log
